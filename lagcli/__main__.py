@@ -1,0 +1,3 @@
+from lagcli.cli import main
+
+main()

@@ -1,0 +1,88 @@
+"""Small calculus tools shared by the model and the derivation.
+
+Derivations use plain symbols for q, q' and q'' and an explicit total time
+derivative, which is much faster than sympy's `Function`/`Derivative` objects:
+
+    D f(t, q, q') = df/dt + sum_k (df/dq_k q'_k + df/dq'_k q''_k)
+"""
+from __future__ import annotations
+
+import random
+from collections.abc import Iterable, Sequence
+
+import sympy as sp
+
+
+class TimeDerivative:
+    """The total time derivative along the coordinates' motion."""
+
+    def __init__(self, t: sp.Symbol, q: Sequence[sp.Symbol], qd: Sequence[sp.Symbol],
+                 qdd: Sequence[sp.Symbol]):
+        self.t = t
+        self.chain = list(zip(q, qd)) + list(zip(qd, qdd))
+        self.accelerations = frozenset(qdd)
+
+    def __call__(self, expr: sp.Expr) -> sp.Expr:
+        expr = sp.sympify(expr)
+        if expr.free_symbols & self.accelerations:
+            raise ValueError("cannot differentiate an expression containing accelerations")
+        free = expr.free_symbols
+        result = expr.diff(self.t) if self.t in free else sp.S.Zero
+        for var, rate in self.chain:
+            if var in free:
+                result += expr.diff(var) * rate
+        return result
+
+    def matrix(self, m: sp.MatrixBase) -> sp.ImmutableMatrix:
+        return sp.ImmutableMatrix(m.shape[0], m.shape[1], [self(e) for e in m])
+
+
+def depends_on(expr: sp.Expr, symbols: Iterable[sp.Symbol]) -> bool:
+    """Structural dependence (cheap; may say True for a dependence that cancels)."""
+    return bool(sp.sympify(expr).free_symbols & set(symbols))
+
+
+def numerically_zero(exprs: Iterable[sp.Expr], symbols: Iterable[sp.Symbol] | None = None,
+                     trials: int = 3, seed: int = 20261121) -> bool:
+    """True when every expression vanishes at `trials` random points.
+
+    Used to decide identities such as "L has no explicit t" robustly when a
+    dependence cancels only after trigonometric simplification (a bead on a
+    spinning hoop has cos(W t)**2 + sin(W t)**2 in its T). Random values lie in
+    [0.3, 1.3] so square roots and logs of parameters stay real. A point where an
+    expression is not finite or not real is skipped (another is drawn).
+    """
+    exprs = [sp.sympify(e) for e in exprs]
+    exprs = [e for e in exprs if e != 0]
+    if not exprs:
+        return True
+    names = set(symbols) if symbols is not None else set().union(*(e.free_symbols for e in exprs))
+    names |= set().union(*(e.free_symbols for e in exprs))
+    rng = random.Random(seed)
+    done = attempts = 0
+    while done < trials and attempts < 10 * trials:
+        attempts += 1
+        point = {s: sp.Float(rng.uniform(0.3, 1.3), 20) for s in sorted(names, key=str)}
+        values = [_evaluate(e, point) for e in exprs]
+        if any(v is None for v in values):
+            continue
+        done += 1
+        if any(abs(value) > 1e-9 * (1 + scale) for value, scale in values):
+            return False
+    return done > 0
+
+
+def _evaluate(expr: sp.Expr, point: dict) -> tuple[float, float] | None:
+    """(value, scale) of expr at point, scale = sum of |terms| for a relative tolerance."""
+    terms = expr.args if expr.is_Add else (expr,)
+    total, scale = 0.0, 0.0
+    for term in terms:
+        try:
+            number = complex(term.xreplace(point).evalf(20))
+        except (TypeError, ValueError, ZeroDivisionError):
+            return None
+        if not (abs(number) < float("inf")) or abs(number.imag) > 1e-9 * (1 + abs(number.real)):
+            return None
+        total += number.real
+        scale += abs(number.real)
+    return total, scale

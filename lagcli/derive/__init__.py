@@ -1,0 +1,97 @@
+"""Model -> Derivation: Lagrange's equations and everything reported about them.
+
+`derive(model)` is a pure function returning a complete, frozen `Derivation`
+(see `result.py` for the equation forms and sign conventions). Large
+expressions are never simplified here; tests and reports decide that.
+"""
+from __future__ import annotations
+
+import sympy as sp
+
+from lagcli.calculus import TimeDerivative, depends_on, numerically_zero
+from lagcli.derive.constraints import constraint_bias, constraint_matrix, constraint_rows
+from lagcli.derive.energy import energies
+from lagcli.derive.explicit import explicit_form, forcing
+from lagcli.derive.forces import applied_generalized_forces, find_potential
+from lagcli.derive.invariants import conserved_quantities, ignorable_coordinates, jacobi_integral
+from lagcli.derive.result import Derivation, Equation
+from lagcli.model_types import Model
+
+__all__ = ["derive", "Derivation"]
+
+
+def derive(model: Model) -> Derivation:
+    D = TimeDerivative(model.t, model.q, model.qd, model.qdd)
+    qd, qdd = sp.Matrix(model.qd), sp.Matrix(model.qdd)
+    e = energies(model, D)
+    M, a = e.mass_matrix, e.t1_coefficients
+    T2 = (qd.T * M * qd)[0] / 2
+    T1 = a.dot(qd)
+    T = T2 + T1 + e.T0
+    L = T - e.V
+    Q_applied = applied_generalized_forces(model, D)
+    conservative, force_potential = find_potential(model, Q_applied)
+    form = explicit_form(model, e)
+    F = forcing(form, Q_applied, model.qd)
+
+    rows = constraint_rows(model)
+    A = constraint_matrix(model, rows)
+    multipliers = tuple(r.multiplier for r in rows)
+    lam = sp.Matrix(multipliers)
+    constraint_force = A.T * lam if rows else sp.zeros(len(model.q), 1)
+    lhs = M * qdd - F
+    equations = tuple(Equation(qi, lhs[i], constraint_force[i]) for i, qi in enumerate(model.q))
+
+    ignorable = ignorable_coordinates(model, e, form.mass_derivatives, Q_applied, rows)
+    momenta = [(M * qd + a)[model.q.index(s)] for s in ignorable]
+    h = jacobi_integral(model, T2, e.T0, e.V, L, Q_applied, rows)
+    energy = T + e.V
+    energy_is_jacobi = h is not None and numerically_zero([T1 + 2 * e.T0])
+    return Derivation(
+        model=model, T=T, T2=T2, T1=T1, T0=e.T0, V=e.V, L=L,
+        mass_matrix=M, t1_coefficients=a,
+        generalized_forces=sp.ImmutableMatrix(Q_applied - sp.Matrix([e.V.diff(qi) for qi in model.q])),
+        nonconservative_forces=Q_applied,
+        forces_conservative=conservative, force_potential=force_potential,
+        velocity_terms=form.velocity_terms, mass_rate_terms=form.mass_rate_terms,
+        gyroscopic_matrix=form.gyroscopic_matrix, t1_rate_terms=form.t1_rate_terms,
+        position_terms=form.position_terms, forcing=F, equations=equations,
+        constraints=rows, constraint_matrix=A, constraint_bias=constraint_bias(model, rows, D),
+        multipliers=multipliers,
+        generalized_constraint_forces=sp.ImmutableMatrix(constraint_force),
+        particle_constraint_forces=_particle_constraint_forces(model, D) if rows else {},
+        energy=energy, ignorable=ignorable,
+        conserved=conserved_quantities(model, ignorable, momenta, h, energy_is_jacobi),
+        jacobi_integral=h, energy_is_jacobi=energy_is_jacobi,
+        scleronomic=_is_scleronomic(model),
+    )
+
+
+def _particle_constraint_forces(model: Model, D: TimeDerivative) -> dict:
+    """R_i = m_i r_i'' - F_i (seed 6.6): what the constraints must supply to each particle."""
+    result = {}
+    for p in model.particles:
+        applied = sp.zeros(3, 1)
+        if model.gravity is not None:
+            applied += p.mass * model.gravity
+        for force in model.forces:
+            if force.force is not None and force.point is p.position:
+                applied += force.force
+        for spring in model.springs:
+            for here, there in ((spring.end_a, spring.end_b), (spring.end_b, spring.end_a)):
+                if here is p.position:
+                    delta = here - there
+                    length = sp.sqrt(delta.dot(delta))
+                    applied -= spring.stiffness * (1 - spring.rest_length / length) * delta
+        acceleration = D.matrix(D.matrix(p.position))
+        result[p.name] = sp.ImmutableMatrix(p.mass * acceleration - applied)
+    return result
+
+
+def _is_scleronomic(model: Model) -> bool:
+    t = (model.t,)
+    exprs = [p.position for p in model.particles] + [b.position for b in model.bodies]
+    exprs += [angle for b in model.bodies for _, angle in b.rotations]
+    exprs += [model.kinetic, model.potential] + [c.expr for c in model.constraints]
+    exprs += [s.end_a for s in model.springs] + [s.end_b for s in model.springs]
+    return not any(depends_on(e, t) for e in exprs)

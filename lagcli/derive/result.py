@@ -1,0 +1,110 @@
+"""The frozen result of `derive(model)`: everything later stages need, as sympy objects.
+
+Sign conventions (seed notes, section 6.7), for coordinates q (n), multipliers
+lambda (m = d + g constraint rows):
+
+    d/dt(dL/dq'_i) - dL/dq_i - Q'_i = sum_j lambda_j a_ji            (equations)
+    sum_k a_jk q'_k + d_j = 0                                         (constraints)
+
+Explicit (matrix) form, with T = 1/2 q'^T M q' + a^T q' + T0:
+
+    M q'' + c(q, q') + M_t q' + gamma q' + a_t - dT0/dq + dV/dq = Q' + A^T lambda
+    c_i = sum_jl 1/2 (dM_ij/dq_l + dM_il/dq_j - dM_jl/dq_i) q'_j q'_l
+    gamma_ij = da_i/dq_j - da_j/dq_i                                   (skew-symmetric)
+
+so `forcing` F = Q' - c - M_t q' - gamma q' - a_t + dT0/dq - dV/dq and the
+augmented system is
+
+    [ M  -A^T ] [ q''    ]   [ F                  ]
+    [ A   0   ] [ lambda ] = [ -(A' q' + d')      ]      (`constraint_bias`)
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import sympy as sp
+
+from lagcli.errors import Loc
+
+
+@dataclass(frozen=True)
+class ConstraintRow:
+    label: str | None          # the user's `name:` if given
+    multiplier: sp.Symbol      # lambda_<j> or lambda_<name>
+    kind: str                  # "holonomic" | "nonholonomic"
+    expr: sp.Expr              # as written: phi(q, t) or the velocity expression
+    a: tuple[sp.Expr, ...]     # a_jk, k over coordinates
+    d: sp.Expr                 # d_j
+    integrable: bool | None    # nonholonomic rows: True when it is holonomic in disguise
+    loc: Loc | None
+
+
+@dataclass(frozen=True)
+class Equation:
+    coordinate: sp.Symbol
+    lhs: sp.Expr               # d/dt(dL/dq'_i) - dL/dq_i - Q'_i
+    rhs: sp.Expr               # sum_j lambda_j a_ji (0 without constraints)
+
+
+@dataclass(frozen=True)
+class Conserved:
+    name: str                  # "p_<q>", "jacobi", "energy"
+    kind: str                  # "momentum" | "jacobi" | "energy"
+    expr: sp.Expr
+
+
+@dataclass(frozen=True)
+class Derivation:
+    model: "object"            # lagcli.model.Model
+    # energies
+    T: sp.Expr
+    T2: sp.Expr
+    T1: sp.Expr
+    T0: sp.Expr
+    V: sp.Expr
+    L: sp.Expr
+    mass_matrix: sp.ImmutableMatrix          # n x n
+    t1_coefficients: sp.ImmutableMatrix      # n x 1, the a_i of T1 = a . q'
+    # forces
+    generalized_forces: sp.ImmutableMatrix   # n x 1, total Q_j by virtual work (= -dV/dq + Q')
+    nonconservative_forces: sp.ImmutableMatrix  # n x 1, Q'_j (applied forces not in V)
+    forces_conservative: bool                # Q' derivable from a potential V'(q)
+    force_potential: sp.Expr | None          # that V' (Q' = -dV'/dq), when found
+    # explicit form
+    velocity_terms: sp.ImmutableMatrix       # c(q, q'): quadratic in q'
+    mass_rate_terms: sp.ImmutableMatrix      # M_t q'
+    gyroscopic_matrix: sp.ImmutableMatrix    # gamma
+    t1_rate_terms: sp.ImmutableMatrix        # a_t
+    position_terms: sp.ImmutableMatrix       # dV/dq - dT0/dq
+    forcing: sp.ImmutableMatrix              # F, so that M q'' = F + A^T lambda
+    equations: tuple[Equation, ...]
+    # constraints
+    constraints: tuple[ConstraintRow, ...]
+    constraint_matrix: sp.ImmutableMatrix    # A, m x n (0 x n when unconstrained)
+    constraint_bias: sp.ImmutableMatrix      # -(A' q' + d'), m x 1
+    multipliers: tuple[sp.Symbol, ...]
+    generalized_constraint_forces: sp.ImmutableMatrix   # C_j = sum_k lambda_k a_kj
+    particle_constraint_forces: dict         # particle name -> R_i = m r_i'' - F_i (in q, q', q'', lambda)
+    # invariants
+    energy: sp.Expr                          # T + V
+    ignorable: tuple[sp.Symbol, ...]
+    conserved: tuple[Conserved, ...]
+    jacobi_integral: sp.Expr | None
+    energy_is_jacobi: bool
+    scleronomic: bool
+
+    @property
+    def n(self) -> int:
+        return len(self.model.q)
+
+    @property
+    def n_holonomic(self) -> int:
+        return sum(1 for c in self.constraints if c.kind == "holonomic")
+
+    @property
+    def n_nonholonomic(self) -> int:
+        return sum(1 for c in self.constraints if c.kind == "nonholonomic")
+
+    @property
+    def dof(self) -> int:
+        return self.n - len(self.constraints)

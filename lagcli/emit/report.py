@@ -1,0 +1,87 @@
+"""What `derive` reports, as pre-printed strings, shared by text, JSON and LaTeX.
+
+`report_content(derivation, printer)` returns a plain dict (the JSON keys of
+CONTRACT §3 plus a few extensions) whose expressions are strings made by
+`printer`. Small expressions are tidied (trigsimp) for readability when
+`simplify` is on; big ones are printed as derived (simplifying them can take
+minutes and changes nothing in the physics).
+"""
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import sympy as sp
+
+from lagcli.derive.result import Derivation
+
+TIDY_MAX_OPS = 150
+
+
+def tidy(expr: sp.Expr) -> sp.Expr:
+    """A bounded simplification for display (never for numerics)."""
+    expr = sp.sympify(expr)
+    if expr.is_Atom or sp.count_ops(expr) > TIDY_MAX_OPS:
+        return expr
+    candidate = sp.factor_terms(sp.trigsimp(expr))
+    return candidate if sp.count_ops(candidate) <= sp.count_ops(expr) else expr
+
+
+def report_content(d: Derivation, printer: Callable[[sp.Expr], str], simplify: bool = True) -> dict:
+    m = d.model
+    cache: dict = {}
+
+    def p(expr) -> str:
+        expr = sp.sympify(expr)
+        if expr not in cache:
+            cache[expr] = printer(tidy(expr) if simplify else expr)
+        return cache[expr]
+
+    def column(matrix) -> dict:
+        return {q.name: p(e) for q, e in zip(m.q, matrix)}
+
+    def rows(matrix) -> list:
+        return [[p(matrix[i, j]) for j in range(matrix.cols)] for i in range(matrix.rows)]
+
+    return {
+        "name": m.name,
+        "description": m.description,
+        "coordinates": [q.name for q in m.q],
+        "velocities": [v.name for v in m.qd],
+        "parameters": {pi.symbol.name: pi.value for pi in m.parameters},
+        "known": {name: p(expr) for name, expr in m.known},
+        "counts": {"coordinates": len(m.q), "holonomic": d.n_holonomic,
+                   "nonholonomic": d.n_nonholonomic},
+        "dof": d.dof,
+        "scleronomic": d.scleronomic,
+        "kinetic_energy": {"T": p(d.T), "T2": p(d.T2), "T1": p(d.T1), "T0": p(d.T0)},
+        "mass_matrix": rows(d.mass_matrix),
+        "potential_energy": p(d.V),
+        "lagrangian": p(d.L),
+        "generalized_forces": column(d.generalized_forces),
+        "nonconservative_forces": column(d.nonconservative_forces),
+        "forces_conservative": d.forces_conservative,
+        "force_potential": None if d.force_potential is None else p(d.force_potential),
+        "equations": [{"coordinate": eq.coordinate.name, "lhs": p(eq.lhs), "rhs": p(eq.rhs)}
+                      for eq in d.equations],
+        "explicit_form": {
+            "velocity_terms": column(d.velocity_terms),
+            "mass_rate_terms": column(d.mass_rate_terms),
+            "t1_rate_terms": column(d.t1_rate_terms),
+            "position_terms": column(d.position_terms),
+            "forcing": column(d.forcing),
+        },
+        "constraints": [{"kind": r.kind, "name": r.label, "multiplier": r.multiplier.name,
+                         "expr": p(r.expr), "a": [p(e) for e in r.a], "d": p(r.d),
+                         "integrable": r.integrable} for r in d.constraints],
+        "multipliers": [lam.name for lam in d.multipliers],
+        "constraint_forces": {
+            "generalized": column(d.generalized_constraint_forces) if d.constraints else {},
+            "particles": {name: [p(e) for e in vec[: m.dimension]]
+                          for name, vec in d.particle_constraint_forces.items()},
+        },
+        "gyroscopic_matrix": rows(d.gyroscopic_matrix),
+        "ignorable_coordinates": [q.name for q in d.ignorable],
+        "conserved_quantities": [{"name": c.name, "kind": c.kind, "expr": p(c.expr)} for c in d.conserved],
+        "jacobi_integral": None if d.jacobi_integral is None else p(d.jacobi_integral),
+        "energy_is_jacobi": d.energy_is_jacobi,
+    }

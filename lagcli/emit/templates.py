@@ -1,0 +1,47 @@
+"""The one Jinja environment that renders every piece of generated text.
+
+Templates live in the top-level `templates/` folder, installed as the package
+`lagcli.templates`, and are named `FILE.ext.jinja`. The environment is strict
+(an undefined variable is an error, never an empty string). Rendering returns
+text; only the caller writes files.
+"""
+from __future__ import annotations
+
+import functools
+from importlib import resources
+from pathlib import Path
+
+import jinja2
+
+from lagcli.errors import EmitError
+
+
+def _template_dir() -> Path:
+    try:
+        installed = Path(str(resources.files("lagcli.templates")))
+        if installed.is_dir():
+            return installed
+    except ModuleNotFoundError:
+        pass
+    return Path(__file__).resolve().parents[2] / "templates"  # a source checkout
+
+
+@functools.lru_cache(maxsize=1)
+def environment() -> jinja2.Environment:
+    return jinja2.Environment(
+        loader=jinja2.FileSystemLoader(str(_template_dir())),
+        undefined=jinja2.StrictUndefined,
+        trim_blocks=True,
+        lstrip_blocks=True,
+        keep_trailing_newline=True,
+        autoescape=False,
+    )
+
+
+def render(name: str, **context) -> str:
+    try:
+        return environment().get_template(name).render(**context)
+    except jinja2.TemplateNotFound as exc:
+        raise EmitError(f"template {exc.name!r} not found in {_template_dir()}") from exc
+    except jinja2.UndefinedError as exc:
+        raise EmitError(f"template {name!r}: {exc.message}") from exc

@@ -1,0 +1,85 @@
+"""The exceptions lagcli raises on purpose.
+
+The CLI catches `LagcliError` only and maps it to an exit status; anything else
+escaping is a bug.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class Loc:
+    """Where a spec item came from: file, 1-based line/column (YAML only) and key path."""
+
+    file: str
+    line: int | None = None
+    column: int | None = None
+    path: str = ""
+
+    def child(self, key: str | int, line: int | None = None, column: int | None = None) -> "Loc":
+        sub = f"{self.path}[{key}]" if isinstance(key, int) else (f"{self.path}.{key}" if self.path else key)
+        return Loc(self.file, line if line is not None else self.line,
+                   column if column is not None else self.column, sub)
+
+    def __str__(self) -> str:
+        where = self.file
+        if self.line is not None:
+            where += f":{self.line}"
+            if self.column is not None:
+                where += f":{self.column}"
+        return f"{where}: {self.path}" if self.path else where
+
+
+@dataclass(frozen=True)
+class Problem:
+    """One diagnostic: a location, what is wrong, and an optional hint."""
+
+    loc: Loc
+    message: str
+    hint: str = ""
+
+    def __str__(self) -> str:
+        text = f"{self.loc}: {self.message}"
+        return text + (f"\n  hint: {self.hint}" if self.hint else "")
+
+
+class LagcliError(Exception):
+    """Base class of every error lagcli reports to users. `exit_code` is what the CLI returns."""
+
+    exit_code = 1
+
+
+class SpecError(LagcliError):
+    """The spec (or a command-line override) is invalid: raised by reading, validation and
+    model building, with every problem found collected in `problems`. Exit status 2."""
+
+    exit_code = 2
+
+    def __init__(self, problems: list[Problem] | Problem):
+        self.problems = [problems] if isinstance(problems, Problem) else list(problems)
+        super().__init__("\n".join(str(p) for p in self.problems))
+
+
+class UsageError(LagcliError):
+    """A bad command-line value (e.g. `--set` of an unknown parameter). Exit status 2."""
+
+    exit_code = 2
+
+
+class DerivationError(LagcliError):
+    """The equations cannot be formed, e.g. a singular mass matrix or a velocity
+    constraint that is not linear in the velocities found after building. Exit status 2
+    when it is the spec's fault (see `exit_code`)."""
+
+    exit_code = 2
+
+
+class EmitError(LagcliError):
+    """Code or document generation failed (a symbol without a slot, a missing template).
+    This is a lagcli bug or an unsupported construct. Exit status 1."""
+
+
+class SimulationError(LagcliError):
+    """Integration failed at run time (step size underflow, NaN, singular matrix,
+    compiler missing or failing). Exit status 1; partial results are kept."""

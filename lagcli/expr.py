@@ -1,0 +1,250 @@
+"""The safe expression parser: spec text -> sympy, from a whitelist.
+
+A spec is untrusted input, so its text is never evaluated (`eval`, `exec`,
+`sympify` and `parse_expr` are all off limits). Python's `ast` only parses the
+text; `_Builder` then walks the tree and accepts exactly the node types of the
+contract's expression language, building sympy objects directly:
+
+    numbers, names, + - * / ** ^, parentheses, unary +/-,
+    calls of the functions in FUNCTIONS (positional arguments only),
+    diff(expr, t) = total time derivative.
+
+Anything else (attributes, subscripts, strings, lambdas, comprehensions,
+keyword arguments, comparisons ...) is a `SpecError` naming the construct.
+Sizes are bounded so that no input can make sympy hang: text length, tree
+size and depth, and the magnitude of numeric powers.
+"""
+from __future__ import annotations
+
+import ast
+import difflib
+import math
+from collections.abc import Callable, Mapping
+
+import sympy as sp
+
+from lagcli.errors import Loc, Problem, SpecError
+
+MAX_TEXT = 20_000        # characters in one expression
+MAX_NODES = 5_000        # syntax-tree nodes in one expression
+MAX_DEPTH = 60           # nesting depth
+MAX_EXPONENT = 1_000     # |n| in x**n with a numeric n
+MAX_LITERAL_DIGITS = 40  # digits in one numeric literal
+
+
+def _atan2(y, x):
+    return sp.atan2(y, x)
+
+
+FUNCTIONS: dict[str, tuple[Callable, int, int]] = {
+    # name: (sympy constructor, min args, max args)
+    "sin": (sp.sin, 1, 1), "cos": (sp.cos, 1, 1), "tan": (sp.tan, 1, 1),
+    "asin": (sp.asin, 1, 1), "acos": (sp.acos, 1, 1), "atan": (sp.atan, 1, 1),
+    "atan2": (_atan2, 2, 2),
+    "sinh": (sp.sinh, 1, 1), "cosh": (sp.cosh, 1, 1), "tanh": (sp.tanh, 1, 1),
+    "exp": (sp.exp, 1, 1), "log": (sp.log, 1, 1), "sqrt": (sp.sqrt, 1, 1),
+    "abs": (sp.Abs, 1, 1), "sign": (sp.sign, 1, 1),
+    "min": (sp.Min, 2, 16), "max": (sp.Max, 2, 16),
+    "diff": (None, 2, 2),  # handled specially: total time derivative
+}
+
+RESERVED_NAMES = frozenset({"t", "pi", *FUNCTIONS})
+
+_BINARY = {
+    ast.Add: lambda a, b: a + b,
+    ast.Sub: lambda a, b: a - b,
+    ast.Mult: lambda a, b: a * b,
+    ast.Div: lambda a, b: a / b,
+}
+
+_FORBIDDEN_NAMES = {
+    ast.Attribute: "attribute access", ast.Subscript: "subscripts",
+    ast.Lambda: "lambdas", ast.ListComp: "comprehensions", ast.SetComp: "comprehensions",
+    ast.DictComp: "comprehensions", ast.GeneratorExp: "comprehensions",
+    ast.Compare: "comparisons", ast.BoolOp: "boolean operators", ast.IfExp: "conditional expressions",
+    ast.List: "lists", ast.Tuple: "tuples", ast.Dict: "dictionaries", ast.Set: "sets",
+    ast.JoinedStr: "strings", ast.NamedExpr: "assignment expressions", ast.Starred: "starred arguments",
+    ast.Await: "await", ast.Yield: "yield", ast.YieldFrom: "yield", ast.Slice: "slices",
+}
+
+
+class Scope:
+    """The names an expression may use and what they stand for.
+
+    `names` maps a name to its sympy value (a symbol, or an already-built
+    expression for known functions and definitions). `time_derivative` is the
+    total time derivative operator used by `diff(expr, t)`.
+    """
+
+    def __init__(self, names: Mapping[str, sp.Expr], t: sp.Symbol,
+                 time_derivative: Callable[[sp.Expr], sp.Expr] | None = None):
+        self.names = dict(names)
+        self.t = t
+        self.time_derivative = time_derivative
+
+    def with_name(self, name: str, value: sp.Expr) -> "Scope":
+        return Scope({**self.names, name: value}, self.t, self.time_derivative)
+
+
+def parse(text: str, scope: Scope, loc: Loc) -> sp.Expr:
+    """Parse `text` into a sympy expression using only names in `scope`."""
+    if len(text) > MAX_TEXT:
+        _fail(loc, f"expression is too large ({len(text)} characters, at most {MAX_TEXT})")
+    # `^` is a power, as in most maths notations; Python's ^ would bind looser than `*`.
+    source = text.replace("^", "**").strip()
+    if not source:
+        _fail(loc, "empty expression")
+    try:
+        tree = ast.parse(source, mode="eval")
+    except SyntaxError as exc:
+        _fail(loc, f"invalid expression {text!r}: {exc.msg}"
+                   + (f" at column {exc.offset}" if exc.offset else ""))
+    except (RecursionError, MemoryError, ValueError):
+        _fail(loc, f"expression is too deeply nested or too large: {_short(text)!r}")
+    _check_size(tree, text, loc)
+    return _Builder(scope, loc, text).build(tree.body)
+
+
+def parse_constant(text: str, loc: Loc, extra: Mapping[str, sp.Expr] | None = None) -> float:
+    """Parse a constant expression (numbers, pi, and `extra` names) to a float."""
+    names = {"pi": sp.pi, **(extra or {})}
+    value = parse(text, Scope(names, sp.Symbol("t")), loc)
+    if value.free_symbols:
+        names_used = ", ".join(sorted(str(s) for s in value.free_symbols))
+        _fail(loc, f"{_short(text)!r} must be a constant, but uses {names_used}")
+    number = complex(value.evalf())
+    if number.imag != 0 or not math.isfinite(number.real):
+        _fail(loc, f"{_short(text)!r} is not a finite real number")
+    return number.real
+
+
+def _check_size(tree: ast.AST, text: str, loc: Loc) -> None:
+    count = 0
+    stack = [(tree, 0)]
+    while stack:
+        node, depth = stack.pop()
+        count += 1
+        if count > MAX_NODES:
+            _fail(loc, f"expression is too large (more than {MAX_NODES} terms)")
+        if depth > MAX_DEPTH:
+            _fail(loc, f"expression is nested too deeply (more than {MAX_DEPTH} levels): {_short(text)!r}")
+        stack.extend((child, depth + 1) for child in ast.iter_child_nodes(node))
+
+
+class _Builder:
+    """Walks a parsed tree, accepting only whitelisted nodes, and builds sympy objects."""
+
+    def __init__(self, scope: Scope, loc: Loc, text: str):
+        self.scope, self.loc, self.text = scope, loc, text
+
+    def fail(self, message: str, hint: str = "") -> None:
+        raise SpecError(Problem(self.loc, f"in {_short(self.text)!r}: {message}", hint))
+
+    def build(self, node: ast.AST) -> sp.Expr:
+        handler = getattr(self, "_" + type(node).__name__, None)
+        if handler is None:
+            what = _FORBIDDEN_NAMES.get(type(node), f"'{type(node).__name__}' syntax")
+            self.fail(f"{what} are not allowed in expressions" if what.endswith("s")
+                      else f"{what} is not allowed in expressions",
+                      "expressions use numbers, names, + - * / ** ^, parentheses and functions "
+                      + ", ".join(sorted(FUNCTIONS)))
+        return handler(node)
+
+    def _Constant(self, node: ast.Constant) -> sp.Expr:
+        value = node.value
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            kind = "strings" if isinstance(value, (str, bytes)) else f"{type(value).__name__} literals"
+            self.fail(f"{kind} are not allowed in expressions")
+        literal = ast.get_source_segment(self.text.replace("^", "**").strip(), node) or repr(value)
+        if sum(c.isdigit() for c in literal) > MAX_LITERAL_DIGITS:
+            self.fail(f"numeric literal {literal[:20]}... is too large")
+        if isinstance(value, int):
+            return sp.Integer(value)
+        if not math.isfinite(value):
+            self.fail(f"numeric literal {literal} is too large")
+        # Exact rationals keep symbolic results clean (0.5 -> 1/2).
+        return sp.Rational(literal.replace("_", "")) if _is_plain_decimal(literal) else sp.Float(value)
+
+    def _Name(self, node: ast.Name) -> sp.Expr:
+        name = node.id
+        if name.startswith("__"):
+            self.fail(f"dunder name '{name}' is not allowed")
+        if name in self.scope.names:
+            return self.scope.names[name]
+        if name == "t":
+            return self.scope.t
+        if name in FUNCTIONS:
+            self.fail(f"'{name}' is a function; call it as {name}(...)")
+        close = difflib.get_close_matches(name, list(self.scope.names) + ["t"], n=3)
+        self.fail(f"unknown name '{name}'",
+                  f"did you mean {' or '.join(repr(c) for c in close)}?" if close
+                  else "names must be coordinates, their `_dot` velocities, parameters, "
+                       "known functions, earlier definitions, t or pi")
+
+    def _UnaryOp(self, node: ast.UnaryOp) -> sp.Expr:
+        operand = self.build(node.operand)
+        if isinstance(node.op, ast.USub):
+            return -operand
+        if isinstance(node.op, ast.UAdd):
+            return operand
+        self.fail(f"operator '{type(node.op).__name__}' is not allowed")
+
+    def _BinOp(self, node: ast.BinOp) -> sp.Expr:
+        left, right = self.build(node.left), self.build(node.right)
+        if isinstance(node.op, ast.Pow):
+            return self._power(left, right)
+        op = _BINARY.get(type(node.op))
+        if op is None:
+            self.fail(f"operator '{type(node.op).__name__}' is not allowed")
+        if isinstance(node.op, ast.Div) and right == 0:
+            self.fail("division by zero")
+        return op(left, right)
+
+    def _power(self, base: sp.Expr, exponent: sp.Expr) -> sp.Expr:
+        if exponent.is_Number:
+            if abs(exponent) > MAX_EXPONENT:
+                self.fail(f"exponent {_short(str(exponent))} is too large (at most {MAX_EXPONENT})")
+            if base.is_Number and abs(base) > 1 and float(abs(exponent)) * math.log10(float(abs(base))) > 300:
+                self.fail("numeric power is too large")
+            if base == 0 and exponent.is_negative:
+                self.fail("division by zero (0 to a negative power)")
+        return base ** exponent
+
+    def _Call(self, node: ast.Call) -> sp.Expr:
+        if not isinstance(node.func, ast.Name):
+            self.fail("only plain function calls are allowed, e.g. sin(x)")
+        name = node.func.id
+        if name not in FUNCTIONS:
+            hint = difflib.get_close_matches(name, list(FUNCTIONS), n=1)
+            self.fail(f"unknown function '{name}'",
+                      f"did you mean '{hint[0]}'?" if hint else "functions: " + ", ".join(sorted(FUNCTIONS)))
+        if node.keywords:
+            self.fail(f"keyword arguments are not allowed in {name}(...)")
+        constructor, low, high = FUNCTIONS[name]
+        if not low <= len(node.args) <= high:
+            count = str(low) if low == high else f"{low} to {high}"
+            self.fail(f"{name}() takes {count} argument(s), got {len(node.args)}")
+        if name == "diff":
+            return self._diff(node)
+        return constructor(*(self.build(arg) for arg in node.args))
+
+    def _diff(self, node: ast.Call) -> sp.Expr:
+        variable = node.args[1]
+        if not (isinstance(variable, ast.Name) and variable.id == "t"):
+            self.fail("diff(expr, t) differentiates with respect to time t only")
+        if self.scope.time_derivative is None:
+            self.fail("diff(expr, t) is not available here")
+        return self.scope.time_derivative(self.build(node.args[0]))
+
+
+def _is_plain_decimal(literal: str) -> bool:
+    body = literal.replace("_", "")
+    return all(c.isdigit() or c in ".eE+-" for c in body)
+
+
+def _short(text: str, width: int = 60) -> str:
+    return text if len(text) <= width else text[: width - 3] + "..."
+
+
+def _fail(loc: Loc, message: str, hint: str = "") -> None:
+    raise SpecError(Problem(loc, message, hint))

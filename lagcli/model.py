@@ -1,0 +1,199 @@
+"""Spec -> Model: every expression parsed (safely) into sympy, vectors made 3-D.
+
+Name resolution follows the spec's order: parameters and coordinates first,
+then `known` functions of t (each may use earlier ones), then `definitions`
+(each may use everything before it). Known functions and definitions are
+substituted, so model expressions contain only t, q, q', q'' and parameters.
+All problems are collected and raised together as one `SpecError`.
+"""
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import sympy as sp
+
+from lagcli.calculus import TimeDerivative
+from lagcli.errors import Problem, SpecError
+from lagcli.expr import Scope, parse, parse_constant
+from lagcli.model_types import (AppliedForce, ConstraintSpec, LinearSpring, Model, ParameterInfo,
+                                PointMass, RigidBody, Settings)
+from lagcli.spec.types import Body, Spec, Src
+
+
+def build_model(spec: Spec) -> Model:
+    """Turn a validated spec into sympy objects (raises SpecError with every problem)."""
+    return _ModelBuilder(spec).build()
+
+
+class _ModelBuilder:
+    def __init__(self, spec: Spec):
+        self.spec = spec
+        self.problems: list[Problem] = []
+        self.t = sp.Symbol("t", real=True)
+        names = [c.name for c in spec.coordinates]
+        self.q = tuple(sp.Symbol(n, real=True) for n in names)
+        self.qd = tuple(sp.Symbol(f"{n}_dot", real=True) for n in names)
+        self.qdd = tuple(sp.Symbol(f"{n}_ddot", real=True) for n in names)
+        self.D = TimeDerivative(self.t, self.q, self.qd, self.qdd)
+        self.scope = Scope({"pi": sp.pi}, self.t, self._time_derivative)
+
+    # -- helpers ---------------------------------------------------------------
+    def _time_derivative(self, expr: sp.Expr) -> sp.Expr:
+        if expr.free_symbols & set(self.qdd):
+            raise SpecError(Problem(self._current_loc, "diff(expr, t) of an expression that "
+                                    "already contains accelerations is not supported"))
+        return self.D(expr)
+
+    def expr(self, src: Src | None, default: sp.Expr | None = None,
+             check: Callable[[sp.Expr, Src], None] | None = None) -> sp.Expr | None:
+        """Parse one expression, recording (not raising) its problems."""
+        if src is None:
+            return default
+        self._current_loc = src.loc
+        try:
+            value = parse(src.text, self.scope, src.loc)
+            if check:
+                check(value, src)
+            return value
+        except SpecError as exc:
+            self.problems.extend(exc.problems)
+            return sp.Symbol("_invalid_")
+
+    def vector(self, srcs, check=None) -> sp.ImmutableMatrix:
+        parts = [self.expr(s, check=check) for s in srcs]
+        return sp.ImmutableMatrix(parts + [sp.S.Zero] * (3 - len(parts)))
+
+    def constant(self, src: Src | None, default: float | None, extra=None) -> float | None:
+        if src is None:
+            return default
+        try:
+            return parse_constant(src.text, src.loc, extra)
+        except SpecError as exc:
+            self.problems.extend(exc.problems)
+            return default
+
+    def no_velocities(self, value: sp.Expr, src: Src) -> None:
+        used = value.free_symbols & (set(self.qd) | set(self.qdd))
+        if used:
+            raise SpecError(Problem(src.loc, f"{src.text!r} must not depend on velocities or "
+                                    f"accelerations (uses {', '.join(sorted(map(str, used)))})"))
+
+    def constant_in_motion(self, value: sp.Expr, src: Src) -> None:
+        used = value.free_symbols & ({self.t} | set(self.q) | set(self.qd) | set(self.qdd))
+        if used:
+            raise SpecError(Problem(src.loc, f"{src.text!r} must be constant (uses "
+                                    f"{', '.join(sorted(map(str, used)))}); masses, inertias and "
+                                    "stiffnesses cannot change during the motion"))
+
+    def no_accelerations(self, value: sp.Expr, src: Src) -> None:
+        if value.free_symbols & set(self.qdd):
+            raise SpecError(Problem(src.loc, f"{src.text!r} must not contain accelerations"))
+
+    # -- stages ----------------------------------------------------------------
+    def build(self) -> Model:
+        spec = self.spec
+        parameters = self._parameters()
+        self.scope.names.update({p.symbol.name: p.symbol for p in parameters})
+        self.scope.names.update({q.name: q for q in self.q})
+        self.scope.names.update({v.name: v for v in self.qd})
+        known = self._named(spec.known, self._only_time)
+        definitions = self._named(spec.definitions, None)
+        particles = tuple(PointMass(p.name, self.expr(p.mass, check=self.constant_in_motion),
+                                    self.vector(p.position, self.no_velocities), p.loc)
+                          for p in spec.particles)
+        bodies = tuple(self._body(b) for b in spec.bodies)
+        where = {p.name: p.position for p in particles} | {b.name: b.position for b in bodies}
+        model = Model(
+            name=spec.name, description=spec.description, source=spec.file,
+            dimension=spec.dimension, t=self.t, q=self.q, qd=self.qd, qdd=self.qdd,
+            coordinate_latex={q: c.latex for q, c in zip(self.q, spec.coordinates) if c.latex},
+            parameters=parameters, known=known, definitions=definitions,
+            particles=particles, bodies=bodies,
+            gravity=self.vector(spec.gravity, self.constant_in_motion) if spec.gravity else None,
+            forces=tuple(self._force(f, where, bodies) for f in spec.forces),
+            springs=tuple(self._spring(s, where) for s in spec.springs),
+            potential=self.expr(spec.potential, sp.S.Zero, self.no_velocities),
+            kinetic=self.expr(spec.kinetic, sp.S.Zero, self.no_accelerations),
+            generalized_forces=self._generalized_forces(),
+            constraints=tuple(ConstraintSpec(c.name, self.expr(c.expr, check=self.no_accelerations), c.loc)
+                              for c in spec.constraints),
+            initial=self._initial(parameters),
+            settings=self._settings(),
+        )
+        if self.problems:
+            raise SpecError(self.problems)
+        return model
+
+    def _parameters(self) -> tuple[ParameterInfo, ...]:
+        return tuple(ParameterInfo(sp.Symbol(p.name, real=True), self.constant(p.value, 0.0),
+                                   p.latex, p.description) for p in self.spec.parameters)
+
+    def _only_time(self, value: sp.Expr, src: Src) -> None:
+        used = value.free_symbols & (set(self.q) | set(self.qd) | set(self.qdd))
+        if used:
+            raise SpecError(Problem(src.loc, f"known function {src.text!r} may depend on t and "
+                                    f"parameters only (uses {', '.join(sorted(map(str, used)))})"))
+
+    def _named(self, items, check) -> tuple[tuple[str, sp.Expr], ...]:
+        result = []
+        for item in items:
+            value = self.expr(item.expr, check=check)
+            self.scope.names[item.name] = value
+            result.append((item.name, value))
+        return tuple(result)
+
+    def _body(self, body: Body) -> RigidBody:
+        inertia = [self.expr(s, check=self.constant_in_motion) for s in body.inertia]
+        if body.angle is not None:
+            rotations = (("z", self.expr(body.angle, check=self.no_velocities)),)
+            tensor = sp.diag(0, 0, inertia[0])
+        else:
+            rotations = tuple((axis, self.expr(a, check=self.no_velocities)) for axis, a in body.orientation)
+            tensor = _inertia_tensor(inertia)
+        return RigidBody(body.name, self.expr(body.mass, check=self.constant_in_motion),
+                         sp.ImmutableMatrix(tensor), self.vector(body.position, self.no_velocities),
+                         rotations, body.loc)
+
+    def _force(self, force, where, bodies) -> AppliedForce:
+        point = None
+        if force.at is not None:
+            point = where.get(force.at)
+        elif force.point is not None:
+            point = self.vector(force.point, self.no_velocities)
+        body_name = force.body or (force.at if any(b.name == force.at for b in bodies) else None)
+        torque = None
+        if force.torque is not None:
+            torque = (sp.ImmutableMatrix([0, 0, self.expr(force.torque[0], check=self.no_accelerations)])
+                      if len(force.torque) == 1 else self.vector(force.torque, self.no_accelerations))
+        vector = self.vector(force.force, self.no_accelerations) if force.force is not None else None
+        return AppliedForce(point, vector, body_name if torque is not None else None, torque, force.loc)
+
+    def _spring(self, spring, where) -> LinearSpring:
+        ends = [where[e] if isinstance(e, str) else self.vector(e, self.no_velocities) for e in spring.ends]
+        return LinearSpring(ends[0], ends[1], self.expr(spring.stiffness, check=self.constant_in_motion),
+                            self.expr(spring.rest_length, sp.S.Zero, self.constant_in_motion), spring.loc)
+
+    def _generalized_forces(self) -> tuple[sp.Expr, ...]:
+        given = {g.name: self.expr(g.expr, check=self.no_accelerations) for g in self.spec.generalized_forces}
+        return tuple(given.get(q.name, sp.S.Zero) for q in self.q)
+
+    def _initial(self, parameters) -> dict:
+        values = {p.symbol.name: sp.Float(p.value) for p in parameters}
+        return {item.name: self.constant(item.expr, 0.0, values) for item in self.spec.initial}
+
+    def _settings(self) -> Settings:
+        s, d = self.spec.simulate, Settings()
+        return Settings(t_end=self.constant(s.t_end, d.t_end), dt=self.constant(s.dt, d.dt),
+                        method=s.method or d.method, rtol=self.constant(s.rtol, d.rtol),
+                        atol=self.constant(s.atol, d.atol))
+
+
+def _inertia_tensor(values: list[sp.Expr]) -> sp.Matrix:
+    """3 principal moments, 6 (Ixx, Iyy, Izz, Ixy, Iyz, Izx) or 9 row-major entries."""
+    if len(values) == 3:
+        return sp.diag(*values)
+    if len(values) == 6:
+        xx, yy, zz, xy, yz, zx = values
+        return sp.Matrix([[xx, xy, zx], [xy, yy, yz], [zx, yz, zz]])
+    return sp.Matrix(3, 3, values)
+

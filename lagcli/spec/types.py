@@ -1,0 +1,136 @@
+"""The validated spec: plain strings and numbers, each item with its `Loc`.
+
+`Src` is the source text of one expression (never evaluated here: `model.py`
+parses it with the safe expression parser). Numbers written in the file arrive as
+their `repr` text, so every expression field is a `Src`.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from lagcli.errors import Loc
+
+
+@dataclass(frozen=True)
+class Src:
+    """An expression as written in the spec, and where."""
+
+    text: str
+    loc: Loc
+
+
+Vector = tuple[Src, ...]  # 2 or 3 components; one dimension per spec
+
+
+@dataclass(frozen=True)
+class Coordinate:
+    name: str
+    latex: str | None
+    loc: Loc
+
+
+@dataclass(frozen=True)
+class Parameter:
+    name: str
+    value: Src  # a constant expression (numbers, pi, other parameters are NOT allowed)
+    latex: str | None
+    description: str | None
+    loc: Loc
+
+
+@dataclass(frozen=True)
+class Named:
+    """`name: expression` items: known functions, definitions, generalized forces, initial values."""
+
+    name: str
+    expr: Src
+    loc: Loc
+
+
+@dataclass(frozen=True)
+class Particle:
+    name: str
+    mass: Src
+    position: Vector
+    loc: Loc
+
+
+@dataclass(frozen=True)
+class Body:
+    """A rigid body; position is its centre of mass.
+
+    Planar (dimension 2): `inertia` has one entry (about the CM) and `angle` is set.
+    Spatial (dimension 3): `inertia` has 3 (principal), 6 (Ixx,Iyy,Izz,Ixy,Iyz,Izx) or
+    9 (row-major 3x3) entries in body axes, and `orientation` lists successive
+    body-fixed rotations (axis letter, angle).
+    """
+
+    name: str
+    mass: Src
+    inertia: tuple[Src, ...]
+    position: Vector
+    angle: Src | None
+    orientation: tuple[tuple[str, Src], ...]
+    loc: Loc
+
+
+@dataclass(frozen=True)
+class Force:
+    """An applied force and/or torque. Exactly one of `at` (particle or body name),
+    `point` (inertial position), `body` (for a torque) says where it acts."""
+
+    at: str | None
+    point: Vector | None
+    body: str | None
+    force: Vector | None
+    torque: tuple[Src, ...] | None  # 1 entry (planar) or 3 (spatial, inertial axes)
+    loc: Loc
+
+
+@dataclass(frozen=True)
+class Spring:
+    """A linear spring; each end is a particle/body name or a fixed point."""
+
+    ends: tuple[str | Vector, str | Vector]
+    stiffness: Src
+    rest_length: Src
+    loc: Loc
+
+
+@dataclass(frozen=True)
+class Constraint:
+    name: str | None
+    expr: Src
+    loc: Loc
+
+
+@dataclass(frozen=True)
+class SimulateSettings:
+    t_end: Src | None = None
+    dt: Src | None = None
+    method: str | None = None
+    rtol: Src | None = None
+    atol: Src | None = None
+
+
+@dataclass(frozen=True)
+class Spec:
+    file: str
+    name: str
+    description: str
+    dimension: int  # 2 or 3
+    coordinates: tuple[Coordinate, ...]
+    parameters: tuple[Parameter, ...] = ()
+    known: tuple[Named, ...] = ()
+    definitions: tuple[Named, ...] = ()
+    gravity: Vector | None = None
+    particles: tuple[Particle, ...] = ()
+    bodies: tuple[Body, ...] = ()
+    forces: tuple[Force, ...] = ()
+    springs: tuple[Spring, ...] = ()
+    potential: Src | None = None
+    kinetic: Src | None = None
+    generalized_forces: tuple[Named, ...] = ()
+    constraints: tuple[Constraint, ...] = ()
+    initial: tuple[Named, ...] = ()
+    simulate: SimulateSettings = field(default_factory=SimulateSettings)
