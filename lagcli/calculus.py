@@ -86,3 +86,47 @@ def _evaluate(expr: sp.Expr, point: dict) -> tuple[float, float] | None:
         total += number.real
         scale += abs(number.real)
     return total, scale
+
+
+class DependenceProbe:
+    """Decides numerically whether expressions depend on a symbol.
+
+    The expressions are compiled once (sympy's lambdify of sympy-built objects;
+    never spec text) and evaluated at random points, then again with only the
+    symbol in question changed. Any change beyond rounding means dependence.
+    Used where structural dependence is misleading: cos(W t)**2 + sin(W t)**2.
+    """
+
+    def __init__(self, exprs: Sequence[sp.Expr], seed: int = 20261121):
+        self.exprs = [sp.sympify(e) for e in exprs]
+        self.symbols = sorted(set().union(*(e.free_symbols for e in self.exprs)), key=str)
+        self.rng = random.Random(seed)
+        self._compiled = None
+
+    def _evaluate(self, point: dict) -> list[float] | None:
+        if self._compiled is None:
+            self._compiled = sp.lambdify(self.symbols, self.exprs, modules=["math", "mpmath"])
+        try:
+            values = [complex(v) for v in self._compiled(*(point[s] for s in self.symbols))]
+        except (ValueError, ZeroDivisionError, OverflowError, TypeError):
+            return None
+        if any(abs(v.imag) > 1e-12 * (1 + abs(v.real)) or v.real != v.real for v in values):
+            return None
+        return [v.real for v in values]
+
+    def depends_on(self, symbol: sp.Symbol, trials: int = 3) -> bool:
+        if symbol not in self.symbols:
+            return False
+        done = attempts = 0
+        while done < trials and attempts < 10 * trials:
+            attempts += 1
+            base = {s: self.rng.uniform(0.3, 1.3) for s in self.symbols}
+            moved = {**base, symbol: base[symbol] + self.rng.uniform(0.5, 1.5)}
+            first, second = self._evaluate(base), self._evaluate(moved)
+            if first is None or second is None:
+                continue
+            done += 1
+            scale = 1 + max(abs(v) for v in first + second)
+            if any(abs(a - b) > 1e-9 * scale for a, b in zip(first, second)):
+                return True
+        return False

@@ -212,8 +212,11 @@ class _Builder:
 
     def _Call(self, node: ast.Call) -> sp.Expr:
         if not isinstance(node.func, ast.Name):
-            self.fail("only plain function calls are allowed, e.g. sin(x)")
+            self.build(node.func)  # names the forbidden construct (lambda, attribute ...) if any
+            self.fail("calling an expression is not allowed; only plain function calls like sin(x)")
         name = node.func.id
+        if name.startswith("__"):
+            self.fail(f"dunder name '{name}' is not allowed")
         if name not in FUNCTIONS:
             hint = difflib.get_close_matches(name, list(FUNCTIONS), n=1)
             self.fail(f"unknown function '{name}'",

@@ -11,9 +11,10 @@ import sympy as sp
 from lagcli.calculus import TimeDerivative, depends_on, numerically_zero
 from lagcli.derive.constraints import constraint_bias, constraint_matrix, constraint_rows
 from lagcli.derive.energy import energies
-from lagcli.derive.explicit import explicit_form, forcing
+from lagcli.derive.forcing import forcing
 from lagcli.derive.forces import applied_generalized_forces, find_potential
-from lagcli.derive.invariants import conserved_quantities, ignorable_coordinates, jacobi_integral
+from lagcli.derive.invariants import (LagrangianProbe, conserved_quantities, ignorable_coordinates,
+                                      jacobi_integral)
 from lagcli.derive.result import Derivation, Equation
 from lagcli.model_types import Model
 
@@ -31,8 +32,7 @@ def derive(model: Model) -> Derivation:
     L = T - e.V
     Q_applied = applied_generalized_forces(model, D)
     conservative, force_potential = find_potential(model, Q_applied)
-    form = explicit_form(model, e)
-    F = forcing(form, Q_applied, model.qd)
+    F = forcing(model, D, Q_applied, e.V)
 
     rows = constraint_rows(model)
     A = constraint_matrix(model, rows)
@@ -42,9 +42,10 @@ def derive(model: Model) -> Derivation:
     lhs = M * qdd - F
     equations = tuple(Equation(qi, lhs[i], constraint_force[i]) for i, qi in enumerate(model.q))
 
-    ignorable = ignorable_coordinates(model, e, form.mass_derivatives, Q_applied, rows)
+    probe = LagrangianProbe(M, a, e.T0, e.V)
+    ignorable = ignorable_coordinates(model, probe, Q_applied, rows)
     momenta = [(M * qd + a)[model.q.index(s)] for s in ignorable]
-    h = jacobi_integral(model, T2, e.T0, e.V, L, Q_applied, rows)
+    h = jacobi_integral(model, probe, T2, e.T0, e.V, Q_applied, rows)
     energy = T + e.V
     energy_is_jacobi = h is not None and numerically_zero([T1 + 2 * e.T0])
     return Derivation(
@@ -53,9 +54,7 @@ def derive(model: Model) -> Derivation:
         generalized_forces=sp.ImmutableMatrix(Q_applied - sp.Matrix([e.V.diff(qi) for qi in model.q])),
         nonconservative_forces=Q_applied,
         forces_conservative=conservative, force_potential=force_potential,
-        velocity_terms=form.velocity_terms, mass_rate_terms=form.mass_rate_terms,
-        gyroscopic_matrix=form.gyroscopic_matrix, t1_rate_terms=form.t1_rate_terms,
-        position_terms=form.position_terms, forcing=F, equations=equations,
+        forcing=F, equations=equations,
         constraints=rows, constraint_matrix=A, constraint_bias=constraint_bias(model, rows, D),
         multipliers=multipliers,
         generalized_constraint_forces=sp.ImmutableMatrix(constraint_force),

@@ -20,6 +20,7 @@ augmented system is
 """
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import sympy as sp
@@ -70,12 +71,6 @@ class Derivation:
     nonconservative_forces: sp.ImmutableMatrix  # n x 1, Q'_j (applied forces not in V)
     forces_conservative: bool                # Q' derivable from a potential V'(q)
     force_potential: sp.Expr | None          # that V' (Q' = -dV'/dq), when found
-    # explicit form
-    velocity_terms: sp.ImmutableMatrix       # c(q, q'): quadratic in q'
-    mass_rate_terms: sp.ImmutableMatrix      # M_t q'
-    gyroscopic_matrix: sp.ImmutableMatrix    # gamma
-    t1_rate_terms: sp.ImmutableMatrix        # a_t
-    position_terms: sp.ImmutableMatrix       # dV/dq - dT0/dq
     forcing: sp.ImmutableMatrix              # F, so that M q'' = F + A^T lambda
     equations: tuple[Equation, ...]
     # constraints
@@ -92,6 +87,39 @@ class Derivation:
     jacobi_integral: sp.Expr | None
     energy_is_jacobi: bool
     scleronomic: bool
+
+    # The explicit form's named terms (for reports) are computed on first use: they
+    # need every dM/dq_l (n^3 derivatives), which numerics never do (see forcing.py).
+    @functools.cached_property
+    def _explicit(self):
+        from lagcli.derive.explicit import explicit_form
+
+        return explicit_form(self.model, self.mass_matrix, self.t1_coefficients, self.T0, self.V)
+
+    @property
+    def velocity_terms(self) -> sp.ImmutableMatrix:
+        """c(q, q'): the terms quadratic in q'."""
+        return self._explicit.velocity_terms
+
+    @property
+    def mass_rate_terms(self) -> sp.ImmutableMatrix:
+        """M_t q'."""
+        return self._explicit.mass_rate_terms
+
+    @property
+    def gyroscopic_matrix(self) -> sp.ImmutableMatrix:
+        """gamma_ij = da_i/dq_j - da_j/dq_i."""
+        return self._explicit.gyroscopic_matrix
+
+    @property
+    def t1_rate_terms(self) -> sp.ImmutableMatrix:
+        """a_t."""
+        return self._explicit.t1_rate_terms
+
+    @property
+    def position_terms(self) -> sp.ImmutableMatrix:
+        """dV/dq - dT0/dq."""
+        return self._explicit.position_terms
 
     @property
     def n(self) -> int:

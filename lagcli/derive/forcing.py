@@ -1,0 +1,42 @@
+"""The right-hand side F of M q'' = F (+ A^T lambda), from accelerations.
+
+Lagrange's operator applied to T equals the generalized inertia force (seed 6.6):
+
+    d/dt(dT/dq'_j) - dT/dq_j = sum_points m r'' . dr/dq_j
+                               + sum_bodies dw/dq'_j . (I w' + w x I w)     (w in body axes)
+
+so with r'' = J q'' + r''_0 (r''_0 = r'' at q'' = 0, and likewise w'_0):
+
+    F = Q' - dV/dq - sum m J^T r''_0 - sum J_w^T (I w'_0 + w x I w) - K-terms
+
+This is Kane's form of the same equations: each row is a short sum over points,
+which is both faster to derive and cheaper to evaluate than the Christoffel form
+(`explicit.py`, kept for reports; the tests check both agree). The extra `kinetic:`
+energy K has no points, so its terms come from Lagrange's operator directly.
+"""
+from __future__ import annotations
+
+import sympy as sp
+
+from lagcli.calculus import TimeDerivative
+from lagcli.derive.energy import body_angular_velocity
+from lagcli.model_types import Model
+
+
+def forcing(model: Model, D: TimeDerivative, Q_applied: sp.ImmutableMatrix, V: sp.Expr) -> sp.ImmutableMatrix:
+    q, qd = sp.Matrix(model.q), sp.Matrix(model.qd)
+    no_acc = {a: 0 for a in model.qdd}
+    F = sp.Matrix(Q_applied) - sp.Matrix([V.diff(qi) for qi in model.q])
+    points = [(p.mass, p.position) for p in model.particles] + [(b.mass, b.position) for b in model.bodies]
+    for mass, r in points:
+        acceleration = D.matrix(D.matrix(r)).subs(no_acc)
+        F -= mass * (r.jacobian(q).T * acceleration)
+    for body in model.bodies:
+        omega = body_angular_velocity(body, D)
+        spin = D.matrix(omega).subs(no_acc)
+        inertia_torque = body.inertia * spin + omega.cross(body.inertia * omega)
+        F -= omega.jacobian(qd).T * inertia_torque
+    if model.kinetic != 0:
+        K = model.kinetic
+        F -= sp.Matrix([D(K.diff(v)).subs(no_acc) - K.diff(qi) for qi, v in zip(model.q, model.qd)])
+    return sp.ImmutableMatrix(F)

@@ -1,0 +1,132 @@
+"""Shared test fixtures.
+
+- `SPECS`: the bundled specs directory (`specs/` at the project root).
+- `derived(name)`: the `Derivation` of `specs/<name>.yaml`, cached for the session
+  (a spec is loaded and derived once however many tests use it).
+- `rng`: a seeded numpy Generator, so "random states" are the same on every run.
+- `assert_zero(expr)`: asserts that a sympy expression (or matrix) is identically 0,
+  by `simplify` or, failing that, numerically at seeded random values of its symbols.
+- `augmented(d, values)`: q'' and lambda at one numeric state, by solving the
+  augmented system [[M, -A^T], [A, 0]] [q''; lambda] = [F; bias] with numpy.
+- `ddt(model, expr)`: the total time derivative of an expression in t, q, q'
+  (an independent oracle for hand-written Lagrangians).
+
+The engine is imported inside the fixtures, so test collection works even while
+parts of it are missing.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+import sympy as sp
+
+ROOT = Path(__file__).resolve().parent.parent
+SPECS = ROOT / "specs"
+
+_DERIVED: dict[str, object] = {}
+_SIMPLIFY_MAX_OPS = 600
+
+
+def spec_path(name: str) -> Path:
+    """`specs/<name>.yaml` (or the name as given when it has a suffix)."""
+    path = SPECS / name
+    return path if path.suffix else path.with_suffix(".yaml")
+
+
+@pytest.fixture(scope="session")
+def specs_dir() -> Path:
+    return SPECS
+
+
+@pytest.fixture(scope="session")
+def derived():
+    """Return `get(name)` -> Derivation of specs/<name>.yaml, cached per session."""
+    from lagcli.api import load_model
+    from lagcli.derive import derive
+
+    def get(name: str):
+        key = str(spec_path(name))
+        if key not in _DERIVED:
+            _DERIVED[key] = derive(load_model(key))
+        return _DERIVED[key]
+
+    return get
+
+
+@pytest.fixture
+def rng() -> np.random.Generator:
+    return np.random.default_rng(20240617)
+
+
+def _numeric_zero(expr: sp.Expr, rng: np.random.Generator, trials: int = 4) -> tuple[bool, complex]:
+    symbols = sorted(expr.free_symbols, key=sp.default_sort_key)
+    worst = 0j
+    for _ in range(trials):
+        values = {s: sp.Float(rng.uniform(0.3, 1.3)) for s in symbols}
+        value = complex(sp.N(expr.xreplace(values), 20))
+        if abs(value) > abs(worst):
+            worst = value
+    return abs(worst) < 1e-9, worst
+
+
+def _assert_zero(expr, what: str = "") -> None:
+    rng = np.random.default_rng(7)
+    items = list(expr) if isinstance(expr, sp.MatrixBase) else [expr]
+    for i, item in enumerate(items):
+        item = sp.sympify(item)
+        if sp.count_ops(item) <= _SIMPLIFY_MAX_OPS and sp.simplify(item) == 0:
+            continue
+        ok, worst = _numeric_zero(item, rng)
+        label = f"{what}[{i}]" if len(items) > 1 else what
+        assert ok, f"{label} is not identically zero: {sp.simplify(item)} (e.g. {worst:.3g})"
+
+
+@pytest.fixture
+def assert_zero():
+    """`assert_zero(expr_or_matrix, what="")`: the expression is identically zero."""
+    return _assert_zero
+
+
+def _augmented(d, values: dict) -> tuple[np.ndarray, np.ndarray]:
+    model = d.model
+    subs = {p.symbol: p.value for p in model.parameters}
+    subs.update(values)
+    subs = {k: sp.Float(v) for k, v in subs.items()}
+
+    def num(matrix) -> np.ndarray:
+        return np.array(sp.Matrix(matrix).xreplace(subs).evalf(), dtype=float)
+
+    n = len(model.q)
+    m_rows = len(d.multipliers)
+    M = num(d.mass_matrix)
+    F = num(d.forcing).reshape(n)
+    if m_rows == 0:
+        return np.linalg.solve(M, F), np.zeros(0)
+    A = num(d.constraint_matrix).reshape(m_rows, n)
+    bias = num(d.constraint_bias).reshape(m_rows)
+    K = np.block([[M, -A.T], [A, np.zeros((m_rows, m_rows))]])
+    sol = np.linalg.solve(K, np.concatenate([F, bias]))
+    return sol[:n], sol[n:]
+
+
+@pytest.fixture
+def augmented():
+    """`augmented(d, {symbol: value})` -> (q'', lambda) as numpy arrays; parameters
+    not given take the spec's default values."""
+    return _augmented
+
+
+def _ddt(model, expr):
+    expr = sp.sympify(expr)
+    rate = sp.diff(expr, model.t)
+    for q, qd, qdd in zip(model.q, model.qd, model.qdd):
+        rate += sp.diff(expr, q) * qd + sp.diff(expr, qd) * qdd
+    return rate
+
+
+@pytest.fixture
+def ddt():
+    """`ddt(model, expr)`: total time derivative along q(t)."""
+    return _ddt
