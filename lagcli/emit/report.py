@@ -11,30 +11,50 @@ from __future__ import annotations
 from collections.abc import Callable
 
 import sympy as sp
+from sympy.simplify.fu import TR10i
 
 from lagcli.derive.result import Derivation
 
-TIDY_MAX_OPS = 150
+TIDY_MAX_OPS = 300      # beyond this, print as derived
+TRIGSIMP_MAX_OPS = 60   # trigsimp is thorough but slow: only for what is already small
 
 
 def tidy(expr: sp.Expr) -> sp.Expr:
-    """A bounded simplification for display (never for numerics)."""
+    """A bounded simplification for display (never for numerics): fu's TR10i folds
+    sin a sin b + cos a cos b into cos(a - b) cheaply, then small results get trigsimp."""
     expr = sp.sympify(expr)
-    if expr.is_Atom or sp.count_ops(expr) > TIDY_MAX_OPS:
+    ops = sp.count_ops(expr)
+    if expr.is_Atom or ops > TIDY_MAX_OPS:
         return expr
-    candidate = sp.factor_terms(sp.trigsimp(expr))
-    return candidate if sp.count_ops(candidate) <= sp.count_ops(expr) else expr
+    best, best_ops = expr, ops
+    candidate = sp.factor_terms(TR10i(expr))
+    candidate_ops = sp.count_ops(candidate)
+    if candidate_ops <= best_ops:
+        best, best_ops = candidate, candidate_ops
+    if best_ops <= TRIGSIMP_MAX_OPS:
+        candidate = sp.factor_terms(sp.trigsimp(best))
+        if sp.count_ops(candidate) <= best_ops:
+            best = candidate
+    return best
 
 
 def report_content(d: Derivation, printer: Callable[[sp.Expr], str], simplify: bool = True) -> dict:
     m = d.model
     cache: dict = {}
 
-    def p(expr) -> str:
+    def t(expr) -> sp.Expr:
         expr = sp.sympify(expr)
         if expr not in cache:
-            cache[expr] = printer(tidy(expr) if simplify else expr)
+            cache[expr] = tidy(expr) if simplify else expr
         return cache[expr]
+
+    def p(expr) -> str:
+        return printer(t(expr))
+
+    # T and L are assembled from their tidied parts: tidying the whole sum at once
+    # is slow and misses cos(W t)**2 + sin(W t)**2 hidden inside products.
+    T1 = sum((t(a_i) * v for a_i, v in zip(d.t1_coefficients, m.qd)), sp.S.Zero)
+    T = t(d.T2) + T1 + t(d.T0)
 
     def column(matrix) -> dict:
         return {q.name: p(e) for q, e in zip(m.q, matrix)}
@@ -53,10 +73,10 @@ def report_content(d: Derivation, printer: Callable[[sp.Expr], str], simplify: b
                    "nonholonomic": d.n_nonholonomic},
         "dof": d.dof,
         "scleronomic": d.scleronomic,
-        "kinetic_energy": {"T": p(d.T), "T2": p(d.T2), "T1": p(d.T1), "T0": p(d.T0)},
+        "kinetic_energy": {"T": printer(T), "T2": p(d.T2), "T1": printer(T1), "T0": p(d.T0)},
         "mass_matrix": rows(d.mass_matrix),
         "potential_energy": p(d.V),
-        "lagrangian": p(d.L),
+        "lagrangian": printer(T - t(d.V)),
         "generalized_forces": column(d.generalized_forces),
         "nonconservative_forces": column(d.nonconservative_forces),
         "forces_conservative": d.forces_conservative,

@@ -47,3 +47,17 @@ _PRINTER = SpecPrinter()
 
 def spec_str(expr) -> str:
     return _PRINTER.doprint(sp.sympify(expr))
+
+
+def output_names(model, multipliers=()) -> dict:
+    """Names an output expression may use: inputs plus q_ddot and the multipliers."""
+    names = {s.name: s for s in (*model.q, *model.qd, *model.qdd, *model.parameter_symbols, *multipliers)}
+    return {"pi": sp.pi, **names}
+
+
+def parse_output(text: str, model, multipliers=()) -> sp.Expr:
+    """Parse an expression lagcli printed (JSON/text) back into sympy, with lagcli's own parser."""
+    from lagcli.errors import Loc
+    from lagcli.expr import Scope, parse
+
+    return parse(text, Scope(output_names(model, multipliers), model.t), Loc("<output>"))
