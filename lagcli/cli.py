@@ -1,6 +1,7 @@
 """The `lagcli` command line: options in, library call, output out, errors to exit codes."""
 from __future__ import annotations
 
+import contextlib
 import sys
 import traceback
 
@@ -62,6 +63,69 @@ def derive(ctx, spec, fmt, standalone, simplify, output):
 def check(ctx, spec):
     """Validate SPEC and summarise it: coordinates, constraints, DOF."""
     _run(ctx, lambda: click.echo(commands.check_summary(spec), nl=False))
+
+
+@cli.command()
+@click.argument("spec", type=SPEC)
+@click.option("--lang", required=True, type=click.Choice(["python", "c", "latex"]),
+              help="python: one module (numpy); c: <name>.h, <name>.c, <name>_main.c; "
+                   "latex: a standalone document.")
+@click.option("-o", "--output", default=None,
+              help="Output file ('-' or none: stdout); for --lang c the directory (required).")
+@click.pass_context
+def generate(ctx, spec, lang, output):
+    """Generate code (Python, C) or a LaTeX document from SPEC's equations of motion."""
+    _run(ctx, lambda: commands.generate(spec, lang, output))
+
+
+@cli.command()
+@click.argument("spec", type=SPEC)
+@click.option("--t-end", type=float, help="End time (default: the spec's simulate.t_end, else 10).")
+@click.option("--dt", type=float, help="Output interval (default: simulate.dt, else 0.01).")
+@click.option("--method", type=click.Choice(["RK45", "DOP853", "Radau", "BDF", "LSODA"]),
+              help="scipy's integrator name (default: simulate.method, else DOP853).")
+@click.option("--rtol", type=float, help="Relative tolerance (default: simulate.rtol, else 1e-9).")
+@click.option("--atol", type=float, help="Absolute tolerance (default: simulate.atol, else 1e-12).")
+@click.option("--set", "sets", multiple=True, metavar="NAME=VALUE",
+              help="Override a parameter (repeatable); VALUE may be a constant expression.")
+@click.option("--init", "inits", multiple=True, metavar="NAME=VALUE",
+              help="Initial value of a coordinate or <q>_dot (repeatable); overrides `initial:`.")
+@click.option("--backend", type=click.Choice(["python", "c"]),
+              help="c (compiled driver, cached) is the default when `cc` exists; else python.")
+@click.option("--baumgarte", nargs=2, type=float, metavar="ALPHA BETA",
+              help="Constraint stabilisation gains (default 10 10).")
+@click.option("-o", "--output", default=None, help="CSV file ('-' or none: stdout).")
+@click.option("--plot", default=None, metavar="FILE.png",
+              help="Also plot coordinates and drift (needs matplotlib).")
+@click.pass_context
+def simulate(ctx, spec, t_end, dt, method, rtol, atol, sets, inits, backend, baumgarte, output, plot):
+    """Integrate the equations of motion of SPEC and write the trajectory as CSV."""
+    from lagcli.simulate.options import Request
+
+    request = Request(spec, t_end, dt, method, rtol, atol, tuple(sets), tuple(inits), backend,
+                      tuple(baumgarte) if baumgarte else None)
+    _run(ctx, lambda: commands.simulate(request, output, plot, note=lambda text: click.echo(text, err=True),
+                                        progress=_progress_bar))
+
+
+@contextlib.contextmanager
+def _progress_bar(t_end: float):
+    """A progress bar over [0, t_end] on stderr when it is a terminal; yields update(t) or None."""
+    stderr = sys.stderr
+    if not stderr.isatty() or t_end <= 0:
+        yield None
+        return
+    with click.progressbar(length=1000, label="simulating", file=stderr) as bar:
+        done = 0
+
+        def update(t: float) -> None:
+            nonlocal done
+            k = min(1000, int(1000 * t / t_end))
+            if k > done:
+                bar.update(k - done)
+                done = k
+
+        yield update
 
 
 def main() -> None:

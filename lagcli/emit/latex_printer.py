@@ -1,0 +1,262 @@
+"""The LaTeX printer of lagcli: sympy's `LatexPrinter` with the model's symbol names.
+
+Symbols are typeset from the symbol objects of the model, never by rewriting
+printed text:
+
+    q          the coordinate's `latex:` from the spec, else sympy's name (theta1 -> \\theta_{1})
+    q_dot      \\dot{<q>}    (sympy's split: theta1 -> \\dot{\\theta}_{1}; a user latex: \\dot{<latex>})
+    q_ddot     \\ddot{<q>}
+    parameter  its `latex:` from the spec, else sympy's name
+    lambda_j   \\lambda_{j};  lambda_<name> -> \\lambda_{\\mathrm{<name>}}
+
+`LatexPrinter.tex(expr)` returns a `Tex`: the one-line LaTeX (a `str`) that
+also carries `lines`, the same expression broken at top-level sums so that no
+line is wider than `CONTENT_WIDTH` (see `tex_width`), for display in `align*`.
+A wide product with a long sum as a factor is broken inside a pair of fixed-size
+parentheses (`\\biggl( ... \\biggr)`, which need no pairing per line).
+"""
+from __future__ import annotations
+
+import re
+
+import sympy as sp
+from sympy.core.function import _coeff_isneg
+from sympy.printing.latex import LatexPrinter as SympyLatexPrinter
+
+# Widths are in "ems" of the estimate below; 1 unit is about 6 pt at 10 pt type.
+# The standalone document's text is 16 cm (455 pt) wide.
+LINE_WIDTH = 76.0
+LABEL_WIDTH = 8.0                     # the label column of `align*` (e.g. "Q'_{\theta_{1}}" or "\ddot x\colon")
+CONTENT_WIDTH = LINE_WIDTH - LABEL_WIDTH - 4.0   # minus "= " and the "\quad" of continuation lines
+
+MIN_ROOM = 12.0                       # do not start a long term on a line with less room left
+_DELIMITERS = (r"\biggl(", r"\biggr)"), (r"\Bigl(", r"\Bigr)"), (r"\bigl(", r"\bigr)")
+
+
+class Tex(str):
+    """One-line LaTeX of an expression, with `lines` (broken form) and `width` (estimate)."""
+
+    lines: tuple[str, ...]
+    width: float
+
+    def __new__(cls, flat: str, lines: tuple[str, ...] | None = None) -> "Tex":
+        tex = super().__new__(cls, flat)
+        tex.lines = tuple(lines) if lines else (flat,)
+        tex.width = tex_width(flat)
+        return tex
+
+
+class LatexPrinter(SympyLatexPrinter):
+    """sympy's LaTeX printer with the model's symbols; see the module docstring."""
+
+    paren = (r"\left(", r"\right)")        # around a sum that fits on one line
+    delimiters = _DELIMITERS                # around a broken sum, by nesting depth
+    times = r"\times"                       # a product continued on the next line
+
+    def __init__(self, model, settings: dict | None = None, multipliers=()):
+        super().__init__({"symbol_names": {}, **(settings or {})})
+        names = self._settings["symbol_names"] = dict(self._settings["symbol_names"])
+        for q, qd, qdd in zip(model.q, model.qd, model.qdd):
+            user = model.coordinate_latex.get(q)
+            names[q] = user if user else self._deal_with_super_sub(q.name)
+            names[qd] = self._accented(r"\dot", q, user)
+            names[qdd] = self._accented(r"\ddot", q, user)
+        for info in model.parameters:
+            if info.latex:
+                names[info.symbol] = info.latex
+        for multiplier, label in multipliers:
+            names[multiplier] = multiplier_latex(multiplier, label)
+
+    def _accented(self, accent: str, q: sp.Symbol, user: str | None) -> str:
+        if user:
+            base, underscore, sub = user.partition("_")
+            simple = base.lstrip("\\").isalpha() and base.count("\\") <= 1 and "^" not in user
+            return f"{accent}{{{base}}}_{sub}" if underscore and sub and simple else f"{accent}{{{user}}}"
+        base, supers, subs = self._split_super_sub(q.name)
+        tex = f"{accent}{{{base}}}"
+        if supers:
+            tex += "^{%s}" % " ".join(supers)
+        if subs:
+            tex += "_{%s}" % " ".join(subs)
+        return tex
+
+    def tex(self, expr, width: float = CONTENT_WIDTH) -> Tex:
+        expr = sp.sympify(expr)
+        flat = self.doprint(expr)
+        if tex_width(flat) <= width:
+            return Tex(flat)
+        return Tex(flat, self.lines(expr, width, 0))
+
+    def symbol(self, name: str) -> str:
+        """LaTeX of a name that is not in the model (a known function, a particle)."""
+        return self._deal_with_super_sub(name)
+
+    # -- breaking long expressions -------------------------------------------------
+    #
+    # `lines(expr, width, depth, first)` breaks `expr` into lines no wider than
+    # `width`, except the first, which has `first` (the room left on a line that
+    # something else has started). Joined with spaces, the lines are `expr` again.
+
+    def lines(self, expr: sp.Expr, width: float, depth: int = 0, first: float | None = None) -> list[str]:
+        first = width if first is None else first
+        tex = self._print(expr)
+        if tex_width(tex) <= first:
+            return [tex]
+        if _coeff_isneg(expr):
+            return self._signed("-", -expr, width, depth, first)
+        if expr.is_Add:
+            return self._add_lines(expr, width, depth, first)
+        if expr.is_Mul and any(f.is_Add for f in expr.args):
+            return self._mul_lines(expr, width, depth, first)
+        return [tex]                      # a power or function of a long sum: left whole
+
+    def _signed(self, sign: str, expr: sp.Expr, width: float, depth: int, first: float) -> list[str]:
+        if expr.is_Add:
+            body = self._parenthesized(expr, width, depth, first - 2)
+        else:
+            body = self.lines(expr, width, depth, first - 2)
+        return [f"{sign} {body[0]}", *body[1:]]
+
+    def _add_lines(self, expr: sp.Add, width: float, depth: int, first: float) -> list[str]:
+        out: list[str] = []
+        for i, term in enumerate(self._as_ordered_terms(expr)):
+            if i == 0:
+                out.extend(self.lines(term, width, depth, first))
+                continue
+            sign, term = ("-", -term) if term.could_extract_minus_sign() else ("+", term)
+            body = self._print(term)
+            flat = f"{sign} {self.paren[0]}{body}{self.paren[1]}" if self._needs_add_brackets(term) else f"{sign} {body}"
+            room = _room(out, width, first)
+            if tex_width(flat) <= room:
+                out[-1] = f"{out[-1]} {flat}"
+            elif tex_width(flat) <= width or room < MIN_ROOM:
+                out.extend(self._signed(sign, term, width, depth, width))
+            else:
+                piece = self._signed(sign, term, width, depth, room)
+                out[-1] = f"{out[-1]} {piece[0]}"
+                out.extend(piece[1:])
+        return out
+
+    def _mul_lines(self, expr: sp.Mul, width: float, depth: int, first: float) -> list[str]:
+        sums = [f for f in expr.args if f.is_Add]
+        widest = max(sums, key=lambda f: (tex_width(self._print(f)), sp.default_sort_key(f)))
+        rest = sp.Mul(*[f for f in expr.args if f is not widest])
+        if rest == 1:
+            return self._parenthesized(widest, width, depth, first)
+        if rest.is_Add:
+            out = self._parenthesized(rest, width, depth, first)
+        else:
+            out = self.lines(rest, width, depth, first)
+        room = _room(out, width, first)
+        if room < MIN_ROOM:
+            piece = self._parenthesized(widest, width, depth, width - 3)
+            return [*out, f"{self.times} {piece[0]}", *piece[1:]]
+        piece = self._parenthesized(widest, width, depth, room)
+        return [*out[:-1], f"{out[-1]} {piece[0]}", *piece[1:]]
+
+    def _parenthesized(self, expr: sp.Expr, width: float, depth: int, first: float) -> list[str]:
+        left, right = self.delimiters[min(depth, len(self.delimiters) - 1)]
+        inner = self.lines(expr, width - 1.5, depth + 1, first - 1.5)
+        if len(inner) == 1:
+            return [f"{self.paren[0]}{inner[0]}{self.paren[1]}"]
+        return [f"{left}{inner[0]}", *inner[1:-1], f"{inner[-1]}{right}"]
+
+
+def _room(out: list[str], width: float, first: float) -> float:
+    """Room left on the last line of `out` (whose first line has `first`)."""
+    if not out:
+        return first
+    return (first if len(out) == 1 else width) - tex_width(out[-1]) - 1
+
+
+def multiplier_latex(multiplier: sp.Symbol, label: str | None) -> str:
+    """lambda_1 -> \\lambda_{1}; lambda_rolling -> \\lambda_{\\mathrm{rolling}}."""
+    suffix = multiplier.name[len("lambda_"):]
+    if label is None and suffix.isdigit():
+        return rf"\lambda_{{{suffix}}}"
+    return rf"\lambda_{{\mathrm{{{escape_text(label or suffix)}}}}}"
+
+
+_TEXT_ESCAPES = {"\\": r"\textbackslash{}", "_": r"\_", "%": r"\%", "&": r"\&", "#": r"\#",
+                 "$": r"\$", "{": r"\{", "}": r"\}", "~": r"\textasciitilde{}",
+                 "^": r"\textasciicircum{}", "<": r"\textless{}", ">": r"\textgreater{}",
+                 "|": r"\textbar{}"}
+_UNICODE_TEXT = {"\u2013": "--", "\u2014": "---", "\u2018": "`", "\u2019": "'", "\u201c": "``",
+                 "\u201d": "''", "\u2026": r"\ldots{}", "\u00a0": "~"}
+
+
+def escape_text(text: str) -> str:
+    """Text from the spec (name, description) made safe for LaTeX text (and \\mathrm)."""
+    out = []
+    for ch in text:
+        if ch in _TEXT_ESCAPES:
+            out.append(_TEXT_ESCAPES[ch])
+        elif ch in _UNICODE_TEXT:
+            out.append(_UNICODE_TEXT[ch])
+        elif ch in "\n\t\r":
+            out.append(" ")
+        elif ord(ch) < 32 or ord(ch) == 127:
+            continue
+        elif ord(ch) < 128 or 0xC0 <= ord(ch) <= 0xFF:
+            out.append(ch)            # ASCII and Latin-1 letters (pdflatex reads UTF-8)
+        else:
+            out.append(f"[U+{ord(ch):04X}]")
+    return "".join(out)
+
+
+# -- width estimate ----------------------------------------------------------------
+
+_TOKEN = re.compile(r"\\[A-Za-z]+|\\.|[{}^_]|[^\s\\{}^_]")
+_FUNCTIONS = {"sin", "cos", "tan", "sinh", "cosh", "tanh", "asin", "acos", "atan", "log", "exp",
+              "operatorname", "min", "max", "arcsin", "arccos", "arctan", "sign", "ln"}
+_INVISIBLE = {r"\left", r"\right", r"\bigl", r"\bigr", r"\Bigl", r"\Bigr", r"\biggl", r"\biggr",
+              r"\mathrm", r"\dot", r"\ddot", r"\mathit", r"\mathbf", r"\operatorname", r"\displaystyle"}
+_SPACES = {r"\quad": 2.0, r"\qquad": 4.0, r"\,": 0.3, r"\;": 0.5, r"\:": 0.4, r"\!": -0.3, r"\ ": 0.5}
+_BINARY = {"+": 2.2, "-": 2.2, "=": 2.4, r"\cdot": 1.4, r"\times": 2.2, ",": 0.8, r"\colon": 1.0}
+
+
+def tex_width(tex: str) -> float:
+    """A rough width of LaTeX math, in units of about 6 pt (wider rather than narrower)."""
+    width, _ = _group_width(_TOKEN.findall(tex), 0)
+    return width
+
+
+def _group_width(tokens: list[str], i: int) -> tuple[float, int]:
+    """Width of tokens[i:] up to the closing brace of the current group; returns (width, next index)."""
+    width = 0.0
+    while i < len(tokens):
+        tok = tokens[i]
+        i += 1
+        if tok == "}":
+            return width, i
+        if tok in ("^", "_"):
+            part, i = _argument(tokens, i)
+            width += 0.7 * part
+        elif tok == r"\frac":
+            num, i = _argument(tokens, i)
+            den, i = _argument(tokens, i)
+            width += max(num, den) + 0.6
+        elif tok == "{":
+            part, i = _group_width(tokens, i)
+            width += part
+        elif tok in _INVISIBLE:
+            if tok in (r"\left", r"\right", r"\bigl", r"\bigr", r"\Bigl", r"\Bigr", r"\biggl", r"\biggr"):
+                delim, i = (tokens[i], i + 1) if i < len(tokens) else ("", i)
+                width += 0.0 if delim == "." else 0.8
+        elif tok in _SPACES:
+            width += _SPACES[tok]
+        elif tok in _BINARY:
+            width += _BINARY[tok]
+        elif tok.startswith("\\") and tok[1:] in _FUNCTIONS:
+            width += len(tok) - 1 + 0.4
+        else:
+            width += 1.0
+    return width, i
+
+
+def _argument(tokens: list[str], i: int) -> tuple[float, int]:
+    if i >= len(tokens):
+        return 0.0, i
+    if tokens[i] == "{":
+        return _group_width(tokens, i + 1)
+    return _group_width([tokens[i], "}"], 0)[0], i + 1

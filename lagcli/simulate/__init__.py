@@ -1,0 +1,14 @@
+"""`lagcli simulate`: integrate a spec's equations of motion and write the CSV (and a PNG).
+
+    options.py         Request (the command line), RunSettings, NAME=VALUE parsing
+    run.py             simulate(request) -> Outcome: picks the backend, warm cache first
+    initial.py         consistent initial states of constrained systems (sympy + numpy)
+    python_backend.py  the generated Python module + scipy's integrators
+    c_backend.py       the generated C driver: compile, cache, run
+    trajectory.py      Trajectory (CSV rows), the output-time rule
+    plot.py            --plot: coordinates and conserved-quantity drift (matplotlib)
+
+Importing this package (and options, run, c_backend, trajectory) imports neither
+sympy nor numpy, so a warm C run starts in a few tens of milliseconds.  See
+docs/simulate.md.
+"""

@@ -1,0 +1,119 @@
+"""The Python backend: scipy's integrators on the generated Python module.
+
+The module is the one `lagcli generate --lang python` writes (lagcli.emit.python),
+built once per run from the Derivation and loaded from its source text — it is
+generated from sympy objects, never from spec text.
+
+Integration is scipy.integrate.solve_ivp with `t_eval`, written out as its own
+loop (the same solver classes, steps and dense output, so the same numbers) in
+order to keep the rows computed so far when the solver fails, a state becomes
+non-finite, the right-hand side raises (singular mass matrix) or the user presses
+Ctrl-C, and to report progress.  The right-hand side is the Baumgarte-stabilised
+one (docs/design.md); each output row holds t, the state, the multipliers of that
+stabilised system and the invariants.
+"""
+from __future__ import annotations
+
+import types
+
+import numpy as np
+from scipy import integrate
+
+from lagcli.simulate.options import RunSettings
+from lagcli.simulate.trajectory import Trajectory, format_row, output_times
+
+SOLVERS = {"RK45": integrate.RK45, "DOP853": integrate.DOP853, "Radau": integrate.Radau,
+           "BDF": integrate.BDF, "LSODA": integrate.LSODA}
+
+
+class _RhsFailure(Exception):
+    def __init__(self, t: float, reason: str):
+        super().__init__(reason)
+        self.t, self.reason = t, reason
+
+
+def load_module(derivation) -> types.ModuleType:
+    """The generated Python module of `derivation`, executed into a fresh module object."""
+    from lagcli.emit.python import python_module
+
+    source = python_module(derivation)
+    name = f"lagcli_generated_{derivation.model.name}"
+    module = types.ModuleType(name)
+    module.__file__ = f"<{name}>"
+    exec(compile(source, module.__file__, "exec"), module.__dict__)
+    return module
+
+
+def header(module) -> list[str]:
+    return ["t", *module.STATE, *module.MULTIPLIERS, *module.INVARIANTS]
+
+
+def integrate_module(module, p: list[float], y0: list[float], s: RunSettings,
+                     progress=None) -> Trajectory:
+    """Integrate from t = 0 to s.t_end; never raises for run-time failures (see Trajectory)."""
+    n = len(module.COORDINATES)
+    times = np.array(output_times(s.t_end, s.dt))
+
+    def accelerations(t, y):
+        try:
+            qdd, lam = module.accelerations(t, y, p, s.alpha, s.beta)
+        except (ArithmeticError, ValueError, np.linalg.LinAlgError) as exc:
+            raise _RhsFailure(t, _reason(exc)) from None
+        return np.asarray(qdd, dtype=float), np.asarray(lam, dtype=float)
+
+    def fun(t, y):
+        return np.concatenate([y[n:], accelerations(t, y)[0]])
+
+    def row(t, y):
+        lam = accelerations(t, y)[1]
+        inv = module.invariants(t, y, p)
+        return format_row([t, *y, *lam, *(inv[name] for name in module.INVARIANTS)])
+
+    traj = Trajectory(header(module))
+    y = np.array(y0, dtype=float)
+    with np.errstate(all="ignore"):   # overflow shows up as a failure, not as warnings
+        _run(fun, row, y, times, s, traj, progress)
+    return traj
+
+
+def _run(fun, row, y, times, s, traj, progress) -> None:
+    try:
+        _check_finite(0.0, y)
+        traj.lines.append(row(0.0, y))
+        _steps(SOLVERS[s.method](fun, 0.0, y, s.t_end, rtol=s.rtol, atol=s.atol),
+               times, traj, row, progress)
+    except _RhsFailure as exc:
+        traj.failure = f"at t = {exc.t:.10g}: {exc.reason}"
+    except KeyboardInterrupt:
+        traj.interrupted = True
+
+
+def _steps(solver, times, traj: Trajectory, row, progress) -> None:
+    """solve_ivp's loop for increasing t_eval: step, then dense output at the times passed."""
+    k = 1
+    while k < len(times):
+        message = solver.step()
+        if solver.status == "failed":
+            raise _RhsFailure(solver.t, f"the {type(solver).__name__} integrator failed: {message}")
+        _check_finite(solver.t, solver.y)
+        end = len(times) if solver.status == "finished" else int(np.searchsorted(times, solver.t, "right"))
+        if end > k:
+            dense = solver.dense_output()
+            for tk in times[k:end]:
+                y = dense(tk)
+                _check_finite(tk, y)
+                traj.lines.append(row(tk, y))
+            k = end
+        if progress is not None:
+            progress(solver.t)
+
+
+def _check_finite(t: float, y) -> None:
+    if not np.all(np.isfinite(y)):
+        raise _RhsFailure(t, "the state is no longer finite (inf/nan): the solution blows up")
+
+
+def _reason(exc: Exception) -> str:
+    if isinstance(exc, np.linalg.LinAlgError) or "singular" in str(exc).lower():
+        return f"singular mass matrix or constraint matrix ({exc})"
+    return f"{type(exc).__name__}: {exc}"

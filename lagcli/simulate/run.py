@@ -1,0 +1,176 @@
+"""`simulate`: a Request in, a Trajectory out, through the C or the Python backend.
+
+    warm C path   spec bytes -> cache key -> meta.json -> driver          (no sympy, no numpy)
+    cold path     spec -> Model -> Derivation -> consistent initial state
+                  -> C: generate, compile, cache, run the driver
+                  -> Python: generated module + scipy
+
+The warm path runs only when the cache holds a driver for this very spec and the
+state is known to be consistent: the spec's own initial state was made consistent
+when the driver was built (meta.json), and for `--set`/`--init` overrides of a
+constrained system the driver's first row (its constraint_residual at t = 0) is
+checked; if it exceeds 1e-8 the driver is stopped and the cold path solves for
+the dependent coordinates/velocities, then reruns the cached driver.
+"""
+from __future__ import annotations
+
+import contextlib
+from dataclasses import dataclass
+from pathlib import Path
+
+from lagcli.errors import SimulationError, UsageError
+from lagcli.simulate import c_backend
+from lagcli.simulate.options import (C_METHODS, CONSTRAINT_TOLERANCE, Request, RunSettings,
+                                    parse_assignments, resolve_settings)
+from lagcli.simulate.trajectory import Trajectory
+
+
+class Interrupted(SimulationError):
+    """Ctrl-C during the integration: the rows so far were written. Exit status 130."""
+
+    exit_code = 130
+
+
+@dataclass(frozen=True)
+class Outcome:
+    trajectory: Trajectory
+    backend: str                  # "c" | "python"
+    coordinates: tuple[str, ...]
+    energy_conserved: bool        # the energy column is conserved (it equals the Jacobi integral)
+
+
+def simulate(request: Request, note=lambda text: None, progress=None) -> Outcome:
+    """Run `request`. `note(text)` receives remarks for stderr; `progress(t_end)` is a
+    context manager yielding `update(t)` (or None for no progress report)."""
+    progress = progress or _no_progress
+    compiler = c_backend.find_compiler()
+    if request.backend == "c" and compiler is None:
+        raise SimulationError("--backend c needs a C compiler, but 'cc' was not found on PATH "
+                              "(install gcc or clang, or use --backend python)")
+    if compiler and request.backend in (None, "c") and request.method in (None, *C_METHODS):
+        outcome = _warm(request, compiler, note, progress)
+        if outcome is not None:
+            return outcome
+    return _cold(request, compiler, note, progress)
+
+
+@contextlib.contextmanager
+def _no_progress(total):
+    yield None
+
+
+def _warm(request: Request, compiler: str, note, progress) -> Outcome | None:
+    try:
+        spec_bytes = Path(request.spec).read_bytes()
+    except OSError:
+        return None                           # the cold path reports it properly
+    cached = c_backend.lookup(c_backend.cache_key(request.spec, spec_bytes, compiler))
+    if cached is None:
+        return None
+    meta = cached.meta
+    settings = resolve_settings(request, meta["settings"])
+    if settings.method not in C_METHODS:
+        return None
+    sets = parse_assignments(request.sets, "--set", list(meta["parameters"]), "parameter", "parameters")
+    inits = parse_assignments(request.inits, "--init", meta["state"], "coordinate or velocity",
+                               "coordinates and velocities")
+    if sets or inits:
+        given = {**meta["initial"], **inits}
+        state, notes = [given.get(name, 0.0) for name in meta["state"]], []
+    elif meta["default_state"] is not None:
+        state, notes = meta["default_state"], meta["default_notes"]
+    else:
+        return None                           # the spec's own state is inconsistent: cold path says so
+    limit = CONSTRAINT_TOLERANCE if meta["constrained"] and (sets or inits) else None
+    args = c_backend.driver_arguments(settings, sets, dict(zip(meta["state"], state)))
+    with progress(settings.t_end) as update:
+        traj = c_backend.run(cached, args, update, max_first_residual=limit)
+    if traj is None:
+        return None
+    for text in notes:
+        note(text)
+    return Outcome(traj, "c", tuple(meta["coordinates"]), meta["energy_conserved"])
+
+
+def _cold(request: Request, compiler: str | None, note, progress) -> Outcome:
+    from lagcli.api import load_model
+    from lagcli.derive import derive
+    from lagcli.simulate.initial import initial_state
+
+    model = load_model(request.spec)
+    settings = resolve_settings(request, _spec_settings(model))
+    backend = _backend(request, settings, compiler)
+    parameter_names = [p.symbol.name for p in model.parameters]
+    sets = parse_assignments(request.sets, "--set", parameter_names, "parameter", "parameters")
+    state_names = [s.name for s in model.q + model.qd]
+    inits = parse_assignments(request.inits, "--init", state_names, "coordinate or velocity",
+                               "coordinates and velocities")
+    d = derive(model)
+    params = {**{p.symbol.name: p.value for p in model.parameters}, **sets}
+    soft = set(model.initial) - set(inits) if inits else ()
+    start = initial_state(d, {**model.initial, **inits}, params, soft=soft)
+    for text in start.notes:
+        note(text)
+    coordinates = tuple(s.name for s in model.q)
+    energy_conserved = d.jacobi_integral is not None and d.energy_is_jacobi
+    if backend == "python":
+        traj = _python(d, params, start.values, settings, progress)
+    else:
+        cached = _cached_driver(d, request.spec, compiler)
+        args = c_backend.driver_arguments(settings, sets, dict(zip(state_names, start.values)))
+        with progress(settings.t_end) as update:
+            traj = c_backend.run(cached, args, update)
+    return Outcome(traj, backend, coordinates, energy_conserved)
+
+
+def _backend(request: Request, settings: RunSettings, compiler: str | None) -> str:
+    if request.backend == "c" and settings.method not in C_METHODS:
+        raise UsageError(f"--method {settings.method}: the C backend implements "
+                         f"{' and '.join(C_METHODS)} only; use --backend python for {settings.method}")
+    if request.backend:
+        return request.backend
+    return "c" if compiler and settings.method in C_METHODS else "python"
+
+
+def _spec_settings(model) -> dict:
+    s = model.settings
+    return {"t_end": s.t_end, "dt": s.dt, "method": s.method, "rtol": s.rtol, "atol": s.atol}
+
+
+def _python(d, params: dict, y0, settings: RunSettings, progress) -> Trajectory:
+    from lagcli.simulate.python_backend import integrate_module, load_module
+
+    module = load_module(d)
+    p = [params[p.symbol.name] for p in d.model.parameters]
+    with progress(settings.t_end) as update:
+        return integrate_module(module, p, list(y0), settings, update)
+
+
+def _cached_driver(d, spec: str, compiler: str) -> c_backend.Cached:
+    """The compiled driver of `d` from the cache, building it (and meta.json) if needed."""
+    key = c_backend.cache_key(spec, Path(spec).read_bytes(), compiler)
+    cached = c_backend.lookup(key)
+    if cached is not None:
+        return cached
+    from lagcli.emit.c import c_files
+    from lagcli.simulate.initial import initial_state
+
+    model = d.model
+    defaults = {p.symbol.name: p.value for p in model.parameters}
+    try:
+        start = initial_state(d, dict(model.initial), defaults)
+    except UsageError:
+        start = None                          # only runs with a repairing --init can use it
+    meta = {
+        "name": model.name,
+        "coordinates": [s.name for s in model.q],
+        "state": [s.name for s in model.q + model.qd],
+        "parameters": defaults,
+        "initial": dict(model.initial),
+        "settings": _spec_settings(model),
+        "constrained": bool(d.constraints),
+        "energy_conserved": d.jacobi_integral is not None and d.energy_is_jacobi,
+        "default_state": list(start.values) if start else None,
+        "default_notes": list(start.notes) if start else [],
+    }
+    return c_backend.build(c_files(d), key, compiler, meta)

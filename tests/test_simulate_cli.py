@@ -1,0 +1,222 @@
+"""`lagcli simulate` as a command: options, exit codes, messages, files.
+
+Exit status 2 for bad invocations (unknown or malformed --set/--init, a state
+that violates a constraint and cannot be repaired), 1 for run-time failures
+(a blow-up), with the rows computed so far kept in a CSV that parses.
+"""
+from __future__ import annotations
+
+import csv
+import io
+import math
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from lagcli.cli import cli
+from lagcli.simulate.trajectory import output_times, parse_csv
+
+from conftest import spec_path
+
+BLOWUP = """\
+# x'' = 4 k x^3 / m: x reaches infinity in finite time (about t = 0.927 from x = 1)
+name: blowup
+coordinates: [x]
+parameters: {m: 1.0, k: 1.0}
+kinetic: m*x_dot**2/2
+potential: -k*x**4
+initial: {x: 1.0, x_dot: 0.0}
+simulate: {t_end: 2.0, dt: 0.01}
+"""
+
+
+@pytest.fixture(autouse=True)
+def _shared_cache(tmp_path_factory, monkeypatch):
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path_factory.getbasetemp() / "xdg-cache"))
+
+
+def invoke(*args: str):
+    return CliRunner().invoke(cli, ["simulate", *map(str, args)])
+
+
+def columns(text: str) -> dict[str, np.ndarray]:
+    header, rows = parse_csv(text)
+    data = np.array(rows).reshape(len(rows), len(header))
+    return {name: data[:, i] for i, name in enumerate(header)}
+
+
+def test_help_lists_every_option():
+    result = CliRunner().invoke(cli, ["simulate", "--help"])
+    assert result.exit_code == 0
+    for option in ("--t-end", "--dt", "--method", "--rtol", "--atol", "--set", "--init",
+                   "--backend", "--baumgarte", "--output", "--plot"):
+        assert option in result.stdout
+
+
+def test_columns_and_output_times_follow_the_contract():
+    result = invoke(spec_path("cartesian_pendulum"), "--t-end", "0.35", "--dt", "0.1")
+    assert result.exit_code == 0, result.stderr
+    header, rows = parse_csv(result.stdout)
+    assert header == ["t", "x", "y", "x_dot", "y_dot", "lambda_rod", "energy", "jacobi",
+                      "constraint_residual"]
+    assert [r[0] for r in rows] == pytest.approx([0.0, 0.1, 0.2, 0.3, 0.35], abs=1e-15)
+    assert output_times(1.0, 0.1)[-1] == pytest.approx(1.0) and len(output_times(1.0, 0.1)) == 11
+    first = result.stdout.splitlines()[1].split(",")
+    assert first[:5] == ["0", "0.59999999999999998", "-0.80000000000000004",
+                         "0.40000000000000002", "0.29999999999999999"]   # %.17g
+    assert result.stderr == ""
+
+
+def test_writes_file_atomically_and_nothing_on_stdout(tmp_path):
+    out = tmp_path / "sub" / "traj.csv"
+    result = invoke(spec_path("double_pendulum"), "--t-end", "0.1", "-o", out)
+    assert result.exit_code == 0, result.stderr
+    assert result.stdout == ""
+    rows = list(csv.reader(io.StringIO(out.read_text())))
+    assert rows[0][:3] == ["t", "theta1", "theta2"] and len(rows) == 12
+    assert [p.name for p in out.parent.iterdir()] == ["traj.csv"]     # no temporary left
+
+
+def test_set_and_init_take_constant_expressions():
+    result = invoke(spec_path("double_pendulum"), "--t-end", "0", "--set", "l2=sqrt(4)",
+                    "--init", "theta1=pi/4", "--init", "theta2_dot=-1e-1")
+    assert result.exit_code == 0, result.stderr
+    c = columns(result.stdout)
+    assert c["theta1"][0] == math.pi / 4 and c["theta2_dot"][0] == -0.1
+    assert c["theta2"][0] == 0.5                                      # from the spec's initial:
+    kinetic = 0.5 * 1.0 * 2.0**2 * 0.1**2                            # m2 l2^2 theta2_dot^2 / 2
+    potential = -9.81 * (2 * math.cos(math.pi / 4) + 2 * math.cos(0.5))
+    assert c["energy"][0] == pytest.approx(kinetic + potential, rel=1e-12)
+
+
+@pytest.mark.parametrize("option, item, expected", [
+    ("--set", "mm1=2", "did you mean 'm1'?"),
+    ("--init", "theta3=1", "did you mean 'theta2'?"),
+    ("--init", "theta1_ddot=1", "unknown coordinate or velocity 'theta1_ddot'"),
+    ("--set", "m1", "expected NAME=VALUE"),
+    ("--set", "m1=", "expected NAME=VALUE"),
+    ("--set", "m1=abc", "abc"),
+    ("--set", "m1=__import__('os')", "m1"),
+    ("--set", "m1=nan", "not a finite number"),
+    ("--init", "theta1=1/0", "theta1"),
+])
+def test_bad_overrides_exit_2(option, item, expected):
+    result = invoke(spec_path("double_pendulum"), "--t-end", "0.1", option, item)
+    assert result.exit_code == 2, result.output
+    assert expected in result.stderr
+    assert result.stdout == "" and "Traceback" not in result.stderr
+
+
+@pytest.mark.parametrize("args, expected", [
+    (("--dt", "0"), "--dt"), (("--t-end", "-1"), "--t-end"), (("--rtol", "0"), "--rtol"),
+    (("--method", "Euler"), "Euler"), (("--backend", "fortran"), "fortran"),
+])
+def test_bad_settings_exit_2(args, expected):
+    result = invoke(spec_path("double_pendulum"), *args)
+    assert result.exit_code == 2
+    assert expected in result.stderr
+
+
+def test_dependent_coordinates_and_velocities_are_solved_for():
+    result = invoke(spec_path("cartesian_pendulum"), "--t-end", "0", "--init", "x=0.5",
+                    "--init", "x_dot=0.2")
+    assert result.exit_code == 0, result.stderr
+    c = columns(result.stdout)
+    assert c["y"][0] == pytest.approx(-math.sqrt(1 - 0.25), abs=1e-12)    # hangs down, l = 1
+    assert c["x"][0] * c["x_dot"][0] + c["y"][0] * c["y_dot"][0] == pytest.approx(0, abs=1e-12)
+    assert "solved for dependent coordinates: y = -0.866025403784" in result.stderr
+    assert "solved for dependent velocities: y_dot = 0.11547005383" in result.stderr
+
+
+def test_unrepairable_state_exits_2_naming_the_constraint():
+    result = invoke(spec_path("cartesian_pendulum"), "--init", "x=0.5", "--init", "y=0.5")
+    assert result.exit_code == 2
+    assert "constraint 'rod'" in result.stderr and "x**2 + y**2 - l**2" in result.stderr
+    assert "residual -0.5" in result.stderr
+    assert result.stdout == ""
+
+
+def test_unrepairable_velocity_exits_2():
+    result = invoke(spec_path("cartesian_pendulum"), "--init", "x_dot=1", "--init", "y_dot=1")
+    assert result.exit_code == 2
+    assert "velocity residual" in result.stderr
+
+
+@pytest.mark.parametrize("backend", ["python", "c"])
+def test_blow_up_exits_1_with_a_valid_partial_csv(tmp_path, backend):
+    if backend == "c" and not __import__("shutil").which("cc"):
+        pytest.skip("no C compiler")
+    spec = tmp_path / "blowup.yaml"
+    spec.write_text(BLOWUP)
+    out = tmp_path / "blowup.csv"
+    result = invoke(spec, "--backend", backend, "-o", out)
+    assert result.exit_code == 1
+    assert "integration failed at t = 0.92" in result.stderr
+    assert "kept in" in result.stderr
+    c = columns(out.read_text())
+    assert 0.9 <= c["t"][-1] < 0.93 and len(c["t"]) == round(c["t"][-1] / 0.01) + 1
+    assert np.all(np.isfinite(c["x"])) and c["x"][-1] > 10
+
+
+def test_missing_spec_exits_2(tmp_path):
+    result = invoke(tmp_path / "nope.yaml")
+    assert result.exit_code == 2
+
+
+def test_python_backend_supports_implicit_methods(derived):
+    from lagcli.simulate.options import RunSettings
+    from lagcli.simulate.python_backend import integrate_module, load_module
+
+    d = derived("double_pendulum")
+    module = load_module(d)
+    p = [prm.value for prm in d.model.parameters]
+    e0 = -9.81 * (2 * math.cos(1.0) + math.cos(0.5))        # E(0), conserved
+    for method in ("Radau", "BDF", "LSODA", "RK45", "DOP853"):
+        settings = RunSettings(0.2, 0.1, method, 1e-8, 1e-10, 10.0, 10.0)
+        traj = integrate_module(module, p, [1.0, 0.5, 0.0, 0.0], settings)
+        assert traj.failure is None and len(traj.lines) == 3
+        energy = columns(traj.csv_text())["energy"]
+        assert energy[0] == pytest.approx(e0, rel=1e-14) and abs(energy[-1] - e0) < 1e-5
+
+
+def test_c_backend_rejects_implicit_methods_but_default_falls_back():
+    explicit = invoke(spec_path("double_pendulum"), "--t-end", "0.1", "--method", "Radau", "--backend", "c")
+    assert explicit.exit_code == 2 and "--backend python" in explicit.stderr
+    default = invoke(spec_path("double_pendulum"), "--t-end", "0.1", "--method", "Radau")
+    assert default.exit_code == 0, default.stderr
+
+
+def test_plot_is_written(tmp_path):
+    png = tmp_path / "traj.png"
+    result = invoke(spec_path("cartesian_pendulum"), "--t-end", "2", "-o", tmp_path / "t.csv", "--plot", png)
+    assert result.exit_code == 0, result.stderr
+    data = png.read_bytes()
+    assert data.startswith(b"\x89PNG\r\n\x1a\n") and len(data) > 20_000
+
+
+def test_plot_without_matplotlib_exits_1_after_the_csv(tmp_path, monkeypatch):
+    import builtins
+
+    real_import = builtins.__import__
+
+    def no_matplotlib(name, *args, **kwargs):
+        if name.startswith("matplotlib"):
+            raise ImportError(name)
+        return real_import(name, *args, **kwargs)
+
+    monkeypatch.setattr(builtins, "__import__", no_matplotlib)
+    out = tmp_path / "t.csv"
+    result = invoke(spec_path("double_pendulum"), "--t-end", "0.1", "-o", out, "--plot", tmp_path / "p.png")
+    assert result.exit_code == 1
+    assert "lagcli[plot]" in result.stderr
+    assert out.exists() and not (tmp_path / "p.png").exists()
+
+
+def test_drift_panel_shows_only_conserved_columns():
+    from lagcli.simulate.plot import drift_series
+
+    header = ["t", "q1", "q1_dot", "energy", "jacobi", "p_phi", "constraint_residual"]
+    assert drift_series(header, energy_conserved=True) == [
+        ("jacobi", "jacobi = energy"), ("p_phi", "p_phi"), ("constraint_residual", "constraint_residual")]
+    assert drift_series(["t", "q", "q_dot", "energy"], energy_conserved=False) == []
