@@ -1,6 +1,6 @@
 """Derivation time of the planar N-link pendulum: lagcli against sympy.physics.mechanics.
 
-Run:  python bench/derive_nlink.py [--max-n 20] [--lagranges-max 12] [--repeats 3]
+Run:  python bench/derive_nlink.py [--max-n 20] [--lagranges-max 20] [--repeats 3] [--no-ops]
 
 Prints, per N, the median wall time of lagcli's `derive` (spec parsing and model
 building included), LagrangesMethod and KanesMethod (form_lagranges_equations /
@@ -73,9 +73,11 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--min-n", type=int, default=2)
     parser.add_argument("--max-n", type=int, default=20)
-    parser.add_argument("--lagranges-max", type=int, default=12)
+    parser.add_argument("--lagranges-max", type=int, default=20,
+                        help="skip LagrangesMethod above this N (it takes minutes at N = 20)")
     parser.add_argument("--repeats", type=int, default=3)
-    parser.add_argument("--ops", action="store_true", help="also count ops after cse (slow for big N)")
+    parser.add_argument("--no-ops", dest="ops", action="store_false",
+                        help="skip the operation counts of M and F after cse")
     args = parser.parse_args()
     print(f"{'N':>3} {'lagcli s':>9} {'Lagrange s':>10} {'Kane s':>8} {'Lag/lagcli':>10} "
           f"{'Kane/lagcli':>11}" + (f" {'ops lagcli':>10} {'ops Kane':>9}" if args.ops else ""))

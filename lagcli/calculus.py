@@ -7,8 +7,11 @@ derivative, which is much faster than sympy's `Function`/`Derivative` objects:
 """
 from __future__ import annotations
 
+import contextlib
 import random
-from collections.abc import Iterable, Sequence
+import signal
+import threading
+from collections.abc import Iterable, Iterator, Sequence
 
 import sympy as sp
 
@@ -69,7 +72,7 @@ def numerically_zero(exprs: Iterable[sp.Expr], symbols: Iterable[sp.Symbol] | No
         done += 1
         if any(abs(value) > 1e-9 * (1 + scale) for value, scale in values):
             return False
-    return done > 0
+    return done > 0  # no point could be evaluated: undecided, so not "zero"
 
 
 def _evaluate(expr: sp.Expr, point: dict) -> tuple[float, float] | None:
@@ -108,7 +111,7 @@ class DependenceProbe:
             self._compiled = sp.lambdify(self.symbols, self.exprs, modules=["math", "mpmath"])
         try:
             values = [complex(v) for v in self._compiled(*(point[s] for s in self.symbols))]
-        except (ValueError, ZeroDivisionError, OverflowError, TypeError):
+        except (ValueError, ZeroDivisionError, OverflowError, TypeError, ArithmeticError):
             return None
         if any(abs(v.imag) > 1e-12 * (1 + abs(v.real)) or v.real != v.real for v in values):
             return None
@@ -129,4 +132,42 @@ class DependenceProbe:
             scale = 1 + max(abs(v) for v in first + second)
             if any(abs(a - b) > 1e-9 * scale for a, b in zip(first, second)):
                 return True
-        return False
+        return done == 0  # no point could be evaluated: undecided, so assume dependence
+
+
+def almost_everywhere(value):
+    """Derivatives of abs/sign/min/max taken almost everywhere: DiracDelta -> 0 and
+    Heaviside(x) -> (1 + sign(x))/2, so every result prints in the spec language and in C."""
+    if isinstance(value, sp.MatrixBase):
+        return sp.ImmutableMatrix(value.shape[0], value.shape[1], [almost_everywhere(e) for e in value])
+    value = sp.sympify(value)
+    if not value.has(sp.DiracDelta, sp.Heaviside):
+        return value
+    value = value.replace(sp.DiracDelta, lambda *args: sp.S.Zero)
+    return value.replace(sp.Heaviside, lambda x, *rest: (1 + sp.sign(x)) / 2)
+
+
+class TooSlow(Exception):
+    """An optional symbolic step (simplification, potential search) ran out of time."""
+
+
+@contextlib.contextmanager
+def time_limit(seconds: float) -> Iterator[None]:
+    """Raise TooSlow in the block after `seconds` (main thread on Unix; elsewhere no limit).
+
+    Only for optional work whose result is a nicety (a tidier display, a closed-form
+    potential): a hostile but small spec must not make sympy grind for minutes."""
+    if threading.current_thread() is not threading.main_thread() or not hasattr(signal, "setitimer"):
+        yield
+        return
+
+    def expire(signum, frame):
+        raise TooSlow()
+
+    previous = signal.signal(signal.SIGALRM, expire)
+    signal.setitimer(signal.ITIMER_REAL, seconds)
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)

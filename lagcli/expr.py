@@ -30,6 +30,7 @@ MAX_NODES = 5_000        # syntax-tree nodes in one expression
 MAX_DEPTH = 60           # nesting depth
 MAX_EXPONENT = 1_000     # |n| in x**n with a numeric n
 MAX_LITERAL_DIGITS = 40  # digits in one numeric literal
+MAX_RESULT_NODES = 20_000  # tree size of one expression after definitions are substituted
 
 
 def _atan2(y, x):
@@ -102,7 +103,13 @@ def parse(text: str, scope: Scope, loc: Loc) -> sp.Expr:
     except (RecursionError, MemoryError, ValueError):
         _fail(loc, f"expression is too deeply nested or too large: {_short(text)!r}")
     _check_size(tree, text, loc)
-    return _Builder(scope, loc, text).build(tree.body)
+    value = _Builder(scope, loc, text).build(tree.body)
+    if _tree_size_exceeds(value, MAX_RESULT_NODES):
+        _fail(loc, f"expression is too large once names are substituted (more than {MAX_RESULT_NODES} "
+                   "terms); split it or simplify the definitions it uses")
+    if value.has(sp.I, sp.zoo, sp.nan, sp.oo):
+        _fail(loc, f"{_short(text)!r} is complex or infinite; expressions must be real")
+    return value
 
 
 def parse_constant(text: str, loc: Loc, extra: Mapping[str, sp.Expr] | None = None) -> float:
@@ -112,10 +119,20 @@ def parse_constant(text: str, loc: Loc, extra: Mapping[str, sp.Expr] | None = No
     if value.free_symbols:
         names_used = ", ".join(sorted(str(s) for s in value.free_symbols))
         _fail(loc, f"{_short(text)!r} must be a constant, but uses {names_used}")
-    number = complex(value.evalf())
+    try:  # floats, not mpmath: exp(exp(exp(100))) must overflow at once, not grind
+        number = complex(sp.lambdify((), value, modules="math")())
+    except (OverflowError, ValueError, ZeroDivisionError, TypeError):
+        number = complex("nan")
     if number.imag != 0 or not math.isfinite(number.real):
         _fail(loc, f"{_short(text)!r} is not a finite real number")
     return number.real
+
+
+def _tree_size_exceeds(expr: sp.Expr, limit: int) -> bool:
+    for count, _ in enumerate(sp.preorder_traversal(expr)):
+        if count > limit:
+            return True
+    return False
 
 
 def _check_size(tree: ast.AST, text: str, loc: Loc) -> None:
@@ -204,11 +221,18 @@ class _Builder:
         if exponent.is_Number:
             if abs(exponent) > MAX_EXPONENT:
                 self.fail(f"exponent {_short(str(exponent))} is too large (at most {MAX_EXPONENT})")
-            if base.is_Number and abs(base) > 1 and float(abs(exponent)) * math.log10(float(abs(base))) > 300:
+            if base.is_Number and base != 0 and \
+                    float(abs(exponent)) * abs(math.log10(float(abs(base)))) > 300:
                 self.fail("numeric power is too large")
             if base == 0 and exponent.is_negative:
                 self.fail("division by zero (0 to a negative power)")
-        return base ** exponent
+        result = base ** exponent
+        # sympy merges (x**a)**b into x**(a*b): bound the merged exponent too
+        if result.is_Pow and result.exp.is_Number and abs(result.exp) > MAX_EXPONENT:
+            self.fail(f"exponent {_short(str(result.exp))} is too large (at most {MAX_EXPONENT})")
+        if result.has(sp.I, sp.zoo, sp.nan, sp.oo):
+            self.fail("the expression is complex or infinite; expressions must be real")
+        return result
 
     def _Call(self, node: ast.Call) -> sp.Expr:
         if not isinstance(node.func, ast.Name):

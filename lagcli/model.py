@@ -12,7 +12,7 @@ from collections.abc import Callable
 
 import sympy as sp
 
-from lagcli.calculus import TimeDerivative
+from lagcli.calculus import TimeDerivative, numerically_zero
 from lagcli.errors import Problem, SpecError
 from lagcli.expr import Scope, parse, parse_constant
 from lagcli.model_types import (AppliedForce, ConstraintSpec, LinearSpring, Model, ParameterInfo,
@@ -85,6 +85,16 @@ class _ModelBuilder:
                                     f"{', '.join(sorted(map(str, used)))}); masses, inertias and "
                                     "stiffnesses cannot change during the motion"))
 
+    def at_most_quadratic(self, value: sp.Expr, src: Src) -> None:
+        """The extra kinetic energy must split as T2 + T1 + T0: a polynomial of degree <= 2 in q'."""
+        self.no_accelerations(value, src)
+        velocities = set(self.qd)
+        hessian = [value.diff(u).diff(v) for u in self.qd for v in self.qd]
+        if any(h.free_symbols & velocities for h in hessian) and \
+                not numerically_zero([h.diff(w) for h in hessian for w in self.qd]):
+            raise SpecError(Problem(src.loc, f"{src.text!r} must be a polynomial of degree at most 2 "
+                                    "in the velocities (T = T2 + T1 + T0)"))
+
     def no_accelerations(self, value: sp.Expr, src: Src) -> None:
         if value.free_symbols & set(self.qdd):
             raise SpecError(Problem(src.loc, f"{src.text!r} must not contain accelerations"))
@@ -113,7 +123,7 @@ class _ModelBuilder:
             forces=tuple(self._force(f, where, bodies) for f in spec.forces),
             springs=tuple(self._spring(s, where) for s in spec.springs),
             potential=self.expr(spec.potential, sp.S.Zero, self.no_velocities),
-            kinetic=self.expr(spec.kinetic, sp.S.Zero, self.no_accelerations),
+            kinetic=self.expr(spec.kinetic, sp.S.Zero, self.at_most_quadratic),
             generalized_forces=self._generalized_forces(),
             constraints=tuple(ConstraintSpec(c.name, self.expr(c.expr, check=self.no_accelerations), c.loc)
                               for c in spec.constraints),
@@ -183,9 +193,15 @@ class _ModelBuilder:
 
     def _settings(self) -> Settings:
         s, d = self.spec.simulate, Settings()
-        return Settings(t_end=self.constant(s.t_end, d.t_end), dt=self.constant(s.dt, d.dt),
-                        method=s.method or d.method, rtol=self.constant(s.rtol, d.rtol),
-                        atol=self.constant(s.atol, d.atol))
+        return Settings(t_end=self.positive(s.t_end, d.t_end), dt=self.positive(s.dt, d.dt),
+                        method=s.method or d.method, rtol=self.positive(s.rtol, d.rtol),
+                        atol=self.positive(s.atol, d.atol))
+
+    def positive(self, src: Src | None, default: float) -> float:
+        value = self.constant(src, default)
+        if src is not None and value is not None and not value > 0:
+            self.problems.append(Problem(src.loc, f"must be positive, got {value:g}"))
+        return value
 
 
 def _inertia_tensor(values: list[sp.Expr]) -> sp.Matrix:

@@ -6,6 +6,8 @@ import sys
 import tempfile
 from pathlib import Path
 
+from lagcli.errors import UsageError
+
 
 def write_output(path: str | None, data: str | bytes) -> None:
     """Write to `path` atomically, or to stdout when path is None or '-'."""
@@ -20,7 +22,17 @@ def write_output(path: str | None, data: str | bytes) -> None:
 
 
 def write_atomic(path: Path, data: str | bytes) -> None:
-    path = Path(path)
+    """Write via a temporary file in the same folder and a rename; any OS problem
+    (a directory in the way, no permission) is a UsageError naming the path."""
+    try:
+        _write_atomic(Path(path), data)
+    except OSError as exc:
+        raise UsageError(f"cannot write {path}: {exc.strerror or exc}") from exc
+
+
+def _write_atomic(path: Path, data: str | bytes) -> None:
+    if path.is_dir():
+        raise IsADirectoryError(21, "it is a directory")
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
     try:

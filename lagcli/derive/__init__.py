@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import sympy as sp
 
-from lagcli.calculus import TimeDerivative, depends_on, numerically_zero
+from lagcli.calculus import TimeDerivative, almost_everywhere, depends_on, numerically_zero
 from lagcli.derive.constraints import constraint_bias, constraint_matrix, constraint_rows
 from lagcli.derive.energy import energies
 from lagcli.derive.forcing import forcing
@@ -30,9 +30,9 @@ def derive(model: Model) -> Derivation:
     T1 = a.dot(qd)
     T = T2 + T1 + e.T0
     L = T - e.V
-    Q_applied = applied_generalized_forces(model, D)
+    Q_applied = almost_everywhere(applied_generalized_forces(model, D))
     conservative, force_potential = find_potential(model, Q_applied)
-    F = forcing(model, D, Q_applied, e.V)
+    F = almost_everywhere(forcing(model, D, Q_applied, e.V))
 
     rows = constraint_rows(model)
     A = constraint_matrix(model, rows)
@@ -74,20 +74,24 @@ def _particle_constraint_forces(model: Model, D: TimeDerivative) -> dict:
         if model.gravity is not None:
             applied += p.mass * model.gravity
         for force in model.forces:
-            if force.force is not None and force.point is p.position:
+            if force.force is not None and force.point == p.position:
                 applied += force.force
         for spring in model.springs:
             for here, there in ((spring.end_a, spring.end_b), (spring.end_b, spring.end_a)):
-                if here is p.position:
+                if here == p.position:
                     delta = here - there
                     length = sp.sqrt(delta.dot(delta))
                     applied -= spring.stiffness * (1 - spring.rest_length / length) * delta
         acceleration = D.matrix(D.matrix(p.position))
-        result[p.name] = sp.ImmutableMatrix(p.mass * acceleration - applied)
+        result[p.name] = almost_everywhere(p.mass * acceleration - applied)
     return result
 
 
 def _is_scleronomic(model: Model) -> bool:
+    """CONTRACT §1: no position, orientation, energy term or constraint depends on t,
+    and no `known` function of t is declared."""
+    if model.known:
+        return False
     t = (model.t,)
     exprs = [p.position for p in model.particles] + [b.position for b in model.bodies]
     exprs += [angle for b in model.bodies for _, angle in b.rotations]

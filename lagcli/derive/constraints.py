@@ -13,7 +13,7 @@ import itertools
 
 import sympy as sp
 
-from lagcli.calculus import TimeDerivative, numerically_zero
+from lagcli.calculus import TimeDerivative, almost_everywhere, numerically_zero
 from lagcli.derive.result import ConstraintRow
 from lagcli.errors import Loc, Problem, SpecError
 from lagcli.model_types import ConstraintSpec, Model
@@ -35,18 +35,27 @@ def _row(model: Model, j: int, spec: ConstraintSpec) -> ConstraintRow:
     multiplier = sp.Symbol(f"lambda_{spec.label or j}", real=True)
     expr, qd = spec.expr, model.qd
     if not expr.free_symbols & set(qd):
-        a = tuple(expr.diff(qk) for qk in model.q)
-        return ConstraintRow(spec.label, multiplier, "holonomic", expr, a, expr.diff(model.t), None, spec.loc)
-    _require_linear(expr, qd, spec.loc or Loc(model.source, path=f"constraints[{j - 1}]"))
-    a = tuple(expr.diff(v) for v in qd)
+        a = tuple(almost_everywhere(expr.diff(qk)) for qk in model.q)
+        return ConstraintRow(spec.label, multiplier, "holonomic", expr, a,
+                             almost_everywhere(expr.diff(model.t)), None, spec.loc)
+    a = tuple(almost_everywhere(expr.diff(v)) for v in qd)
     d = expr.subs({v: 0 for v in qd})
+    _require_linear(expr, a, qd, spec.loc or Loc(model.source, path=f"constraints[{j - 1}]"))
+    a = tuple(ak.subs({v: 0 for v in qd}) for ak in a)  # drop velocity terms that cancel
     integrable = is_integrable(model, a, d)
     return ConstraintRow(spec.label, multiplier, "nonholonomic", expr, a, d, integrable, spec.loc)
 
 
-def _require_linear(expr: sp.Expr, qd, loc: Loc) -> None:
-    second = [expr.diff(u).diff(v) for u, v in itertools.combinations_with_replacement(qd, 2)]
-    if not numerically_zero(second):
+NON_SMOOTH = (sp.sign, sp.Abs, sp.Min, sp.Max, sp.Heaviside, sp.DiracDelta)
+
+
+def _require_linear(expr: sp.Expr, a, qd, loc: Loc) -> None:
+    """Linear in q' means every coefficient a_k is free of velocities (up to cancellation,
+    checked numerically) and no non-smooth function of a velocity hides a kink."""
+    velocities = set(qd)
+    tangled = [ak for ak in a if ak.free_symbols & velocities]
+    non_smooth = any(f.free_symbols & velocities for f in expr.atoms(*NON_SMOOTH))
+    if non_smooth or not numerically_zero([ak.diff(v) for ak in tangled for v in qd]):
         raise SpecError(Problem(loc, f"velocity constraint {sp.sstr(expr)!r} is not linear in the "
                                 "velocities", "a kinematic constraint must have the Pfaffian form "
                                 "a_1(q,t) q1_dot + ... + a_n(q,t) qn_dot + d(q,t) = 0"))
@@ -79,5 +88,5 @@ def constraint_bias(model: Model, rows, D: TimeDerivative) -> sp.ImmutableMatrix
     bias = []
     for row in rows:
         velocity_form = sum((ak * v for ak, v in zip(row.a, model.qd)), row.d)
-        bias.append(-D(velocity_form).subs(no_acc))
+        bias.append(almost_everywhere(-D(velocity_form).subs(no_acc)))
     return sp.ImmutableMatrix(len(rows), 1, bias)

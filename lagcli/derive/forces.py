@@ -7,11 +7,12 @@ from __future__ import annotations
 
 import sympy as sp
 
-from lagcli.calculus import TimeDerivative, depends_on, numerically_zero
+from lagcli.calculus import TimeDerivative, TooSlow, depends_on, numerically_zero, time_limit
 from lagcli.derive.energy import body_angular_velocity
 from lagcli.model_types import Model
 
 MAX_OPS_FOR_POTENTIAL = 400  # beyond this, searching for a closed-form potential is not worth it
+POTENTIAL_SECONDS = 5.0      # and it may not take longer than this
 
 
 def applied_generalized_forces(model: Model, D: TimeDerivative) -> sp.ImmutableMatrix:
@@ -46,7 +47,11 @@ def find_potential(model: Model, Q: sp.ImmutableMatrix) -> tuple[bool, sp.Expr |
         return False, None
     if sum(sp.count_ops(e) for e in Q) > MAX_OPS_FOR_POTENTIAL:
         return True, None
-    return True, _integrate_potential(model.q, Q)
+    try:
+        with time_limit(POTENTIAL_SECONDS):
+            return True, _integrate_potential(model.q, Q)
+    except TooSlow:
+        return True, None
 
 
 def _integrate_potential(q, Q) -> sp.Expr | None:

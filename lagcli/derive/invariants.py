@@ -42,7 +42,7 @@ class LagrangianProbe:
 def ignorable_coordinates(model, probe: LagrangianProbe, Q_applied, rows) -> tuple[sp.Symbol, ...]:
     result = []
     for s, qs in enumerate(model.q):
-        if Q_applied[s] != 0 or any(depends_on(r.expr, (qs, model.qd[s])) for r in rows):
+        if not numerically_zero([Q_applied[s]]) or any(depends_on(r.expr, (qs, model.qd[s])) for r in rows):
             continue
         if not probe.depends_on(qs):
             result.append(qs)
@@ -50,7 +50,7 @@ def ignorable_coordinates(model, probe: LagrangianProbe, Q_applied, rows) -> tup
 
 
 def jacobi_integral(model, probe: LagrangianProbe, T2, T0, V, Q_applied, rows) -> sp.Expr | None:
-    if any(e != 0 for e in Q_applied):
+    if not numerically_zero(list(Q_applied)):
         return None
     t = model.t
     for row in rows:

@@ -13,18 +13,27 @@ from collections.abc import Callable
 import sympy as sp
 from sympy.simplify.fu import TR10i
 
+from lagcli.calculus import TooSlow, time_limit
 from lagcli.derive.result import Derivation
 
 TIDY_MAX_OPS = 300      # beyond this, print as derived
 TRIGSIMP_MAX_OPS = 60   # trigsimp is thorough but slow: only for what is already small
+TIDY_SECONDS = 2.0      # a guard against pathological inputs, far above any normal case
 
 
 def tidy(expr: sp.Expr) -> sp.Expr:
     """A bounded simplification for display (never for numerics): fu's TR10i folds
     sin a sin b + cos a cos b into cos(a - b) cheaply, then small results get trigsimp."""
-    expr = sp.sympify(expr)
+    try:
+        with time_limit(TIDY_SECONDS):
+            return _tidy(sp.sympify(expr))
+    except TooSlow:
+        return sp.sympify(expr)
+
+
+def _tidy(expr: sp.Expr) -> sp.Expr:
     ops = sp.count_ops(expr)
-    if expr.is_Atom or ops > TIDY_MAX_OPS:
+    if expr.is_Atom or ops > TIDY_MAX_OPS or _has_high_power(expr):
         return expr
     best, best_ops = expr, ops
     candidate = sp.factor_terms(TR10i(expr))
@@ -36,6 +45,11 @@ def tidy(expr: sp.Expr) -> sp.Expr:
         if sp.count_ops(candidate) <= best_ops:
             best = candidate
     return best
+
+
+def _has_high_power(expr: sp.Expr) -> bool:
+    """(a + b)**1000 counts as small but trigsimp would expand it: leave such powers alone."""
+    return any(p.exp.is_Number and abs(p.exp) > 6 for p in expr.atoms(sp.Pow))
 
 
 def report_content(d: Derivation, printer: Callable[[sp.Expr], str], simplify: bool = True) -> dict:

@@ -1,0 +1,116 @@
+"""Specs that once fooled or stalled the engine: each must give the right answer or a
+located error (exit 2) within seconds, never a traceback or a hang."""
+import json
+import time
+
+import pytest
+from click.testing import CliRunner
+
+from lagcli.api import load_model
+from lagcli.calculus import DependenceProbe, numerically_zero
+from lagcli.cli import cli
+from lagcli.derive import derive
+from lagcli.emit.spec_printer import parse_output
+
+import sympy as sp
+
+HEAD = "coordinates: [x, y]\nparameters: {k: 2.0, m: 1.0}\nparticles:\n  P: {mass: m, position: [x, y]}\n"
+
+
+def write(tmp_path, body, name="s.yaml"):
+    path = tmp_path / name
+    path.write_text(HEAD + body)
+    return path
+
+
+def invoke(*args):
+    start = time.perf_counter()
+    result = CliRunner().invoke(cli, [str(a) for a in args])
+    assert time.perf_counter() - start < 30, "took too long"
+    assert "Traceback" not in result.output
+    return result
+
+
+def test_dependence_is_assumed_when_no_point_evaluates(tmp_path):
+    # sqrt(x - 5) and log(y - 10) are complex at every random point in [0.3, 1.3]
+    d = derive(load_model(write(tmp_path, "potential: k*sqrt(x - 5) + k*log(y - 10)\n")))
+    assert d.ignorable == ()
+
+
+def test_probe_and_zero_test_can_say_no():
+    x, t = sp.symbols("x t", real=True)
+    assert not numerically_zero([sp.sin(x) ** 2 + sp.cos(x) ** 2 - 1 + 1e-6 * x])
+    assert numerically_zero([sp.sin(x + t) - sp.sin(x) * sp.cos(t) - sp.cos(x) * sp.sin(t)])
+    assert DependenceProbe([sp.cos(x * t) ** 2 + sp.sin(x * t) ** 2]).depends_on(t) is False
+    assert DependenceProbe([sp.cos(x * t)]).depends_on(t) is True
+
+
+@pytest.mark.parametrize("constraint", ["sign(x_dot)*y_dot", "abs(x_dot) - 1", "x_dot**2 - y_dot",
+                                        "max(x_dot, y_dot)"])
+def test_non_linear_velocity_constraints_are_refused(tmp_path, constraint):
+    result = invoke("check", write(tmp_path, f"constraints: ['{constraint}']\n"))
+    assert result.exit_code == 2
+    assert "not linear in the velocities" in result.stderr and "constraints[0]" in result.stderr
+
+
+def test_exploding_definitions_are_refused_quickly(tmp_path):
+    body = "definitions:\n  d1: x + y\n" + "".join(
+        f"  d{i}: sin(d{i - 1})*cos(d{i - 1}) + d{i - 1}*d{i - 1}\n" for i in range(2, 14))
+    result = invoke("check", write(tmp_path, body + "potential: d13\n"))
+    assert result.exit_code == 2 and "too large" in result.stderr
+
+
+@pytest.mark.parametrize("value", ["exp(exp(exp(100)))", "log(0)", "sqrt(-1)"])
+def test_bad_constants_are_located_errors(tmp_path, value):
+    path = tmp_path / "c.yaml"
+    path.write_text(f"coordinates: [x]\nparameters:\n  m: '{value}'\nparticles:\n  P: {{mass: m, position: [x, 0]}}\n")
+    result = invoke("check", path)
+    assert result.exit_code == 2 and "c.yaml:3" in result.stderr and "parameters.m" in result.stderr
+
+
+def test_complex_expression_is_a_located_error(tmp_path):
+    result = invoke("derive", write(tmp_path, "potential: sqrt(-1)*x\n"))
+    assert result.exit_code == 2 and "s.yaml:5" in result.stderr and "potential" in result.stderr
+
+
+def test_cubic_kinetic_energy_is_a_located_error(tmp_path):
+    result = invoke("check", write(tmp_path, "kinetic: x_dot**3\n"))
+    assert result.exit_code == 2 and "s.yaml:5" in result.stderr and "degree at most 2" in result.stderr
+
+
+def test_big_power_does_not_stall_the_report(tmp_path):
+    result = invoke("derive", write(tmp_path, "potential: (sin(x) + cos(y) + x*y)**1000\n"))
+    assert result.exit_code == 0
+
+
+def test_non_smooth_functions_report_in_the_spec_language(tmp_path):
+    path = write(tmp_path, "potential: k*max(x, 0)**2/2 + k*abs(y)\n")
+    result = invoke("derive", path, "--json")
+    assert result.exit_code == 0, result.output
+    report = json.loads(result.stdout)
+    d = derive(load_model(path))
+    forcing = [parse_output(report["explicit_form"]["forcing"][q], d.model) for q in ("x", "y")]
+    x, y, k = (d.model.symbol(n) for n in ("x", "y", "k"))
+    values = {x: 0.7, y: -0.4, k: 2.0}
+    assert [float(f.subs(values)) for f in forcing] == pytest.approx([-2.0 * 0.7, 2.0])
+
+
+def test_writing_onto_a_directory_is_a_clear_error(tmp_path):
+    result = invoke("derive", write(tmp_path, ""), "-o", tmp_path)
+    assert result.exit_code == 2 and "cannot write" in result.stderr
+
+
+def test_negative_simulate_settings_are_located(tmp_path):
+    result = invoke("check", write(tmp_path, "simulate: {t_end: '-1'}\n"))
+    assert result.exit_code == 2 and "simulate.t_end" in result.stderr and "positive" in result.stderr
+
+
+def test_generalized_force_that_vanishes_identically_keeps_the_jacobi_integral(tmp_path):
+    d = derive(load_model(write(tmp_path, "generalized_forces: {x: k*(sin(x)**2 + cos(x)**2 - 1)}\n")))
+    assert d.jacobi_integral is not None
+    assert [q.name for q in d.ignorable] == ["x", "y"]
+
+
+def test_a_declared_known_function_makes_the_spec_rheonomic(tmp_path):
+    d = derive(load_model(write(tmp_path, "known: {f: sin(t)}\n")))
+    assert not d.scleronomic
