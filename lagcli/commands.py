@@ -41,10 +41,10 @@ def derive_latex(path: str, simplify: bool = True, standalone: bool = False) -> 
 
 def check_summary(path: str) -> str:
     """Validate the spec (through the derivation, which classifies constraints) and summarise."""
+    from lagcli.emit.report import check_content
     from lagcli.emit.templates import render
 
-    d = _derive(path)
-    return render("report/check.txt.jinja", d=d, m=d.model)
+    return render("report/check.txt.jinja", c=check_content(_derive(path)))
 
 
 def simulate(request, output: str | None = None, plot: str | None = None,

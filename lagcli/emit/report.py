@@ -119,3 +119,25 @@ def report_content(d: Derivation, printer: Callable[[sp.Expr], str], simplify: b
         "jacobi_integral": None if d.jacobi_integral is None else p(d.jacobi_integral),
         "energy_is_jacobi": d.energy_is_jacobi,
     }
+
+
+def check_content(d: Derivation) -> dict:
+    """The one-screen summary of `lagcli check`, as plain strings and numbers."""
+    m = d.model
+    if d.jacobi_integral is None:
+        jacobi = "does not exist"
+    else:
+        jacobi = "exists (= total energy)" if d.energy_is_jacobi else "exists (differs from the total energy)"
+    return {
+        "source": m.source, "name": m.name, "description": m.description,
+        "coordinates": ", ".join(q.name for q in m.q), "n": len(m.q),
+        "parameters": ", ".join(f"{p.symbol.name} = {p.value:g}" for p in m.parameters) or "none",
+        "particles": ", ".join(p.name for p in m.particles) or "none",
+        "bodies": ", ".join(b.name for b in m.bodies) or "none",
+        "holonomic": d.n_holonomic, "nonholonomic": d.n_nonholonomic,
+        "integrable": [c.multiplier.name for c in d.constraints if c.integrable],
+        "dof": d.dof,
+        "time": "scleronomic" if d.scleronomic else "rheonomic",
+        "ignorable": ", ".join(q.name for q in d.ignorable) or "none",
+        "jacobi": jacobi,
+    }
