@@ -7,12 +7,31 @@ from lagcli.derive import derive
 from lagcli.derive.result import Derivation
 from lagcli.model import build_model
 from lagcli.model_types import Model
-from lagcli.spec import load_spec
+from lagcli.errors import SpecError
+from lagcli.spec.reader import read_document
+from lagcli.spec.schema import check
 
 
 def load_model(path: str | Path) -> Model:
-    """Read, validate and build the model of a spec file (raises SpecError)."""
-    return build_model(load_spec(str(path)))
+    """Read, validate and build the model of a spec file (raises SpecError).
+
+    When the spec has format problems, its expressions are still parsed where
+    possible so that one run reports every problem (CONTRACT §2: all together)."""
+    spec, problems = check(read_document(str(path)))
+    if not problems:
+        return build_model(spec)
+    raise SpecError(problems + [p for p in _expression_problems(spec) if p not in problems])
+
+
+def _expression_problems(spec) -> list:
+    """Problems the model stage finds in a spec that already failed validation."""
+    try:
+        build_model(spec)
+    except SpecError as exc:
+        return exc.problems
+    except Exception:  # noqa: BLE001 - a malformed spec may trip the builder; the first problems stand
+        return []
+    return []
 
 
 def derive_file(path: str | Path) -> Derivation:

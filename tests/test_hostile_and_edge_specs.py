@@ -114,3 +114,15 @@ def test_generalized_force_that_vanishes_identically_keeps_the_jacobi_integral(t
 def test_a_declared_known_function_makes_the_spec_rheonomic(tmp_path):
     d = derive(load_model(write(tmp_path, "known: {f: sin(t)}\n")))
     assert not d.scleronomic
+
+
+def test_format_and_expression_problems_are_reported_together(tmp_path):
+    path = tmp_path / "multi.yaml"
+    path.write_text("coordinates: [x]\nparamters: {m: 1}\nparticles:\n  P: {mass: 1, position: [x, zz]}\n"
+                    "potential: qq*x\n")
+    result = invoke("check", path)
+    assert result.exit_code == 2
+    for expected in ("multi.yaml:2:1: paramters: unknown key", "did you mean 'parameters'",
+                     "multi.yaml:4:30: particles.P.position[1]: in 'zz': unknown name 'zz'",
+                     "multi.yaml:5:12: potential: in 'qq*x': unknown name 'qq'"):
+        assert expected in result.stderr

@@ -30,11 +30,18 @@ SPATIAL_INERTIA = "[I1, I2, I3], 6 values [Ixx, Iyy, Izz, Ixy, Iyz, Izx] or a 3x
 
 def validate(raw: RawDoc) -> Spec:
     """Build the `Spec` for `raw`, or raise `SpecError` listing every problem found."""
+    spec, problems = check(raw)
+    if problems:
+        raise SpecError(problems)
+    return spec
+
+
+def check(raw: RawDoc) -> tuple[Spec, list]:
+    """The best-effort `Spec` for `raw` and the problems found (the spec is only
+    trustworthy when there are none; later stages may still scan it for more problems)."""
     checker = _SpecChecker(raw)
     spec = checker.spec()
-    if checker.problems:
-        raise SpecError(checker.problems)
-    return spec
+    return spec, checker.problems
 
 
 def default_name(file: str) -> str:
