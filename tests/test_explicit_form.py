@@ -48,3 +48,33 @@ def test_equations_are_mass_matrix_form(derivation):
     qdd = sp.Matrix(d.model.qdd)
     lhs = sp.Matrix([eq.lhs for eq in d.equations])
     assert numerically_zero(list(lhs - (d.mass_matrix * qdd - d.forcing)))
+
+
+def test_augmented_system_reproduces_equations_and_constraints(derivation):
+    """Solving [[M, -A^T], [A, 0]] [q''; lambda] = [F; b] must satisfy every equation
+    lhs = rhs and the differentiated constraints, at a random state."""
+    import numpy as np
+
+    d = derivation
+    m = d.model
+    rng = np.random.default_rng(7)
+    values = {s: float(rng.uniform(0.3, 1.3)) for s in (m.t, *m.q, *m.qd, *m.parameter_symbols)}
+    K = np.array(d.augmented_matrix.subs(values).evalf(), dtype=float)
+    b = np.array(d.augmented_rhs.subs(values).evalf(), dtype=float).ravel()
+    solution = np.linalg.solve(K, b)
+    n = len(m.q)
+    values.update(zip(m.qdd, solution[:n]))
+    values.update(zip(d.multipliers, solution[n:]))
+    residuals = [float((eq.lhs - eq.rhs).subs(values)) for eq in d.equations]
+    for row in d.constraints:  # d/dt (a.q' + d) = 0 along the solution
+        velocity_form = sum((ak * v for ak, v in zip(row.a, m.qd)), row.d)
+        residuals.append(float(_total_derivative(m, velocity_form).subs(values)))
+    assert np.allclose(residuals, 0, atol=1e-9 * (1 + np.abs(b).max()))
+
+
+def _total_derivative(m, expr):
+    # written out here (not lagcli.calculus.TimeDerivative) to stay independent of the engine
+    result = expr.diff(m.t)
+    for q, v, a in zip(m.q, m.qd, m.qdd):
+        result += expr.diff(q) * v + expr.diff(v) * a
+    return result

@@ -122,6 +122,18 @@ class Derivation:
         return self._explicit.position_terms
 
     @property
+    def augmented_matrix(self) -> sp.ImmutableMatrix:
+        """[[M, -A^T], [A, 0]]: unknowns (q'', lambda)."""
+        A, m = self.constraint_matrix, len(self.constraints)
+        top = self.mass_matrix.row_join(-A.T)
+        return sp.ImmutableMatrix(top.col_join(A.row_join(sp.zeros(m, m))))
+
+    @property
+    def augmented_rhs(self) -> sp.ImmutableMatrix:
+        """[F; -(A' q' + d')]."""
+        return sp.ImmutableMatrix(self.forcing.col_join(self.constraint_bias))
+
+    @property
     def n(self) -> int:
         return len(self.model.q)
 
