@@ -250,3 +250,13 @@ def rolling_disc_kane():
                           "cm": [G.pos_from(O).dot(e) for e in (N.x, N.y, N.z)],
                           "r_GC": [Cp.pos_from(G).dot(e) for e in (N.x, N.y, N.z)],
                           "H_G_rate": [H_rate.dot(e) for e in (N.x, N.y, N.z)]})
+
+
+def solve_augmented(d):
+    """(q'', lambda) solving [[M, -A^T], [A, 0]] [q''; lambda] = [F; b] symbolically (small systems)."""
+    M = sp.Matrix(d.mass_matrix)
+    A = sp.Matrix(d.constraint_matrix)
+    K = M.row_join(-A.T).col_join(A.row_join(sp.zeros(A.rows, A.rows)))
+    rhs = sp.Matrix(d.forcing).col_join(sp.Matrix(d.constraint_bias))
+    sol = K.LUsolve(rhs)
+    return sol[: M.rows, :], sol[M.rows:, :]

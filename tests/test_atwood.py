@@ -9,21 +9,14 @@ rope pulls each mass up with the tension, so tension = -lambda = 2 m1 m2 g/(m1 +
 """
 import sympy as sp
 
+from oracles import solve_augmented
+
 SPEC = "atwood"
 
 
 def _syms(d):
     model = d.model
     return (*model.q, *model.qd, *model.qdd, *(model.symbol(n) for n in ("m1", "m2", "g", "L")))
-
-
-def _solve(d):
-    M = sp.Matrix(d.mass_matrix)
-    A = sp.Matrix(d.constraint_matrix)
-    K = M.row_join(-A.T).col_join(A.row_join(sp.zeros(A.rows, A.rows)))
-    rhs = sp.Matrix(d.forcing).col_join(sp.Matrix(d.constraint_bias))
-    sol = K.LUsolve(rhs)
-    return sol[: M.rows, :], sol[M.rows:, :]
 
 
 def test_row_and_equations(derived, assert_zero):
@@ -43,7 +36,7 @@ def test_row_and_equations(derived, assert_zero):
 def test_acceleration_and_tension(derived, assert_zero):
     d = derived(SPEC)
     y1, y2, y1d, y2d, y1dd, y2dd, m1, m2, g, L = _syms(d)
-    qdd, lam = _solve(d)
+    qdd, lam = solve_augmented(d)
     acc = (m1 - m2) * g / (m1 + m2)
     assert_zero(qdd[0] - acc, "y1''")
     assert_zero(qdd[1] + acc, "y2''")
@@ -55,7 +48,7 @@ def test_particle_constraint_force_is_rope_tension(derived, assert_zero):
     # R_i = m_i r_i'' - F_i: on P1 = (-d, -y1) it is (0, tension, 0), pointing up.
     d = derived(SPEC)
     y1, y2, y1d, y2d, y1dd, y2dd, m1, m2, g, L = _syms(d)
-    qdd, lam = _solve(d)
+    qdd, lam = solve_augmented(d)
     subs = {y1dd: qdd[0], y2dd: qdd[1], d.multipliers[0]: lam[0]}
     tension = 2 * m1 * m2 * g / (m1 + m2)
     for name in ("P1", "P2"):
