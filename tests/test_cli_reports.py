@@ -18,6 +18,7 @@ from lagcli.derive import derive
 from lagcli.emit.spec_printer import parse_output
 
 SPECS = sorted((Path(__file__).parent.parent / "specs").glob("*.yaml"))
+ALL_FUNCTIONS = Path(__file__).parent / "data" / "all_functions.yaml"  # every function of the contract
 CONTRACT_KEYS = {
     "name", "coordinates", "velocities", "parameters", "known", "dof", "scleronomic",
     "kinetic_energy", "mass_matrix", "potential_energy", "lagrangian", "generalized_forces",
@@ -31,7 +32,7 @@ def run(*args):
     return result
 
 
-@pytest.mark.parametrize("spec", SPECS, ids=lambda p: p.stem)
+@pytest.mark.parametrize("spec", SPECS + [ALL_FUNCTIONS], ids=lambda p: p.stem)
 def test_json_round_trips(spec):
     result = run("derive", str(spec), "--json")
     assert result.exit_code == 0, result.output

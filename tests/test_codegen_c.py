@@ -193,6 +193,27 @@ def test_driver_rejects_bad_options(built):
         assert done.returncode == 2, args
         assert done.stderr.startswith("error: ") and done.stdout == ""
     assert c.run("--help").returncode == 0
+    for args, message in ((["--set", "zz=1"], "error: --set zz=1: unknown parameter 'zz'"),
+                          (["--set", "m1=abc"], "error: --set m1=abc: 'abc' is not a number"),
+                          (["--init", "q=1"], "error: --init q=1: unknown coordinate or velocity 'q'"),
+                          (["--init", "=1"], "error: --init =1: expected NAME=VALUE")):
+        done = c.run(*args)
+        assert done.returncode == 2 and done.stderr.splitlines()[0] == message, done.stderr
+
+
+def test_driver_warns_about_an_inconsistent_initial_state(built):
+    """It integrates the state as given (lagcli simulate is the one that repairs it), but
+    says so: the rod constraint x^2 + y^2 - l^2 is off by 0.5^2 + 0.8^2 - 1 = -0.11."""
+    c = built(ROOT / "specs" / "cartesian_pendulum.yaml")
+    done = c.run("--init", "x=0.5", "--t-end", "0.02")
+    assert done.returncode == 0, done.stderr
+    assert done.stderr.startswith("warning: the initial state violates the constraints: "
+                                  "constraint_residual = 0.11 ")
+    assert len(done.stdout.splitlines()) == 4
+    consistent = c.run("--init", "x=0.6", "--init", "y=-0.8", "--t-end", "0.02")
+    assert consistent.returncode == 0 and consistent.stderr == ""
+    unconstrained = built(ROOT / "specs" / "double_pendulum.yaml").run("--init", "theta1=3", "--t-end", "0")
+    assert unconstrained.returncode == 0 and unconstrained.stderr == ""
 
 
 def test_driver_failure_reports_time_and_keeps_rows(built):
@@ -230,3 +251,40 @@ def test_generate_c_cli_writes_three_files_and_needs_a_directory(tmp_path):
     assert result.exit_code == 0, result.output
     assert sorted(p.name for p in (tmp_path / "out").iterdir()) == [
         "double_pendulum.c", "double_pendulum.h", "double_pendulum_main.c"]
+
+
+def test_printed_functions_evaluate_in_c_like_math(tmp_path):
+    """sign, Abs, Min, Max, atan2, tanh... printed by CPrinter, compiled, compared with
+    Python's math at points on and off the kinks. sign is a double: sign(x)/sign(y) at
+    y = 0 is inf, not an integer division by zero (SIGFPE)."""
+    import math
+
+    import sympy as sp
+
+    from lagcli.emit.c import CPrinter
+
+    x, y = sp.symbols("x y", real=True)
+    printer = CPrinter({x: "y[0]", y: "y[1]"})
+    cases = [
+        (sp.sign(x) / sp.sign(y), lambda a, b: _sign(a) / _sign(b) if b else math.copysign(math.inf, _sign(a))),
+        (sp.sign(x - y) * x + sp.Abs(y), lambda a, b: _sign(a - b) * a + abs(b)),
+        ((1 + sp.sign(x - y)) / 2 * sp.Max(x, y, 0), lambda a, b: (1 + _sign(a - b)) / 2 * max(a, b, 0)),
+        (sp.Min(x, 0) ** 2 + sp.atan2(y, x) + sp.tanh(x), lambda a, b: min(a, 0) ** 2 + math.atan2(b, a) + math.tanh(a)),
+    ]
+    body = "\n".join(f"double f{k}(const double *y) {{ return {printer.code(e)}; }}" for k, (e, _) in enumerate(cases))
+    (tmp_path / "f.c").write_text("#include <math.h>\n" + body + "\n")
+    compile_c(["-shared", "-fPIC", "f.c", "-o", "libf.so"], tmp_path)
+    lib = ctypes.CDLL(str(tmp_path / "libf.so"))
+    points = [(1.0, 0.0), (-0.5, 0.25), (0.3, 0.3), (0.0, -2.0), (2.0, 3.0)]
+    for k, (_, expected) in enumerate(cases):
+        function = getattr(lib, f"f{k}")
+        function.restype = ctypes.c_double
+        for a, b in points:
+            if k == 0 and a == 0 and b == 0:
+                continue
+            got = function(doubles([a, b]))
+            assert got == pytest.approx(expected(a, b), rel=1e-15, abs=1e-300), (k, a, b)
+
+
+def _sign(v: float) -> float:
+    return (v > 0) - (v < 0)

@@ -9,6 +9,13 @@ from __future__ import annotations
 import csv
 import io
 import math
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import threading
+import time
 
 import numpy as np
 import pytest
@@ -17,7 +24,7 @@ from click.testing import CliRunner
 from lagcli.cli import cli
 from lagcli.simulate.trajectory import output_times, parse_csv
 
-from conftest import spec_path
+from conftest import ROOT, spec_path
 
 BLOWUP = """\
 # x'' = 4 k x^3 / m: x reaches infinity in finite time (about t = 0.927 from x = 1)
@@ -92,6 +99,7 @@ def test_set_and_init_take_constant_expressions():
 
 @pytest.mark.parametrize("option, item, expected", [
     ("--set", "mm1=2", "did you mean 'm1'?"),
+    ("--set", "mm=2", "did you mean 'm2'?"),
     ("--init", "theta3=1", "did you mean 'theta2'?"),
     ("--init", "theta1_ddot=1", "unknown coordinate or velocity 'theta1_ddot'"),
     ("--set", "m1", "expected NAME=VALUE"),
@@ -127,6 +135,23 @@ def test_dependent_coordinates_and_velocities_are_solved_for():
     assert c["x"][0] * c["x_dot"][0] + c["y"][0] * c["y_dot"][0] == pytest.approx(0, abs=1e-12)
     assert "solved for dependent coordinates: y = -0.866025403784" in result.stderr
     assert "solved for dependent velocities: y_dot = 0.11547005383" in result.stderr
+
+
+@pytest.mark.parametrize("backend", ["python", pytest.param("c", marks=pytest.mark.skipif(
+    shutil.which("cc") is None, reason="no C compiler (cc)"))])
+def test_init_keeps_the_spec_velocities_projected_onto_the_rod(backend):
+    """--init x=0.5 alone: y is solved for (hanging down) and the spec's (x', y') =
+    (0.4, 0.3) is changed as little as possible: projected onto the rod's tangent."""
+    result = invoke(spec_path("cartesian_pendulum"), "--t-end", "0", "--init", "x=0.5", "--backend", backend)
+    assert result.exit_code == 0, result.stderr
+    c = columns(result.stdout)
+    x, y = 0.5, -math.sqrt(1 - 0.25)                      # l = 1
+    tangent = np.array([-y, x])                           # unit vector, perpendicular to (x, y)
+    expected = tangent * (tangent @ [0.4, 0.3])           # least-norm change from (0.4, 0.3)
+    assert c["y"][0] == pytest.approx(y, abs=1e-12)
+    assert [c["x_dot"][0], c["y_dot"][0]] == pytest.approx(list(expected), abs=1e-12)
+    assert expected[0] == pytest.approx(0.4299038105676658) and expected[1] > 0.2
+    assert "solved for dependent velocities: x_dot = 0.429903810568, y_dot = 0.248205080757" in result.stderr
 
 
 def test_unrepairable_state_exits_2_naming_the_constraint():
@@ -220,3 +245,119 @@ def test_drift_panel_shows_only_conserved_columns():
     assert drift_series(header, energy_conserved=True) == [
         ("jacobi", "jacobi = energy"), ("p_phi", "p_phi"), ("constraint_residual", "constraint_residual")]
     assert drift_series(["t", "q", "q_dot", "energy"], energy_conserved=False) == []
+
+
+def test_plot_figure_has_two_labelled_panels_and_a_log_scale(tmp_path):
+    from lagcli.simulate.plot import build_figure
+    from lagcli.simulate.trajectory import Trajectory
+
+    result = invoke(spec_path("cartesian_pendulum"), "--t-end", "1", "--dt", "0.1")
+    assert result.exit_code == 0, result.stderr
+    header, *lines = result.stdout.splitlines()
+    figure = build_figure(Trajectory(header.split(","), lines), ["x", "y"], True, "cartesian")
+    top, bottom = figure.axes
+    assert top.get_ylabel() == "coordinates" and bottom.get_xlabel() == "t" and bottom.get_ylabel()
+    assert [t.get_text() for t in top.get_legend().get_texts()] == ["x", "y"]
+    assert [t.get_text() for t in bottom.get_legend().get_texts()] == [
+        "jacobi = energy: relative drift", "constraint_residual (absolute)"]
+    assert top.get_yscale() == "linear" and bottom.get_yscale() == "log"
+    assert top.get_title() == "cartesian"
+    unconserved = build_figure(Trajectory(["t", "q", "q_dot", "energy"], ["0,1,0,2", "1,2,0,3"]),
+                               ["q"], False, "driven")
+    assert len(unconserved.axes) == 1 and unconserved.axes[0].get_xlabel() == "t"
+
+
+class _Terminal(io.StringIO):
+    def isatty(self) -> bool:
+        return True
+
+
+@pytest.mark.parametrize("tty", [True, False])
+def test_progress_bar_only_on_a_terminal(monkeypatch, tty):
+    from lagcli import cli as cli_module
+
+    stream = _Terminal() if tty else io.StringIO()
+    monkeypatch.setattr(sys, "stderr", stream)
+    with cli_module._progress_bar(2.0) as update:
+        assert (update is not None) == tty
+        if update:
+            for t in (0.5, 1.0, 2.0):
+                update(t)
+    text = stream.getvalue()
+    assert ("simulating" in text and "100%" in text) if tty else text == ""
+
+
+def test_interrupt_while_deriving_exits_1(monkeypatch):
+    import lagcli.derive
+
+    def interrupted(model):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(lagcli.derive, "derive", interrupted)
+    result = invoke(spec_path("double_pendulum"), "--backend", "python", "--t-end", "0.1")
+    assert result.exit_code == 1
+    assert "interrupted before the integration started" in result.stderr
+    assert "Aborted" not in result.output and result.stdout == ""
+
+
+@pytest.mark.skipif(shutil.which("cc") is None, reason="no C compiler (cc)")
+def test_interrupt_while_compiling_exits_1_and_leaves_no_cache_entry(tmp_path, monkeypatch):
+    from lagcli.simulate import c_backend
+
+    def interrupted(*args):
+        raise KeyboardInterrupt
+
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    monkeypatch.setattr(c_backend, "_compile", interrupted)
+    out = tmp_path / "run.csv"
+    result = invoke(spec_path("double_pendulum"), "--backend", "c", "--t-end", "0.1", "-o", out)
+    assert result.exit_code == 1
+    assert "interrupted before the integration started" in result.stderr and "Aborted" not in result.output
+    assert not out.exists() and list((tmp_path / "cache" / "lagcli").iterdir()) == []
+
+
+def _read_all(fd: int, sink: list) -> None:
+    while True:
+        try:
+            chunk = os.read(fd, 4096)
+        except OSError:                    # EIO: the child closed the terminal
+            return
+        if not chunk:
+            return
+        sink.append(chunk)
+
+
+@pytest.mark.parametrize("backend", ["python", pytest.param("c", marks=pytest.mark.skipif(
+    shutil.which("cc") is None, reason="no C compiler (cc)"))])
+def test_ctrl_c_keeps_the_rows_and_exits_1(tmp_path, backend):
+    """A real SIGINT, with stderr a terminal (so the progress bar is drawn: we wait for it
+    to know the integration has started); the rows so far are kept in a CSV that parses."""
+    master, slave = os.openpty()
+    out = tmp_path / "run.csv"
+    env = {**os.environ, "PYTHONPATH": str(ROOT), "XDG_CACHE_HOME": str(tmp_path / "cache")}
+    proc = subprocess.Popen([sys.executable, "-m", "lagcli", "simulate", str(spec_path("double_pendulum")),
+                             "--backend", backend, "--t-end", "1e6", "--dt", "0.5", "-o", str(out)],
+                            stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=slave, env=env)
+    os.close(slave)
+    chunks: list[bytes] = []
+    reader = threading.Thread(target=_read_all, args=(master, chunks), daemon=True)
+    reader.start()
+    try:
+        deadline = time.monotonic() + 120
+        while b"simulating" not in b"".join(chunks) and proc.poll() is None and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert b"simulating" in b"".join(chunks), b"".join(chunks).decode(errors="replace")
+        time.sleep(0.5)
+        proc.send_signal(signal.SIGINT)
+        assert proc.wait(timeout=60) == 1
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+        reader.join(timeout=10)
+        os.close(master)
+    stderr = b"".join(chunks).decode(errors="replace")
+    assert "interrupted (" in stderr and f"kept in {out}" in stderr
+    assert "Traceback" not in stderr and "Aborted" not in stderr
+    c = columns(out.read_text())
+    assert len(c["t"]) >= 2 and np.all(np.diff(c["t"]) == pytest.approx(0.5))
+    assert f"{len(c['t'])} rows up to t = {c['t'][-1]:.10g}" in stderr

@@ -51,7 +51,7 @@ def derive(model: Model) -> Derivation:
     return Derivation(
         model=model, T=T, T2=T2, T1=T1, T0=e.T0, V=e.V, L=L,
         mass_matrix=M, t1_coefficients=a,
-        generalized_forces=sp.ImmutableMatrix(Q_applied - sp.Matrix([e.V.diff(qi) for qi in model.q])),
+        generalized_forces=almost_everywhere(Q_applied - sp.Matrix([e.V.diff(qi) for qi in model.q])),
         nonconservative_forces=Q_applied,
         forces_conservative=conservative, force_potential=force_potential,
         forcing=F, equations=equations,

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
+from lagcli.calculus import almost_everywhere
 from lagcli.model_types import Model
 
 
@@ -36,9 +37,9 @@ def explicit_form(model: Model, M, a, T0, V) -> ExplicitForm:
     c = M_dot * qd - sp.Matrix([(qd.T * dM_i * qd)[0] / 2 for dM_i in dM])
     gamma = sp.Matrix(n, n, lambda i, j: a[i].diff(q[j]) - a[j].diff(q[i]) if i != j else 0)
     return ExplicitForm(
-        velocity_terms=sp.ImmutableMatrix(c),
-        mass_rate_terms=sp.ImmutableMatrix(M.diff(t) * qd),
-        gyroscopic_matrix=sp.ImmutableMatrix(gamma),
-        t1_rate_terms=sp.ImmutableMatrix(a.diff(t)),
-        position_terms=sp.ImmutableMatrix([V.diff(qi) - T0.diff(qi) for qi in q]),
+        velocity_terms=almost_everywhere(c),
+        mass_rate_terms=almost_everywhere(M.diff(t) * qd),
+        gyroscopic_matrix=almost_everywhere(gamma),
+        t1_rate_terms=almost_everywhere(a.diff(t)),
+        position_terms=almost_everywhere(sp.Matrix([V.diff(qi) - T0.diff(qi) for qi in q])),
     )

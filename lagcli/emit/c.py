@@ -18,6 +18,7 @@ from sympy.printing.c import C99CodePrinter
 from lagcli.derive.result import Derivation
 from lagcli.emit import codegen
 from lagcli.emit.templates import render
+from lagcli.simulate.options import CONSTRAINT_TOLERANCE
 
 INTEGRATOR_PREFIX = "lagcli_ode"     # names of the integrator fragment: lagcli_ode_integrate, ...
 
@@ -29,6 +30,12 @@ class CPrinter(codegen.SlotPrinter, C99CodePrinter):
 
     def __init__(self, table: dict):
         super().__init__(table, {"math_macros": {}})
+
+    def _print_sign(self, expr):
+        """A double (sympy's `(x > 0) - (x < 0)` is an int: sign(x)/sign(y) would divide
+        integers); 0 for 0 and NaN, like copysign-free C99 code should."""
+        x = self._print(expr.args[0])
+        return f"(({x}) > 0 ? 1.0 : (({x}) < 0 ? -1.0 : 0.0))"
 
 
 def literal(value) -> str:
@@ -68,7 +75,7 @@ def c_context(d: Derivation) -> dict:
     name = d.model.name
     return dict(
         i=codegen.interface(d, outputs), prefix=name, PREFIX=name.upper(), n=n, m=m, nsys=nsys,
-        literal=literal, integrator_prefix=INTEGRATOR_PREFIX,
+        literal=literal, integrator_prefix=INTEGRATOR_PREFIX, constraint_tolerance=literal(CONSTRAINT_TOLERANCE),
         mass=codegen.print_block(reduced, printer, ("mass_matrix",)),
         forcing=codegen.print_block(reduced, printer, ("forcing",)),
         system=system, system_entries=_augmented_entries(system, n, m),

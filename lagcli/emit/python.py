@@ -22,6 +22,11 @@ class PythonPrinter(codegen.SlotPrinter, PythonCodePrinter):
     def __init__(self, table: dict):
         super().__init__(table, {"fully_qualified_modules": False, "standard": "python3"})
 
+    def _print_sign(self, expr):
+        """1.0, -1.0 or 0.0 (0.0 for NaN too, as in the generated C)."""
+        x = self._print(expr.args[0])
+        return f"(1.0 if ({x}) > 0 else (-1.0 if ({x}) < 0 else 0.0))"
+
     def sqrt_name(self) -> str:
         return self._module_format("math.sqrt")
 

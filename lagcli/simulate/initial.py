@@ -13,12 +13,14 @@ to 1e-8.  When it does not, the quantities the user did *not* give are solved fo
   from deterministic nearby starts (the unknowns shifted down, then up, by
   0.1 (1 + |q|), then a few seeded random shifts) — so a Cartesian pendulum with
   only x given hangs down (y < 0) rather than standing up;
-- dependent velocities: the linear least-squares solve of A q' + d = 0 for the
-  velocities not given.
+- dependent velocities: the least-norm correction that makes A q' + d = 0, over
+  the velocities not given (which start from 0).
 
 When every coordinate (velocity) has a value, the ones in `soft` — the spec's
-`initial:` values that `--init` did not override — are solved for instead, so
-`--init x=0.5` on a Cartesian pendulum moves y back onto the rod.
+`initial:` values that `--init` did not override — are solved for instead,
+starting from their given values: `--init x=0.5` on a Cartesian pendulum moves y
+back onto the rod and projects the spec's (x', y') onto the rod's tangent (the
+smallest change to the given velocities, not a reset to 0).
 
 What was solved is reported in `notes` (shown on stderr).  When nothing may be
 solved for, or the solve fails, a `UsageError` (exit status 2) names each
@@ -164,9 +166,8 @@ def _solve_velocities(f: _ConstraintFunctions, q, qd, free, d) -> np.ndarray:
         _fail(d, list(zip(d.constraints, residual)), "every velocity is given, so none can be solved for",
               level="velocity")
     A = f.A(q)
-    qd = qd.copy()
-    qd[free] = 0.0
-    qd[free] = np.linalg.lstsq(A[:, free], -(A @ qd + f.d(q)), rcond=None)[0]
+    qd = qd.copy()       # unknowns not given are 0 here; soft ones keep their given values
+    qd[free] += np.linalg.lstsq(A[:, free], -(A @ qd + f.d(q)), rcond=None)[0]   # least-norm change
     after = f.velocity_residual(q, qd)
     if not np.all(np.isfinite(after)) or _worst(after) > TOLERANCE * 1e-2:
         names = ", ".join(str(d.model.qd[k]) for k in free)

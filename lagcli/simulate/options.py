@@ -17,6 +17,8 @@ from lagcli.errors import LagcliError, UsageError
 METHODS = ("RK45", "DOP853", "Radau", "BDF", "LSODA")
 C_METHODS = ("RK45", "DOP853")          # what the generated C driver implements
 DEFAULT_BAUMGARTE = (10.0, 10.0)        # alpha, beta (docs/design.md)
+EXPLICIT_METHODS = ("RK45", "DOP853")   # explicit Runge-Kutta: step size capped by `max_step`
+HINT_CUTOFF = 0.5                       # difflib similarity for "did you mean": 'mm' -> 'm1'
 CONSTRAINT_TOLERANCE = 1e-8             # largest |constraint| of a consistent initial state (CONTRACT §4)
 
 
@@ -71,6 +73,24 @@ def resolve_settings(request: Request, spec_settings: dict) -> RunSettings:
     return s
 
 
+def max_step(method: str, alpha: float, beta: float, constrained: bool) -> float:
+    """The largest step of an explicit Runge-Kutta method on a Baumgarte-stabilised system.
+
+    The constraint error e obeys e'' + 2 alpha e' + beta^2 e = 0, with eigenvalues
+    lambda = -alpha +- sqrt(alpha^2 - beta^2). Left alone, the step controller of a
+    system with slow (or polynomial) physical motion lets h |lambda| grow to the edge
+    of the method's stability region (about 3.3 for RK45, 6 for DOP853), where the
+    error estimate is unreliable: the constraints then drift to ~1e-6 and tiny rounding
+    differences change the steps (docs/simulate.md, "Constraint stabilisation").
+    h |lambda| <= 1 keeps that mode well resolved; inf (no cap) when there is no such
+    mode (unconstrained, zero gains) or for the implicit methods."""
+    if not constrained or method not in EXPLICIT_METHODS:
+        return math.inf
+    alpha, beta = abs(alpha), abs(beta)
+    rate = max(alpha + math.sqrt(max(alpha * alpha - beta * beta, 0.0)), beta)
+    return 1.0 / rate if rate > 0 else math.inf
+
+
 def parse_assignments(items: tuple[str, ...], option: str, allowed: list[str],
                       what: str, plural: str) -> dict[str, float]:
     """{"m=2", "x=pi/4"} -> {"m": 2.0, "x": 0.785...}; names must be in `allowed`."""
@@ -108,7 +128,7 @@ def parse_value(text: str, where: str) -> float:
 
 
 def _hint(name: str, allowed, plural: str) -> str:
-    guess = difflib.get_close_matches(name, list(allowed), n=1)
+    guess = difflib.get_close_matches(name, list(allowed), n=1, cutoff=HINT_CUTOFF)
     listing = ", ".join(allowed) if allowed else "(none)"
     did_you_mean = f"did you mean {guess[0]!r}? " if guess else ""
     return f"\n  hint: {did_you_mean}{plural} are: {listing}"

@@ -16,8 +16,8 @@ Drifts are drawn from the second row on (they are 0 at t = 0 by definition);
 values below 1e-17 are drawn at 1e-17 so that exact zeros stay on the log axis.
 When nothing is conserved the figure has the top panel only.
 
-matplotlib is optional (the `plot` extra) and uses the Agg backend; the PNG is
-written atomically.
+matplotlib is optional (the `plot` extra); `build_figure` makes a pyplot-free
+`Figure` (drawn by the Agg renderer), `plot_png` writes it as a PNG, atomically.
 """
 from __future__ import annotations
 
@@ -46,11 +46,19 @@ def drift_series(header: list[str], energy_conserved: bool) -> list[tuple[str, s
 
 
 def plot_png(traj: Trajectory, coordinates, energy_conserved: bool, path: str, title: str) -> None:
+    """Write the figure of `build_figure` to `path` as a PNG, atomically."""
+    figure = build_figure(traj, coordinates, energy_conserved, title)
+    buffer = io.BytesIO()
+    figure.savefig(buffer, format="png", dpi=110)
+    write_atomic(Path(path), buffer.getvalue())
+
+
+def build_figure(traj: Trajectory, coordinates, energy_conserved: bool, title: str):
+    """The matplotlib Figure (not registered with pyplot, so nothing global to close):
+    the coordinates on top, the drift panel (`drift_series`) below when there is one."""
     try:
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
         import numpy as np
+        from matplotlib.figure import Figure
     except ImportError:
         raise SimulationError("--plot needs matplotlib, which is not installed; install it with "
                               "pip install 'lagcli[plot]' (the CSV was written)") from None
@@ -58,8 +66,8 @@ def plot_png(traj: Trajectory, coordinates, energy_conserved: bool, path: str, t
     data = np.array(rows, dtype=float).reshape(len(rows), len(header))
     column = {name: data[:, i] for i, name in enumerate(header)}
     series = drift_series(header, energy_conserved)
-    fig, axes = plt.subplots(2 if series else 1, 1, sharex=True, squeeze=False,
-                             figsize=(8, 6.5 if series else 4), constrained_layout=True)
+    fig = Figure(figsize=(8, 6.5 if series else 4), constrained_layout=True)
+    axes = fig.subplots(2 if series else 1, 1, sharex=True, squeeze=False)
     top = axes[0, 0]
     for name in coordinates:
         top.plot(column["t"], column[name], label=name)
@@ -70,10 +78,7 @@ def plot_png(traj: Trajectory, coordinates, energy_conserved: bool, path: str, t
     if series:
         _drift_panel(axes[1, 0], column, series, np)
     axes[-1, 0].set_xlabel("t")
-    buffer = io.BytesIO()
-    fig.savefig(buffer, format="png", dpi=110)
-    plt.close(fig)
-    write_atomic(Path(path), buffer.getvalue())
+    return fig
 
 
 def _drift_panel(ax, column, series, np) -> None:

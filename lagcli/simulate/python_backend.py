@@ -10,7 +10,8 @@ order to keep the rows computed so far when the solver fails, a state becomes
 non-finite, the right-hand side raises (singular mass matrix) or the user presses
 Ctrl-C, and to report progress.  The right-hand side is the Baumgarte-stabilised
 one (docs/design.md); each output row holds t, the state, the multipliers of that
-stabilised system and the invariants.
+stabilised system and the invariants. On a constrained system RK45 and DOP853 run
+with the step cap of `lagcli.simulate.options.max_step` (docs/simulate.md).
 """
 from __future__ import annotations
 
@@ -19,7 +20,7 @@ import types
 import numpy as np
 from scipy import integrate
 
-from lagcli.simulate.options import RunSettings
+from lagcli.simulate.options import RunSettings, max_step
 from lagcli.simulate.trajectory import Trajectory, format_row, output_times
 
 SOLVERS = {"RK45": integrate.RK45, "DOP853": integrate.DOP853, "Radau": integrate.Radau,
@@ -72,15 +73,16 @@ def integrate_module(module, p: list[float], y0: list[float], s: RunSettings,
     traj = Trajectory(header(module))
     y = np.array(y0, dtype=float)
     with np.errstate(all="ignore"):   # overflow shows up as a failure, not as warnings
-        _run(fun, row, y, times, s, traj, progress)
+        _run(fun, row, y, times, s, max_step(s.method, s.alpha, s.beta, bool(module.MULTIPLIERS)),
+             traj, progress)
     return traj
 
 
-def _run(fun, row, y, times, s, traj, progress) -> None:
+def _run(fun, row, y, times, s, cap, traj, progress) -> None:
     try:
         _check_finite(0.0, y)
         traj.lines.append(row(0.0, y))
-        _steps(SOLVERS[s.method](fun, 0.0, y, s.t_end, rtol=s.rtol, atol=s.atol),
+        _steps(SOLVERS[s.method](fun, 0.0, y, s.t_end, rtol=s.rtol, atol=s.atol, max_step=cap),
                times, traj, row, progress)
     except _RhsFailure as exc:
         traj.failure = f"at t = {exc.t:.10g}: {exc.reason}"

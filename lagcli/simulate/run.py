@@ -26,9 +26,9 @@ from lagcli.simulate.trajectory import Trajectory
 
 
 class Interrupted(SimulationError):
-    """Ctrl-C during the integration: the rows so far were written. Exit status 130."""
-
-    exit_code = 130
+    """Ctrl-C: during the integration (the rows so far are written) or before it, while
+    deriving, generating or compiling (nothing is written). Exit status 1, like every
+    run-time failure (CONTRACT §2 allows only 0, 1 and 2)."""
 
 
 @dataclass(frozen=True)
@@ -42,7 +42,14 @@ class Outcome:
 def simulate(request: Request, note=lambda text: None, progress=None) -> Outcome:
     """Run `request`. `note(text)` receives remarks for stderr; `progress(t_end)` is a
     context manager yielding `update(t)` (or None for no progress report)."""
-    progress = progress or _no_progress
+    try:
+        return _simulate(request, note, progress or _no_progress)
+    except KeyboardInterrupt:
+        raise Interrupted(f"{request.spec}: interrupted before the integration started "
+                          "(while deriving, generating or compiling); nothing was written") from None
+
+
+def _simulate(request: Request, note, progress) -> Outcome:
     compiler = c_backend.find_compiler()
     if request.backend == "c" and compiler is None:
         raise SimulationError("--backend c needs a C compiler, but 'cc' was not found on PATH "

@@ -11,11 +11,15 @@
  * t_k = k dt, k = 0 .. floor(t_end/dt + 1e-9), and t_end if not reached; each row is
  * flushed. On failure: "error: at t = ...: reason" on stderr, exit status 1, the rows
  * so far kept. Bad options: exit status 2.
+ * Constrained: the step is capped at 1/|lambda| of the Baumgarte-damped constraint error
+ * (cli_max_step), and an --init state that violates the constraints by more than
+ * 1e-08 is integrated as given, with a warning on stderr.
  */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "ex6_9_two_wheels_axle.h"
 
@@ -767,22 +771,32 @@ static int cli_number(const char *text, double *value)
     return *end == '\0' && isfinite(*value);
 }
 
-/* NAME=VALUE into values[index of NAME in names]. */
-static int cli_assign(const char *item, const char *const *names, double *values)
+/* NAME=VALUE into values[index of NAME in names]; on failure a message (exit status 2). */
+static int cli_assign(const char *option, const char *item, const char *const *names, const char *what,
+                      double *values, char *message)
 {
     const char *eq = strchr(item, '=');
     int i;
-    if (eq == NULL)
+    if (eq == NULL || eq == item) {
+        sprintf(message, "%s %.200s: expected NAME=VALUE", option, item);
         return 0;
+    }
     for (i = 0; names[i] != NULL; ++i)
-        if (strlen(names[i]) == (size_t)(eq - item) && strncmp(names[i], item, (size_t)(eq - item)) == 0)
-            return cli_number(eq + 1, &values[i]);
+        if (strlen(names[i]) == (size_t)(eq - item) && strncmp(names[i], item, (size_t)(eq - item)) == 0) {
+            if (cli_number(eq + 1, &values[i]))
+                return 1;
+            sprintf(message, "%s %.200s: '%.200s' is not a number", option, item, eq + 1);
+            return 0;
+        }
+    sprintf(message, "%s %.200s: unknown %s '%.*s'", option, item, what, (int)(eq - item < 200 ? eq - item : 200),
+            item);
     return 0;
 }
 
 typedef struct {
     double t_end, dt, rtol, atol;
     const char *method;
+    long bench;    /* --bench-integration N: time N silent integrations instead of printing */
 } cli_settings;
 
 /* The value of option argv[*i] (`--opt VALUE` or `--opt=VALUE`), or NULL if it is not `option`. */
@@ -806,7 +820,7 @@ static int cli_parse(int argc, char **argv, cli_settings *s, cli_run *run, doubl
 {
     int i, missing = 0;
     const char *v;
-    char message[256];
+    char message[720];
     for (i = 1; i < argc; ++i) {
         const char *arg = argv[i];
         if (strcmp(arg, "-h") == 0 || strcmp(arg, "--help") == 0)
@@ -828,15 +842,16 @@ static int cli_parse(int argc, char **argv, cli_settings *s, cli_run *run, doubl
                 return cli_usage(argv[0], "--method: the C driver implements RK45 and DOP853");
             s->method = v;
         } else if ((v = cli_option(argc, argv, &i, "--set", &missing)) != NULL) {
-            if (!cli_assign(v, ex6_9_two_wheels_axle_parameter_names, run->p)) {
-                sprintf(message, "--set %.200s: expected PARAMETER=NUMBER", v);
+            if (!cli_assign("--set", v, ex6_9_two_wheels_axle_parameter_names, "parameter", run->p, message))
                 return cli_usage(argv[0], message);
-            }
         } else if ((v = cli_option(argc, argv, &i, "--init", &missing)) != NULL) {
-            if (!cli_assign(v, ex6_9_two_wheels_axle_state_names, y0)) {
-                sprintf(message, "--init %.200s: expected COORDINATE=NUMBER or VELOCITY=NUMBER", v);
+            if (!cli_assign("--init", v, ex6_9_two_wheels_axle_state_names, "coordinate or velocity", y0, message))
                 return cli_usage(argv[0], message);
-            }
+        } else if ((v = cli_option(argc, argv, &i, "--bench-integration", &missing)) != NULL) {
+            double count;
+            if (!cli_number(v, &count) || count < 1 || count > 1e6 || count != floor(count))
+                return cli_usage(argv[0], "--bench-integration: expected a count from 1 to 1000000");
+            s->bench = (long)count;
         } else if (strcmp(arg, "--baumgarte") == 0) {
             if (i + 2 >= argc || !cli_number(argv[i + 1], &run->alpha) || !cli_number(argv[i + 2], &run->beta))
                 return cli_usage(argv[0], "--baumgarte: expected two numbers ALPHA BETA");
@@ -846,6 +861,72 @@ static int cli_parse(int argc, char **argv, cli_settings *s, cli_run *run, doubl
             return cli_usage(argv[0], message);
         }
     }
+    return 0;
+}
+
+/* Largest step on a constrained system: h |lambda| <= 1 for the eigenvalues lambda =
+ * -alpha +- sqrt(alpha^2 - beta^2) of the Baumgarte-damped constraint error, so that the
+ * step controller never runs that mode at the edge of the stability region. */
+static double cli_max_step(double alpha, double beta)
+{
+    double a = fabs(alpha), b = fabs(beta), d = a * a - b * b, rate;
+    if (EX6_9_TWO_WHEELS_AXLE_NLAMBDA == 0)
+        return HUGE_VAL;
+    rate = a + sqrt(d > 0.0 ? d : 0.0);
+    if (b > rate)
+        rate = b;
+    return rate > 0.0 ? 1.0 / rate : HUGE_VAL;
+}
+
+/* A warning (the run goes on) when the initial state violates the constraints by more
+ * than 1e-08: `lagcli simulate` solves for dependent coordinates and
+ * velocities, this driver integrates the state exactly as given. */
+static void cli_check_initial(const double *y0, cli_run *run)
+{
+    double inv[EX6_9_TWO_WHEELS_AXLE_NINV];
+    double residual;
+    (void)ex6_9_two_wheels_axle_invariants(0.0, y0, run->p, inv);    /* a non-finite residual warns too */
+    residual = inv[EX6_9_TWO_WHEELS_AXLE_NINV - 1];    /* constraint_residual, the last invariant column */
+    if (!(residual <= 1e-08))
+        fprintf(stderr, "warning: the initial state violates the constraints: constraint_residual = %.3g "
+                "(more than 1e-08); integrating it as given\n", residual);
+}
+
+static int cli_no_row(double t, const double *y, void *ctx)
+{
+    (void)t;
+    (void)y;
+    (void)ctx;
+    return 0;
+}
+
+/* --bench-integration N (for bench/simulate.py; not in the usage text): integrate N times
+ * with the same steps and dense output but no rows (no invariants, no printf), timing each
+ * run with clock() (processor time: no process start-up, no output), and report on stderr. */
+static int cli_bench(const cli_settings *s, cli_run *run, const double *y0, const double *times,
+                     size_t n_times)
+{
+    lagcli_ode_stats stats;
+    double best = HUGE_VAL, total = 0.0, seconds;
+    clock_t start;
+    long k;
+    int rc;
+    for (k = 0; k < s->bench; ++k) {
+        start = clock();
+        rc = lagcli_ode_integrate(s->method, cli_rhs, cli_no_row, run, EX6_9_TWO_WHEELS_AXLE_NSTATE, 0.0, y0, s->t_end,
+                             times + 1, n_times - 1, s->rtol, s->atol, cli_max_step(run->alpha, run->beta),
+                             &stats);
+        seconds = (double)(clock() - start) / CLOCKS_PER_SEC;
+        if (rc != LAGCLI_ODE_OK) {
+            fprintf(stderr, "error: at t = %.10g: %s\n", stats.t, stats.message);
+            return 1;
+        }
+        total += seconds;
+        if (seconds < best)
+            best = seconds;
+    }
+    fprintf(stderr, "integration: method %s, runs %ld, mean_s %.9g, min_s %.9g, steps %ld, rejected %ld, nfev %ld\n",
+            s->method, s->bench, total / (double)s->bench, best, stats.n_accepted, stats.n_rejected, stats.nfev);
     return 0;
 }
 
@@ -881,6 +962,7 @@ int main(int argc, char **argv)
     s.method = "DOP853";
     s.rtol = 1e-09;
     s.atol = 1e-12;
+    s.bench = 0;
     memcpy(run.p, ex6_9_two_wheels_axle_parameter_defaults, sizeof run.p);
     memcpy(y0, ex6_9_two_wheels_axle_initial_state, sizeof y0);
     run.alpha = 10.0;
@@ -891,10 +973,16 @@ int main(int argc, char **argv)
         return rc;
     if (s.t_end / s.dt > 1e8)
         return cli_usage(argv[0], "--dt: more than 1e8 output rows");
+    cli_check_initial(y0, &run);
     times = cli_times(s.t_end, s.dt, &n_times);
     if (times == NULL) {
         fprintf(stderr, "error: at t = 0: out of memory\n");
         return 1;
+    }
+    if (s.bench > 0) {
+        rc = cli_bench(&s, &run, y0, times, n_times);
+        free(times);
+        return rc;
     }
     cli_header();
     if (cli_row(0.0, y0, &run) != 0) {
@@ -905,7 +993,7 @@ int main(int argc, char **argv)
     rc = LAGCLI_ODE_OK;
     if (n_times > 1)
         rc = lagcli_ode_integrate(s.method, cli_rhs, cli_row, &run, EX6_9_TWO_WHEELS_AXLE_NSTATE, 0.0, y0, s.t_end,
-                             times + 1, n_times - 1, s.rtol, s.atol, HUGE_VAL, &stats);
+                             times + 1, n_times - 1, s.rtol, s.atol, cli_max_step(run.alpha, run.beta), &stats);
     free(times);
     if (rc == LAGCLI_ODE_OK)
         return 0;

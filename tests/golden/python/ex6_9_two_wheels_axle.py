@@ -154,6 +154,16 @@ def output_times(t_end, dt):
     return np.array(times)
 
 
+def _max_step(method, alpha, beta):
+    """Step cap of the explicit methods on a constrained system: h |lambda| <= 1 for the
+    eigenvalues lambda = -alpha +- sqrt(alpha^2 - beta^2) of the damped constraint error."""
+    if not MULTIPLIERS or method not in ("RK45", "DOP853"):
+        return np.inf
+    alpha, beta = abs(alpha), abs(beta)
+    rate = max(alpha + float(np.sqrt(max(alpha * alpha - beta * beta, 0.0))), beta)
+    return 1.0 / rate if rate > 0 else np.inf
+
+
 def simulate(t_end=None, dt=None, method=None, rtol=None, atol=None, p=None, y0=None,
              baumgarte=BAUMGARTE):
     """Integrate from t = 0 with scipy's solve_ivp; returns (header, rows) like the CSV of
@@ -171,9 +181,11 @@ def simulate(t_end=None, dt=None, method=None, rtol=None, atol=None, p=None, y0=
         return np.concatenate((y[_N:], accelerations(t, y, p, alpha, beta)[0]))
 
     times = output_times(t_end, dt)
-    solution = solve_ivp(fun, (0.0, t_end), y0, method=method or s["method"], t_eval=times,
+    method = method or s["method"]
+    solution = solve_ivp(fun, (0.0, t_end), y0, method=method, t_eval=times,
                          rtol=s["rtol"] if rtol is None else rtol,
-                         atol=s["atol"] if atol is None else atol)
+                         atol=s["atol"] if atol is None else atol,
+                         max_step=_max_step(method, alpha, beta))
     if solution.status < 0:
         raise RuntimeError(f"at t = {solution.t[-1] if solution.t.size else 0.0}: {solution.message}")
     rows = []
