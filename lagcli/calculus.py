@@ -45,8 +45,7 @@ def depends_on(expr: sp.Expr, symbols: Iterable[sp.Symbol]) -> bool:
     return bool(sp.sympify(expr).free_symbols & set(symbols))
 
 
-def numerically_zero(exprs: Iterable[sp.Expr], symbols: Iterable[sp.Symbol] | None = None,
-                     trials: int = 3, seed: int = 20261121) -> bool:
+def numerically_zero(exprs: Iterable[sp.Expr], trials: int = 3, seed: int = 20261121) -> bool:
     """True when every expression vanishes at `trials` random points.
 
     Used to decide identities such as "L has no explicit t" robustly when a
@@ -59,8 +58,7 @@ def numerically_zero(exprs: Iterable[sp.Expr], symbols: Iterable[sp.Symbol] | No
     exprs = [e for e in exprs if e != 0]
     if not exprs:
         return True
-    names = set(symbols) if symbols is not None else set().union(*(e.free_symbols for e in exprs))
-    names |= set().union(*(e.free_symbols for e in exprs))
+    names = set().union(*(e.free_symbols for e in exprs))
     rng = random.Random(seed)
     done = attempts = 0
     while done < trials and attempts < 10 * trials:

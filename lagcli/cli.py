@@ -8,6 +8,7 @@ import traceback
 import click
 
 from lagcli import __version__, commands
+from lagcli.emit import LANGUAGES
 from lagcli.errors import LagcliError
 from lagcli.output import write_output
 
@@ -30,7 +31,7 @@ def _run(ctx: click.Context, action) -> None:
     except LagcliError as exc:
         if ctx.obj and ctx.obj.get("traceback"):
             traceback.print_exc()
-        click.echo(f"error: {exc}" if exc.exit_code != 2 or "\n" not in str(exc) else str(exc), err=True)
+        click.echo(exc.render(), err=True)
         sys.exit(exc.exit_code)
 
 
@@ -46,6 +47,9 @@ def _run(ctx: click.Context, action) -> None:
 @click.pass_context
 def derive(ctx, spec, fmt, standalone, simplify, output):
     """Derive the equations of motion of SPEC and report them."""
+    if standalone and fmt != "latex":
+        raise click.UsageError("--standalone goes with --latex")
+
     def action():
         if fmt == "json":
             text = commands.derive_json(spec, simplify)
@@ -67,7 +71,7 @@ def check(ctx, spec):
 
 @cli.command()
 @click.argument("spec", type=SPEC)
-@click.option("--lang", required=True, type=click.Choice(["python", "c", "latex"]),
+@click.option("--lang", required=True, type=click.Choice(list(LANGUAGES)),
               help="python: one module (numpy); c: <name>.h, <name>.c, <name>_main.c; "
                    "latex: a standalone document.")
 @click.option("-o", "--output", default=None,

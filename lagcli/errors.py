@@ -49,6 +49,10 @@ class LagcliError(Exception):
 
     exit_code = 1
 
+    def render(self) -> str:
+        """The message for stderr: `error: ...` (located problems override this)."""
+        return f"error: {self}"
+
 
 class SpecError(LagcliError):
     """The spec (or a command-line override) is invalid: raised by reading, validation and
@@ -60,17 +64,13 @@ class SpecError(LagcliError):
         self.problems = [problems] if isinstance(problems, Problem) else list(problems)
         super().__init__("\n".join(str(p) for p in self.problems))
 
+    def render(self) -> str:
+        """Compiler-style `file:line:col: key.path: message` lines, as editors expect."""
+        return str(self)
+
 
 class UsageError(LagcliError):
     """A bad command-line value (e.g. `--set` of an unknown parameter). Exit status 2."""
-
-    exit_code = 2
-
-
-class DerivationError(LagcliError):
-    """The equations cannot be formed, e.g. a singular mass matrix or a velocity
-    constraint that is not linear in the velocities found after building. Exit status 2
-    when it is the spec's fault (see `exit_code`)."""
 
     exit_code = 2
 

@@ -100,9 +100,12 @@ def test_writing_onto_a_directory_is_a_clear_error(tmp_path):
     assert result.exit_code == 2 and "cannot write" in result.stderr
 
 
-def test_negative_simulate_settings_are_located(tmp_path):
-    result = invoke("check", write(tmp_path, "simulate: {t_end: '-1'}\n"))
-    assert result.exit_code == 2 and "simulate.t_end" in result.stderr and "positive" in result.stderr
+@pytest.mark.parametrize("setting", ["t_end: '-1'", "dt: -1", "rtol: 0"])
+def test_non_positive_simulate_settings_are_located_once(tmp_path, setting):
+    result = invoke("check", write(tmp_path, f"simulate: {{{setting}}}\n"))
+    key = setting.split(":")[0]
+    assert result.exit_code == 2 and f"s.yaml:5:" in result.stderr
+    assert result.stderr.count(f"simulate.{key}: must be positive") == 1
 
 
 def test_generalized_force_that_vanishes_identically_keeps_the_jacobi_integral(tmp_path):

@@ -26,6 +26,7 @@ from dataclasses import dataclass
 import sympy as sp
 
 from lagcli.errors import Loc
+from lagcli.model_types import Model
 
 
 @dataclass(frozen=True)
@@ -56,7 +57,7 @@ class Conserved:
 
 @dataclass(frozen=True)
 class Derivation:
-    model: "object"            # lagcli.model.Model
+    model: "Model"
     # energies
     T: sp.Expr
     T2: sp.Expr

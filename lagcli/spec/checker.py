@@ -33,7 +33,8 @@ def _unbalanced(value: Any) -> bool:
 def reserved_reason(name: str, coordinates: set[str]) -> str:
     """Why `name` cannot be declared in a spec, or '' when it can.
 
-    C keywords are fine: generated code mangles them.
+    C keywords are fine: generated code refers to every symbol by its array slot
+    (y[i], p[j]), so spec names never become C or Python identifiers.
     """
     if name in ("t", "pi"):
         return "'t' is time" if name == "t" else "'pi' is the constant pi"

@@ -300,9 +300,6 @@ class _SpecChecker(Checker):
             return SimulateSettings()
         numbers = {key: self.expr(path + (key,), table[key]) for key in SIMULATE_KEYS
                    if key in table and key != "method"}
-        for key, src in numbers.items():
-            if isinstance(table[key], (int, float)) and not isinstance(table[key], bool) and table[key] <= 0:
-                self.fail(path + (key,), f"'{key}' must be positive")
         method = self.method(path + ("method",), table["method"]) if "method" in table else None
         return SimulateSettings(method=method, **numbers)
 
