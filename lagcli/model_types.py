@@ -127,6 +127,11 @@ class Model:
         raise KeyError(name)
 
     @property
+    def mass_points(self) -> list[tuple[sp.Expr, sp.ImmutableMatrix]]:
+        """(mass, position) of every particle and every body's centre of mass."""
+        return [(p.mass, p.position) for p in self.particles] + [(b.mass, b.position) for b in self.bodies]
+
+    @property
     def parameter_symbols(self) -> tuple[sp.Symbol, ...]:
         return tuple(p.symbol for p in self.parameters)
 

@@ -12,7 +12,7 @@ from lagcli.calculus import TimeDerivative, almost_everywhere, depends_on, numer
 from lagcli.derive.constraints import constraint_bias, constraint_matrix, constraint_rows
 from lagcli.derive.energy import energies
 from lagcli.derive.forcing import forcing
-from lagcli.derive.forces import applied_generalized_forces, find_potential
+from lagcli.derive.forces import applied_generalized_forces
 from lagcli.derive.invariants import (LagrangianProbe, conserved_quantities, ignorable_coordinates,
                                       jacobi_integral)
 from lagcli.derive.result import Derivation, Equation
@@ -31,7 +31,6 @@ def derive(model: Model) -> Derivation:
     T = T2 + T1 + e.T0
     L = T - e.V
     Q_applied = almost_everywhere(applied_generalized_forces(model, D))
-    conservative, force_potential = find_potential(model, Q_applied)
     F = almost_everywhere(forcing(model, D, Q_applied, e.V))
 
     rows = constraint_rows(model)
@@ -53,7 +52,6 @@ def derive(model: Model) -> Derivation:
         mass_matrix=M, t1_coefficients=a,
         generalized_forces=almost_everywhere(Q_applied - sp.Matrix([e.V.diff(qi) for qi in model.q])),
         nonconservative_forces=Q_applied,
-        forces_conservative=conservative, force_potential=force_potential,
         forcing=F, equations=equations,
         constraints=rows, constraint_matrix=A, constraint_bias=constraint_bias(model, rows, D),
         multipliers=multipliers,

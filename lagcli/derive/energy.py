@@ -11,6 +11,7 @@ This is the notes' construction (section 6.6) and avoids differentiating T twice
 """
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import sympy as sp
@@ -29,6 +30,7 @@ class Energies:
     V: sp.Expr
 
 
+@functools.lru_cache(maxsize=256)  # energy, forcing and torques all need it, per derivation
 def body_angular_velocity(body: RigidBody, D: TimeDerivative) -> sp.ImmutableMatrix:
     """Angular velocity in body axes for successive body-fixed rotations R = R1 R2 ... Rk:
     w_body = sum_i (R_{i+1} ... R_k)^T e_i  d(angle_i)/dt, accumulated as w <- R_i^T w + e_i angle_i'."""
@@ -44,8 +46,7 @@ def kinetic_parts(model: Model, D: TimeDerivative) -> tuple[sp.Matrix, sp.Matrix
     n = len(model.q)
     M, a, T0 = sp.zeros(n, n), sp.zeros(n, 1), sp.S.Zero
     q, t = sp.Matrix(model.q), model.t
-    points = [(p.mass, p.position) for p in model.particles] + [(b.mass, b.position) for b in model.bodies]
-    for mass, r in points:
+    for mass, r in model.mass_points:
         J, r_t = r.jacobian(q), r.diff(t)
         M += mass * (J.T * J)
         a += mass * (J.T * r_t)
@@ -75,8 +76,7 @@ def potential_energy(model: Model) -> sp.Expr:
     """V = -sum m g.r (gravity) + sum 1/2 k (|r_a - r_b| - L0)^2 + potential."""
     V = model.potential
     if model.gravity is not None:
-        for mass, r in [(p.mass, p.position) for p in model.particles] + \
-                       [(b.mass, b.position) for b in model.bodies]:
+        for mass, r in model.mass_points:
             V -= mass * model.gravity.dot(r)
     for spring in model.springs:
         delta = spring.end_a - spring.end_b

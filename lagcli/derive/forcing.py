@@ -27,8 +27,7 @@ def forcing(model: Model, D: TimeDerivative, Q_applied: sp.ImmutableMatrix, V: s
     q, qd = sp.Matrix(model.q), sp.Matrix(model.qd)
     no_acc = {a: 0 for a in model.qdd}
     F = sp.Matrix(Q_applied) - sp.Matrix([V.diff(qi) for qi in model.q])
-    points = [(p.mass, p.position) for p in model.particles] + [(b.mass, b.position) for b in model.bodies]
-    for mass, r in points:
+    for mass, r in model.mass_points:
         acceleration = D.matrix(D.matrix(r)).subs(no_acc)
         F -= mass * (r.jacobian(q).T * acceleration)
     for body in model.bodies:

@@ -70,8 +70,6 @@ class Derivation:
     # forces
     generalized_forces: sp.ImmutableMatrix   # n x 1, total Q_j by virtual work (= -dV/dq + Q')
     nonconservative_forces: sp.ImmutableMatrix  # n x 1, Q'_j (applied forces not in V)
-    forces_conservative: bool                # Q' derivable from a potential V'(q)
-    force_potential: sp.Expr | None          # that V' (Q' = -dV'/dq), when found
     forcing: sp.ImmutableMatrix              # F, so that M q'' = F + A^T lambda
     equations: tuple[Equation, ...]
     # constraints
@@ -88,6 +86,23 @@ class Derivation:
     jacobi_integral: sp.Expr | None
     energy_is_jacobi: bool
     scleronomic: bool
+
+    # Whether Q' has a potential is for reports only: searched on first use (it may integrate).
+    @functools.cached_property
+    def _force_potential(self) -> tuple[bool, sp.Expr | None]:
+        from lagcli.derive.forces import find_potential
+
+        return find_potential(self.model, self.nonconservative_forces)
+
+    @property
+    def forces_conservative(self) -> bool:
+        """Q' is derivable from a potential V'(q) (symmetric Jacobian, no q', no t)."""
+        return self._force_potential[0]
+
+    @property
+    def force_potential(self) -> sp.Expr | None:
+        """That V' (Q' = -dV'/dq), when found in closed form."""
+        return self._force_potential[1]
 
     # The explicit form's named terms (for reports) are computed on first use: they
     # need every dM/dq_l (n^3 derivatives), which numerics never do (see forcing.py).
