@@ -38,7 +38,7 @@ sys.path.insert(0, str(ROOT))
 
 from lagcli.api import load_model  # noqa: E402
 from lagcli.derive import derive  # noqa: E402
-from lagcli.emit import codegen  # noqa: E402
+from lagcli.emit import codegen, tidy  # noqa: E402
 from lagcli.emit.c import c_files  # noqa: E402
 from lagcli.emit.python import python_module  # noqa: E402
 
@@ -200,10 +200,10 @@ def main() -> None:
     parser.add_argument("--links", type=int, nargs="+", default=[2, 4, 8])
     parser.add_argument("--repeats", type=int, default=7)
     parser.add_argument("--no-tidy", action="store_true",
-                        help="skip the bounded trigsimp before CSE (codegen.TIDY_MAX_OPS = 0)")
+                        help="skip the bounded trigsimp before CSE (tidy.TIDY_MAX_OPS = 0)")
     args = parser.parse_args()
     if args.no_tidy:
-        codegen.TIDY_MAX_OPS = 0
+        tidy.TIDY_MAX_OPS = 0
     print(f"{'N':>2} | {'ops lagcli':>10} {'ops Kane':>9} {'ratio':>6} | {'C ns gen':>9} {'C ns hand':>9} "
           f"{'ratio':>6} | {'Py us gen':>9} {'Py us lambdify':>14} {'ratio':>6} | {'gen s':>6}")
     for n in args.links:

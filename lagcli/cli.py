@@ -10,6 +10,7 @@ import click
 from lagcli import __version__, commands
 from lagcli.emit import LANGUAGES
 from lagcli.errors import LagcliError
+from lagcli.numerics import METHODS
 from lagcli.output import write_output
 
 SPEC = click.Path(dir_okay=False, path_type=str)
@@ -86,7 +87,7 @@ def generate(ctx, spec, lang, output):
 @click.argument("spec", type=SPEC)
 @click.option("--t-end", type=float, help="End time (default: the spec's simulate.t_end, else 10).")
 @click.option("--dt", type=float, help="Output interval (default: simulate.dt, else 0.01).")
-@click.option("--method", type=click.Choice(["RK45", "DOP853", "Radau", "BDF", "LSODA"]),
+@click.option("--method", type=click.Choice(list(METHODS)),
               help="scipy's integrator name (default: simulate.method, else DOP853).")
 @click.option("--rtol", type=float, help="Relative tolerance (default: simulate.rtol, else 1e-9).")
 @click.option("--atol", type=float, help="Absolute tolerance (default: simulate.atol, else 1e-12).")

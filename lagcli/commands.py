@@ -17,7 +17,7 @@ def _derive(path: str):
 
 def derive_text(path: str, simplify: bool = True) -> str:
     from lagcli.emit.report import report_content
-    from lagcli.emit.spec_printer import spec_str
+    from lagcli.spec_printer import spec_str
     from lagcli.emit.templates import render
 
     content = report_content(_derive(path), spec_str, simplify)
@@ -26,7 +26,7 @@ def derive_text(path: str, simplify: bool = True) -> str:
 
 def derive_json(path: str, simplify: bool = True) -> str:
     from lagcli.emit.report import report_content
-    from lagcli.emit.spec_printer import spec_str
+    from lagcli.spec_printer import spec_str
 
     content = report_content(_derive(path), spec_str, simplify)
     return json.dumps(content, indent=2) + "\n"
@@ -92,7 +92,14 @@ def generate(path: str, lang: str, output: str | None = None) -> None:
     language = LANGUAGES.get(lang)
     if language is not None and language.directory and output in (None, "-"):
         raise UsageError(f"--lang {lang} writes several files: give the directory with -o DIR")
-    files = emit(_derive(path), lang)
+    derivation = _derive(path)
+    initial, notes = None, ()
+    if language is not None and language.embeds_initial:   # solved for once, here, not in emit
+        from lagcli.simulate.initial import spec_initial_state
+
+        start, _ = spec_initial_state(derivation)
+        initial, notes = start.values, start.notes
+    files = emit(derivation, lang, initial, notes)
     if language.directory:
         directory = Path(output)
         if directory.exists() and not directory.is_dir():

@@ -15,7 +15,7 @@ from lagcli.api import load_model
 from lagcli.calculus import numerically_zero
 from lagcli.cli import cli
 from lagcli.derive import derive
-from lagcli.emit.spec_printer import parse_output
+from lagcli.spec_printer import parse_output
 
 SPECS = sorted((Path(__file__).parent.parent / "specs").glob("*.yaml"))
 ALL_FUNCTIONS = Path(__file__).parent / "data" / "all_functions.yaml"  # every function of the contract

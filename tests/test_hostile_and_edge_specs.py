@@ -10,7 +10,7 @@ from lagcli.api import load_model
 from lagcli.calculus import DependenceProbe, numerically_zero
 from lagcli.cli import cli
 from lagcli.derive import derive
-from lagcli.emit.spec_printer import parse_output
+from lagcli.spec_printer import parse_output
 
 import sympy as sp
 

@@ -27,7 +27,7 @@ from sympy.parsing.sympy_parser import implicit_multiplication, parse_expr, stan
 
 from lagcli.emit.latex import latex_document, latex_fragment, latex_printer
 from lagcli.emit.latex_printer import LatexPrinter, escape_text
-from lagcli.emit.spec_printer import spec_str
+from lagcli.spec_printer import spec_str
 
 ROOT = Path(__file__).resolve().parent.parent
 GOLDEN = ROOT / "tests" / "golden" / "latex"

@@ -6,16 +6,19 @@
 
 How to add an output language (say Julia):
 
-1. Printer: in `lagcli/emit/julia.py`, subclass `codegen.SlotPrinter` and sympy's
-   printer for the language (`class JuliaPrinter(codegen.SlotPrinter, JuliaCodePrinter)`),
-   setting only what differs: `power_format`, `sqrt_function`, literals. Symbols are
-   printed as slots (t, y[i], p[j]; mind 1-based arrays: override `codegen.slots`'s
-   strings) and the printer refuses any symbol without one.
-2. Context: `codegen.collect(d)` -> `codegen.eliminate(...)` (the one CSE) ->
-   `codegen.print_block(...)` for each function body; pass these pre-printed strings and
-   `codegen.interface(d, outputs)` (names, defaults, version, spec file) to the templates.
+1. Printer: in `lagcli/emit/julia.py`, subclass `slots.SlotPrinter` and sympy's
+   printer for the language (`class JuliaPrinter(SlotPrinter, JuliaCodePrinter)`),
+   setting only what differs as class attributes: `power_format`, `sqrt_function`,
+   `literal`, `imports`. Symbols are printed as slots (t, y[i], p[j]; mind 1-based
+   arrays: override `slots.slots`'s strings) and the printer refuses any symbol
+   without one.
+2. Context: `codegen.generated_context(d, JuliaPrinter, initial, initial_notes)` runs
+   the shared pipeline (collect -> tidy -> one CSE -> print every function body) and
+   returns strings only: the bodies, matrix rows, stabilisation and residual terms,
+   the `Interface` (names, defaults, version, spec file) and the shared numerics.
 3. Templates: `templates/julia/<file>.jl.jinja`, rendered with `templates.render`; they
-   document the interface at the top and hold no dates or host names.
+   lay out the pre-printed strings (macros for repeated statements), document the
+   interface at the top and hold no dates or host names.
 4. Register: add a `Language` to `LANGUAGES` below (module path, function name, whether the
    output is a directory) and the name to the `--lang` choice follows automatically.
 5. Tests: run the generated code at seeded random states against the Derivation
@@ -33,17 +36,18 @@ from lagcli.errors import EmitError
 class Language:
     name: str
     module: str           # imported on use: generating C must not import the LaTeX printer
-    function: str         # module.function(derivation) -> {file name: text}
+    function: str         # module.function(derivation, **options) -> {file name: text}
     directory: bool       # the output is a directory of several files (-o DIR required)
+    embeds_initial: bool = True   # the output holds a default initial state (`initial=`)
 
 
-def _python_files(d) -> dict[str, str]:
+def _python_files(d, initial=None, initial_notes=()) -> dict[str, str]:
     from lagcli.emit.python import python_module
 
-    return {f"{d.model.name}.py": python_module(d)}
+    return {f"{d.model.name}.py": python_module(d, initial, initial_notes)}
 
 
-def _latex_files(d) -> dict[str, str]:
+def _latex_files(d, initial=None, initial_notes=()) -> dict[str, str]:
     from lagcli.emit.latex import latex_document
 
     return {f"{d.model.name}.tex": latex_document(d)}
@@ -52,14 +56,17 @@ def _latex_files(d) -> dict[str, str]:
 LANGUAGES = {
     "python": Language("python", __name__, "_python_files", directory=False),
     "c": Language("c", "lagcli.emit.c", "c_files", directory=True),
-    "latex": Language("latex", __name__, "_latex_files", directory=False),
+    "latex": Language("latex", __name__, "_latex_files", directory=False, embeds_initial=False),
 }
 
 
-def generate(derivation, lang: str) -> dict[str, str]:
-    """{file name: text} of `derivation` in the output language `lang`."""
+def generate(derivation, lang: str, initial=None, initial_notes=()) -> dict[str, str]:
+    """{file name: text} of `derivation` in the output language `lang`. `initial`: the
+    default state [q..., q'...] generated code embeds, made consistent by the caller
+    (None: the spec's `initial:` as given), `initial_notes` what was solved for."""
     try:
         language = LANGUAGES[lang]
     except KeyError:
         raise EmitError(f"unknown output language {lang!r}; known: {', '.join(LANGUAGES)}") from None
-    return getattr(importlib.import_module(language.module), language.function)(derivation)
+    return getattr(importlib.import_module(language.module), language.function)(
+        derivation, initial=initial, initial_notes=initial_notes)

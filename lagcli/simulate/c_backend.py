@@ -1,12 +1,8 @@
 """The C backend: compile the generated driver once, cache it, run it.
 
-Cache: `$XDG_CACHE_HOME/lagcli/<key>/` (default `~/.cache/lagcli`), holding the
-driver binary `sim` and `meta.json`.  The key is a SHA-256 of the spec file's
-bytes and name, the lagcli version, the compiler's `--version` line and a
-fingerprint (size, mtime) of lagcli's own source and templates — so an edited
-spec, another compiler or another lagcli never reuses a stale binary.
-Parameters and the initial state are *not* in the key: they are passed to the
-driver at run time (`--set`, `--init`), so one binary serves every run.
+Cache: `lagcli.simulate.cache` (`$XDG_CACHE_HOME/lagcli/<key>/`, the compiler's
+`--version` line as the key's variant), holding the driver binary `sim` and
+`meta.json`.
 
 `meta.json` is everything a warm run needs without sympy: state, parameter and
 column names, the spec's `initial:` and `simulate:` values, whether the system is
@@ -18,7 +14,6 @@ This module imports neither sympy nor numpy: a warm run goes spec bytes -> key
 """
 from __future__ import annotations
 
-import hashlib
 import json
 import os
 import shutil
@@ -29,30 +24,21 @@ from pathlib import Path
 
 from lagcli import __version__
 from lagcli.errors import SimulationError, UsageError
+from lagcli.simulate import cache
+from lagcli.simulate.cache import cache_root
 from lagcli.simulate.options import RunSettings
 from lagcli.simulate.trajectory import Trajectory
 
 CFLAGS = ("-std=c99", "-O2", "-Wall", "-Wextra", "-Werror", "-pedantic")
 BINARY, META = "sim", "meta.json"
-_SOURCE_ROOTS = (Path(__file__).resolve().parents[1], Path(__file__).resolve().parents[2] / "templates")
 
 
 def find_compiler() -> str | None:
     return shutil.which("cc")
 
 
-def cache_root() -> Path:
-    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-    return Path(base) / "lagcli"
-
-
 def cache_key(spec_path: str, spec_bytes: bytes, compiler: str) -> str:
-    digest = hashlib.sha256()
-    for part in (spec_bytes, Path(spec_path).name.encode(), __version__.encode(),
-                 compiler_version(compiler).encode(), _source_fingerprint().encode()):
-        digest.update(len(part).to_bytes(8, "little"))
-        digest.update(part)
-    return digest.hexdigest()[:32]
+    return cache.cache_key(spec_path, spec_bytes, compiler_version(compiler))
 
 
 def compiler_version(compiler: str) -> str:
@@ -61,19 +47,6 @@ def compiler_version(compiler: str) -> str:
     except (OSError, subprocess.SubprocessError) as exc:
         raise SimulationError(f"cannot run the C compiler {compiler!r}: {exc}") from None
     return f"{compiler}\n{done.stdout.splitlines()[0] if done.stdout else ''}"
-
-
-def _source_fingerprint() -> str:
-    """Size and mtime of every lagcli source file and template (cheap: stat only)."""
-    items = []
-    for root in _SOURCE_ROOTS:
-        for folder, dirs, files in os.walk(root):
-            dirs[:] = sorted(d for d in dirs if d != "__pycache__")
-            for name in sorted(files):
-                if name.endswith((".py", ".jinja")):
-                    st = os.stat(os.path.join(folder, name))
-                    items.append(f"{name}:{st.st_size}:{st.st_mtime_ns}")
-    return ";".join(items)
 
 
 @dataclass(frozen=True)

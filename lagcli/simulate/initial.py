@@ -33,9 +33,10 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
-from lagcli.emit.spec_printer import spec_str
+from lagcli.spec_printer import spec_str
 from lagcli.errors import UsageError
-from lagcli.simulate.options import CONSTRAINT_TOLERANCE as TOLERANCE
+from lagcli.numerics import CONSTRAINT_TOLERANCE as TOLERANCE
+
 _SOLVE_TOL = 1e-11      # what the Newton / least-squares solves aim for
 
 
@@ -70,6 +71,20 @@ def initial_state(d, given: dict[str, float], params: dict[str, float], t0: floa
         qd = _solve_velocities(f, q, qd, free, d)
         notes.append(_note("velocities", model.qd, free, qd))
     return InitialState(tuple(float(v) for v in (*q, *qd)), tuple(notes))
+
+
+def spec_initial_state(d) -> tuple[InitialState, bool]:
+    """The spec's own `initial:` state (missing values 0, default parameters) made
+    consistent as `simulate` does, and True; when that is impossible, the state as
+    given with a note saying so, and False. What generated code embeds as its
+    default initial state (`lagcli.emit.interface.interface`)."""
+    model = d.model
+    given = dict(model.initial)
+    try:
+        return initial_state(d, given, {p.symbol.name: p.value for p in model.parameters}), True
+    except UsageError:
+        values = tuple(float(given.get(s.name, 0.0)) for s in model.q + model.qd)
+        return InitialState(values, ("initial state: inconsistent with the constraints; used as given",)), False
 
 
 def _free(symbols, given, soft) -> list[int]:

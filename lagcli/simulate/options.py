@@ -13,13 +13,9 @@ import math
 from dataclasses import dataclass
 
 from lagcli.errors import LagcliError, UsageError
+from lagcli.numerics import DEFAULT_BAUMGARTE, METHODS
 
-METHODS = ("RK45", "DOP853", "Radau", "BDF", "LSODA")
-C_METHODS = ("RK45", "DOP853")          # what the generated C driver implements
-DEFAULT_BAUMGARTE = (10.0, 10.0)        # alpha, beta (docs/design.md)
-EXPLICIT_METHODS = ("RK45", "DOP853")   # explicit Runge-Kutta: step size capped by `max_step`
 HINT_CUTOFF = 0.5                       # difflib similarity for "did you mean": 'mm' -> 'm1'
-CONSTRAINT_TOLERANCE = 1e-8             # largest |constraint| of a consistent initial state (CONTRACT §4)
 
 
 @dataclass(frozen=True)
@@ -71,24 +67,6 @@ def resolve_settings(request: Request, spec_settings: dict) -> RunSettings:
     if s.t_end / s.dt > 1e8:
         raise UsageError(f"--dt: {s.dt!r} gives more than 1e8 output rows up to t_end = {s.t_end!r}")
     return s
-
-
-def max_step(method: str, alpha: float, beta: float, constrained: bool) -> float:
-    """The largest step of an explicit Runge-Kutta method on a Baumgarte-stabilised system.
-
-    The constraint error e obeys e'' + 2 alpha e' + beta^2 e = 0, with eigenvalues
-    lambda = -alpha +- sqrt(alpha^2 - beta^2). Left alone, the step controller of a
-    system with slow (or polynomial) physical motion lets h |lambda| grow to the edge
-    of the method's stability region (about 3.3 for RK45, 6 for DOP853), where the
-    error estimate is unreliable: the constraints then drift to ~1e-6 and tiny rounding
-    differences change the steps (docs/simulate.md, "Constraint stabilisation").
-    h |lambda| <= 1 keeps that mode well resolved; inf (no cap) when there is no such
-    mode (unconstrained, zero gains) or for the implicit methods."""
-    if not constrained or method not in EXPLICIT_METHODS:
-        return math.inf
-    alpha, beta = abs(alpha), abs(beta)
-    rate = max(alpha + math.sqrt(max(alpha * alpha - beta * beta, 0.0)), beta)
-    return 1.0 / rate if rate > 0 else math.inf
 
 
 def parse_assignments(items: tuple[str, ...], option: str, allowed: list[str],

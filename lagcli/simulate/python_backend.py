@@ -1,8 +1,11 @@
 """The Python backend: scipy's integrators on the generated Python module.
 
 The module is the one `lagcli generate --lang python` writes (lagcli.emit.python),
-built once per run from the Derivation and loaded from its source text — it is
-generated from sympy objects, never from spec text.
+generated from sympy objects (never from spec text) and loaded from its source
+text. `cached_module` keeps that source in the cache of `lagcli.simulate.cache`
+(`<key>/module.py`, variant `python-module`): a second run of the same spec skips
+the code generation (tidying and CSE, ~2 s for rolling_disc), not the derivation
+(the initial state is solved from it).
 
 Integration is scipy.integrate.solve_ivp with `t_eval`, written out as its own
 loop (the same solver classes, steps and dense output, so the same numbers) in
@@ -11,18 +14,24 @@ non-finite, the right-hand side raises (singular mass matrix) or the user presse
 Ctrl-C, and to report progress.  The right-hand side is the Baumgarte-stabilised
 one (docs/design.md); each output row holds t, the state, the multipliers of that
 stabilised system and the invariants. On a constrained system RK45 and DOP853 run
-with the step cap of `lagcli.simulate.options.max_step` (docs/simulate.md).
+with the step cap of `lagcli.numerics.max_step` (docs/simulate.md).
 """
 from __future__ import annotations
 
+import os
+import tempfile
 import types
+from pathlib import Path
 
 import numpy as np
 from scipy import integrate
 
-from lagcli.simulate.options import RunSettings, max_step
-from lagcli.simulate.trajectory import Trajectory, format_row, output_times
+from lagcli.numerics import max_step, output_times
+from lagcli.simulate.cache import cache_key, cache_root
+from lagcli.simulate.options import RunSettings
+from lagcli.simulate.trajectory import Trajectory, format_row
 
+MODULE, MODULE_VARIANT = "module.py", "python-module"
 SOLVERS = {"RK45": integrate.RK45, "DOP853": integrate.DOP853, "Radau": integrate.Radau,
            "BDF": integrate.BDF, "LSODA": integrate.LSODA}
 
@@ -33,16 +42,52 @@ class _RhsFailure(Exception):
         self.t, self.reason = t, reason
 
 
-def load_module(derivation) -> types.ModuleType:
-    """The generated Python module of `derivation`, executed into a fresh module object."""
-    from lagcli.emit.python import python_module
+def load_module(derivation, spec_start=None) -> types.ModuleType:
+    """The generated Python module of `derivation`, executed into a fresh module object.
+    `spec_start`: `initial.spec_initial_state(derivation)` when the caller has it."""
+    return _execute(derivation.model.name, module_source(derivation, spec_start))
 
-    source = python_module(derivation)
-    name = f"lagcli_generated_{derivation.model.name}"
+
+def cached_module(derivation, spec_path: str, spec_start=None) -> types.ModuleType:
+    """`load_module`, with the source read from the cache when this spec's module is
+    there, and stored there when it is not."""
+    path = cache_root() / cache_key(spec_path, Path(spec_path).read_bytes(), MODULE_VARIANT) / MODULE
+    try:
+        return _execute(derivation.model.name, path.read_text())
+    except (OSError, SyntaxError, ValueError):
+        pass                                  # missing or damaged: generate (again)
+    source = module_source(derivation, spec_start)
+    _store(path, source)
+    return _execute(derivation.model.name, source)
+
+
+def module_source(derivation, spec_start=None) -> str:
+    """The text `lagcli generate --lang python` writes for `derivation`."""
+    from lagcli.emit.python import python_module
+    from lagcli.simulate.initial import spec_initial_state
+
+    start, _ = spec_start or spec_initial_state(derivation)
+    return python_module(derivation, start.values, start.notes)
+
+
+def _execute(model_name: str, source: str) -> types.ModuleType:
+    name = f"lagcli_generated_{model_name}"
     module = types.ModuleType(name)
     module.__file__ = f"<{name}>"
     exec(compile(source, module.__file__, "exec"), module.__dict__)
     return module
+
+
+def _store(path: Path, source: str) -> None:
+    """Write `source` to `path` atomically; a cache that cannot be written is skipped."""
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fd, temporary = tempfile.mkstemp(prefix=f".{MODULE}.", dir=path.parent)
+        with os.fdopen(fd, "w") as handle:
+            handle.write(source)
+        os.replace(temporary, path)
+    except OSError:
+        pass
 
 
 def header(module) -> list[str]:

@@ -3,7 +3,7 @@
     warm C path   spec bytes -> cache key -> meta.json -> driver          (no sympy, no numpy)
     cold path     spec -> Model -> Derivation -> consistent initial state
                   -> C: generate, compile, cache, run the driver
-                  -> Python: generated module + scipy
+                  -> Python: the generated module (cached source) + scipy
 
 The warm path runs only when the cache holds a driver for this very spec and the
 state is known to be consistent: the spec's own initial state was made consistent
@@ -20,8 +20,8 @@ from pathlib import Path
 
 from lagcli.errors import SimulationError, UsageError
 from lagcli.simulate import c_backend
-from lagcli.simulate.options import (C_METHODS, CONSTRAINT_TOLERANCE, Request, RunSettings,
-                                    parse_assignments, resolve_settings)
+from lagcli.numerics import CONSTRAINT_TOLERANCE, EXPLICIT_METHODS
+from lagcli.simulate.options import Request, RunSettings, parse_assignments, resolve_settings
 from lagcli.simulate.trajectory import Trajectory
 
 
@@ -54,7 +54,7 @@ def _simulate(request: Request, note, progress) -> Outcome:
     if request.backend == "c" and compiler is None:
         raise SimulationError("--backend c needs a C compiler, but 'cc' was not found on PATH "
                               "(install gcc or clang, or use --backend python)")
-    if compiler and request.backend in (None, "c") and request.method in (None, *C_METHODS):
+    if compiler and request.backend in (None, "c") and request.method in (None, *EXPLICIT_METHODS):
         outcome = _warm(request, compiler, note, progress)
         if outcome is not None:
             return outcome
@@ -76,7 +76,7 @@ def _warm(request: Request, compiler: str, note, progress) -> Outcome | None:
         return None
     meta = cached.meta
     settings = resolve_settings(request, meta["settings"])
-    if settings.method not in C_METHODS:
+    if settings.method not in EXPLICIT_METHODS:
         return None
     sets = parse_assignments(request.sets, "--set", list(meta["parameters"]), "parameter", "parameters")
     inits = parse_assignments(request.inits, "--init", meta["state"], "coordinate or velocity",
@@ -118,12 +118,13 @@ def _cold(request: Request, compiler: str | None, note, progress) -> Outcome:
     start = initial_state(d, {**model.initial, **inits}, params, soft=soft)
     for text in start.notes:
         note(text)
+    spec_start = None if sets or inits else (start, True)   # the spec's own state: solved once
     coordinates = tuple(s.name for s in model.q)
     energy_conserved = d.jacobi_integral is not None and d.energy_is_jacobi
     if backend == "python":
-        traj = _python(d, params, start.values, settings, progress)
+        traj = _python(d, request.spec, spec_start, params, start.values, settings, progress)
     else:
-        cached = _cached_driver(d, request.spec, compiler)
+        cached = _cached_driver(d, request.spec, compiler, spec_start)
         args = c_backend.driver_arguments(settings, sets, dict(zip(state_names, start.values)))
         with progress(settings.t_end) as update:
             traj = c_backend.run(cached, args, update)
@@ -131,12 +132,12 @@ def _cold(request: Request, compiler: str | None, note, progress) -> Outcome:
 
 
 def _backend(request: Request, settings: RunSettings, compiler: str | None) -> str:
-    if request.backend == "c" and settings.method not in C_METHODS:
+    if request.backend == "c" and settings.method not in EXPLICIT_METHODS:
         raise UsageError(f"--method {settings.method}: the C backend implements "
-                         f"{' and '.join(C_METHODS)} only; use --backend python for {settings.method}")
+                         f"{' and '.join(EXPLICIT_METHODS)} only; use --backend python for {settings.method}")
     if request.backend:
         return request.backend
-    return "c" if compiler and settings.method in C_METHODS else "python"
+    return "c" if compiler and settings.method in EXPLICIT_METHODS else "python"
 
 
 def _spec_settings(model) -> dict:
@@ -144,29 +145,30 @@ def _spec_settings(model) -> dict:
     return {"t_end": s.t_end, "dt": s.dt, "method": s.method, "rtol": s.rtol, "atol": s.atol}
 
 
-def _python(d, params: dict, y0, settings: RunSettings, progress) -> Trajectory:
-    from lagcli.simulate.python_backend import integrate_module, load_module
+def _python(d, spec: str, spec_start, params: dict, y0, settings: RunSettings, progress) -> Trajectory:
+    from lagcli.simulate.python_backend import cached_module, integrate_module
 
-    module = load_module(d)
+    module = cached_module(d, spec, spec_start)
     p = [params[p.symbol.name] for p in d.model.parameters]
     with progress(settings.t_end) as update:
         return integrate_module(module, p, list(y0), settings, update)
 
 
-def _cached_driver(d, spec: str, compiler: str) -> c_backend.Cached:
-    """The compiled driver of `d` from the cache, building it (and meta.json) if needed."""
+def _cached_driver(d, spec: str, compiler: str, spec_start=None) -> c_backend.Cached:
+    """The compiled driver of `d` from the cache, building it (and meta.json) if needed.
+    `spec_start`: `initial.spec_initial_state(d)` when the caller has it already."""
     key = c_backend.cache_key(spec, Path(spec).read_bytes(), compiler)
     cached = c_backend.lookup(key)
     if cached is not None:
         return cached
     from lagcli.emit.c import c_files
-    from lagcli.simulate.initial import initial_state
+    from lagcli.simulate.initial import spec_initial_state
 
     model = d.model
     defaults = {p.symbol.name: p.value for p in model.parameters}
-    try:
-        start = initial_state(d, dict(model.initial), defaults)
-    except UsageError:
+    start, consistent = spec_start or spec_initial_state(d)
+    files = c_files(d, initial=start.values, initial_notes=start.notes)
+    if not consistent:
         start = None                          # only runs with a repairing --init can use it
     meta = {
         "name": model.name,
@@ -180,4 +182,4 @@ def _cached_driver(d, spec: str, compiler: str) -> c_backend.Cached:
         "default_state": list(start.values) if start else None,
         "default_notes": list(start.notes) if start else [],
     }
-    return c_backend.build(c_files(d), key, compiler, meta)
+    return c_backend.build(files, key, compiler, meta)

@@ -6,15 +6,15 @@ formats each row once.  A run that failed or was interrupted still yields a
 `Trajectory`: the rows computed so far, plus `failure` (the reason, with the
 time) or `interrupted`.
 
-Output times (docs/design.md): `t_k = k dt` for `k = 0 .. floor(t_end/dt + 1e-9)`,
-then `t_end` itself when the last `t_k < t_end - 1e-12 max(1, t_end)`.
+The output-time rule is `lagcli.numerics.output_times` (re-exported here).
 
 This module is imported on the warm C path, so it needs neither numpy nor sympy.
 """
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
+
+from lagcli.numerics import output_times  # noqa: F401  (re-exported: the backends' times)
 
 
 @dataclass
@@ -34,14 +34,6 @@ class Trajectory:
 
 def format_row(values) -> str:
     return ",".join(format(float(v), ".17g") for v in values)
-
-
-def output_times(t_end: float, dt: float) -> list[float]:
-    count = math.floor(t_end / dt + 1e-9)
-    times = [k * dt for k in range(count + 1)]
-    if times[-1] < t_end - 1e-12 * max(1.0, t_end):
-        times.append(t_end)
-    return times
 
 
 def parse_csv(text: str) -> tuple[list[str], list[list[float]]]:

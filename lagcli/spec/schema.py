@@ -12,6 +12,7 @@ from pathlib import Path
 from typing import Any, Callable
 
 from lagcli.errors import SpecError
+from lagcli.numerics import METHODS
 from lagcli.spec.checker import IDENTIFIER, Checker, describe, did_you_mean
 from lagcli.spec.reader import KeyPath, RawDoc
 from lagcli.spec.types import (Body, Constraint, Coordinate, Force, Named, Parameter, Particle,
@@ -23,7 +24,6 @@ TOP_KEYS = ("name", "description", "coordinates", "parameters", "known", "defini
 BODY_KEYS = ("mass", "inertia", "position", "angle", "orientation")
 FORCE_KEYS = ("at", "point", "body", "force", "torque")
 SIMULATE_KEYS = ("t_end", "dt", "method", "rtol", "atol")
-METHODS = ("RK45", "DOP853", "Radau", "BDF", "LSODA")
 AXES = ("x", "y", "z")
 SPATIAL_INERTIA = "[I1, I2, I3], 6 values [Ixx, Iyy, Izz, Ixy, Iyz, Izx] or a 3x3 list"
 

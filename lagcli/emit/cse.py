@@ -1,0 +1,55 @@
+"""ONE `sympy.cse` over every group of expressions (`eliminate`), so a temporary is
+shared by every function that needs it; each function then computes only the
+temporaries its outputs depend on (`Reduced.block`).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import sympy as sp
+
+from lagcli.emit.outputs import GROUPS, Outputs
+
+CSE_OPTIMIZATIONS = "basic"   # sympy.cse's: fewer operations for N = 2 and 8 links (docs/codegen.md)
+
+
+@dataclass(frozen=True)
+class Reduced:
+    """The result of one CSE over all groups: temporaries in dependency order and the
+    reduced expressions of every group."""
+
+    temporaries: tuple[tuple[sp.Symbol, sp.Expr], ...]
+    groups: dict
+
+    def block(self, names, exclude=frozenset()) -> tuple[tuple[sp.Symbol, sp.Expr], ...]:
+        """The temporaries (in order) that the groups `names` need, minus `exclude`."""
+        needed = set()
+        for name in names:
+            for expr in self.groups[name]:
+                needed |= expr.free_symbols
+        chosen = []
+        for symbol, value in reversed(self.temporaries):
+            if symbol in needed:
+                chosen.append((symbol, value))
+                needed |= value.free_symbols
+        return tuple(pair for pair in reversed(chosen) if pair[0] not in exclude)
+
+    def operation_count(self, names) -> int:
+        """Operations (sympy.count_ops) to evaluate the groups `names`, temporaries included."""
+        temps = self.block(names)
+        exprs = [value for _, value in temps] + [e for name in names for e in self.groups[name]]
+        return int(sum(sp.count_ops(e) for e in exprs))
+
+
+def eliminate(outputs: Outputs, optimizations=CSE_OPTIMIZATIONS) -> Reduced:
+    """ONE `sympy.cse` over every group of `outputs`."""
+    groups = outputs.groups()
+    flat = [sp.sympify(e) for name in GROUPS for e in groups[name]]
+    temporaries, reduced = sp.cse(flat, symbols=sp.numbered_symbols("x", cls=sp.Dummy),
+                                  optimizations=optimizations, order="canonical")
+    result, start = {}, 0
+    for name in GROUPS:
+        size = len(groups[name])
+        result[name] = tuple(reduced[start:start + size])
+        start += size
+    return Reduced(tuple(temporaries), result)

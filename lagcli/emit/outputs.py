@@ -1,0 +1,90 @@
+"""Every expression a generated module evaluates, grouped by use (`Outputs`).
+
+`collect(d)` gathers them from a `Derivation` and tidies each small one
+(`lagcli.emit.tidy`); the groups are then reduced by one CSE (`lagcli.emit.cse`).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import sympy as sp
+
+from lagcli.derive.result import Derivation
+from lagcli.emit.tidy import tidy_expression
+
+@dataclass(frozen=True)
+class Outputs:
+    """Every expression a generated module evaluates, grouped by use (flat, row-major).
+
+    mass_matrix          n*n   M (upper triangle mirrored: exactly symmetric)
+    forcing              n     F, with M q'' = F + A^T lambda
+    constraint_matrix    m*n   A
+    constraint_bias      m     b = -(A' q' + d')
+    constraint_velocity  m     A q' + d        (Baumgarte damping, residual)
+    constraint_position  h     phi_j of the holonomic rows (Baumgarte, residual)
+    invariants           k     energy T + V, the Jacobi integral (when it exists),
+                               p_<q> for each ignorable coordinate
+    """
+
+    mass_matrix: tuple
+    forcing: tuple
+    constraint_matrix: tuple
+    constraint_bias: tuple
+    constraint_velocity: tuple
+    constraint_position: tuple
+    invariants: tuple
+    invariant_names: tuple[str, ...]
+    holonomic_rows: tuple[int, ...]   # row index j of each constraint_position entry
+
+    def groups(self) -> dict[str, tuple]:
+        return {name: getattr(self, name) for name in GROUPS}
+
+
+GROUPS = ("mass_matrix", "forcing", "constraint_matrix", "constraint_bias",
+          "constraint_velocity", "constraint_position", "invariants")
+
+
+def collect(d: Derivation, tidy: bool = True) -> Outputs:
+    """The expressions of `d` that generated code evaluates (see `Outputs`), each small
+    one simplified when that lowers its operation count (`tidy_expression`)."""
+    outputs = _collect(d)
+    if not tidy:
+        return outputs
+    cache: dict = {}
+    return replace(outputs, **{name: tuple(tidy_expression(e, d.model.qd, cache) for e in exprs)
+                               for name, exprs in outputs.groups().items()})
+
+
+
+def _collect(d: Derivation) -> Outputs:
+    n, qd = d.n, d.model.qd
+    M = d.mass_matrix
+    mass = tuple(M[min(i, j), max(i, j)] for i in range(n) for j in range(n))
+    rows = d.constraints
+    velocity = tuple(sum((a * v for a, v in zip(r.a, qd)), sp.S.Zero) + r.d for r in rows)
+    holonomic = tuple(j for j, r in enumerate(rows) if r.kind == "holonomic")
+    names, invariants = invariant_columns(d)
+    return Outputs(
+        mass_matrix=mass,
+        forcing=tuple(d.forcing),
+        constraint_matrix=tuple(d.constraint_matrix),
+        constraint_bias=tuple(d.constraint_bias),
+        constraint_velocity=velocity,
+        constraint_position=tuple(rows[j].expr for j in holonomic),
+        invariants=invariants,
+        invariant_names=names,
+        holonomic_rows=holonomic,
+    )
+
+
+def invariant_columns(d: Derivation) -> tuple[tuple[str, ...], tuple]:
+    """The CSV invariant columns with an expression, in CSV order: energy, jacobi, p_<q>."""
+    names, exprs = ["energy"], [d.energy]
+    if d.jacobi_integral is not None:
+        names.append("jacobi")
+        exprs.append(d.jacobi_integral)
+    momenta = {c.name: c.expr for c in d.conserved if c.kind == "momentum"}
+    for q in d.ignorable:
+        names.append(f"p_{q.name}")
+        exprs.append(momenta[f"p_{q.name}"])
+    return tuple(names), tuple(exprs)
