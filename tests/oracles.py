@@ -260,3 +260,25 @@ def solve_augmented(d):
     rhs = sp.Matrix(d.forcing).col_join(sp.Matrix(d.constraint_bias))
     sol = K.LUsolve(rhs)
     return sol[: M.rows, :], sol[M.rows:, :]
+
+
+def spec_fixtures(spec_path, build_oracle):
+    """Module-scoped `model`, `derivation` and `oracle` fixtures for one bundled spec:
+    assign them at module level, `model, derivation, oracle = spec_fixtures(...)`."""
+    import pytest
+
+    @pytest.fixture(scope="module")
+    def model():
+        from lagcli.api import load_model
+        return load_model(spec_path)
+
+    @pytest.fixture(scope="module")
+    def derivation(model):
+        from lagcli.derive import derive
+        return derive(model)
+
+    @pytest.fixture(scope="module")
+    def oracle():
+        return build_oracle()
+
+    return model, derivation, oracle

@@ -12,27 +12,13 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from oracles import (assert_close, double_pendulum_lagrange, lambdify_model, lambdify_oracle,
+from oracles import (spec_fixtures, assert_close, double_pendulum_lagrange, lambdify_model, lambdify_oracle,
                      param_values, planar_chain_kane, to_model)
 
 SPEC = Path(__file__).resolve().parent.parent / "specs" / "double_pendulum.yaml"
 
 
-@pytest.fixture(scope="module")
-def model():
-    from lagcli.api import load_model
-    return load_model(SPEC)
-
-
-@pytest.fixture(scope="module")
-def derivation(model):
-    from lagcli.derive import derive
-    return derive(model)
-
-
-@pytest.fixture(scope="module")
-def oracle():
-    return double_pendulum_lagrange()
+model, derivation, oracle = spec_fixtures(SPEC, double_pendulum_lagrange)
 
 
 def random_states(model, seed, count=8):

@@ -24,27 +24,13 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from oracles import (assert_close, lambdify_model, lambdify_oracle, param_values,
+from oracles import (spec_fixtures, assert_close, lambdify_model, lambdify_oracle, param_values,
                      rolling_disc_kane, time_derivative, to_model)
 
 SPEC = Path(__file__).resolve().parent.parent / "specs" / "rolling_disc.yaml"
 
 
-@pytest.fixture(scope="module")
-def model():
-    from lagcli.api import load_model
-    return load_model(SPEC)
-
-
-@pytest.fixture(scope="module")
-def derivation(model):
-    from lagcli.derive import derive
-    return derive(model)
-
-
-@pytest.fixture(scope="module")
-def oracle():
-    return rolling_disc_kane()
+model, derivation, oracle = spec_fixtures(SPEC, rolling_disc_kane)
 
 
 @pytest.fixture(scope="module")

@@ -13,26 +13,12 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from oracles import assert_close, heavy_top_kane, lambdify_model, lambdify_oracle, param_values
+from oracles import spec_fixtures, assert_close, heavy_top_kane, lambdify_model, lambdify_oracle, param_values
 
 SPEC = Path(__file__).resolve().parent.parent / "specs" / "heavy_symmetric_top.yaml"
 
 
-@pytest.fixture(scope="module")
-def model():
-    from lagcli.api import load_model
-    return load_model(SPEC)
-
-
-@pytest.fixture(scope="module")
-def derivation(model):
-    from lagcli.derive import derive
-    return derive(model)
-
-
-@pytest.fixture(scope="module")
-def oracle():
-    return heavy_top_kane()
+model, derivation, oracle = spec_fixtures(SPEC, heavy_top_kane)
 
 
 def random_states(model, seed, count=8):
