@@ -69,6 +69,11 @@ def report_content(d: Derivation, printer: Callable[[sp.Expr], str], simplify: b
     # is slow and misses cos(W t)**2 + sin(W t)**2 hidden inside products.
     T1 = sum((t(a_i) * v for a_i, v in zip(d.t1_coefficients, m.qd)), sp.S.Zero)
     T = t(d.T2) + T1 + t(d.T0)
+    # Likewise each equation, from the tidied named terms of the explicit form (the
+    # tests check these terms add up to the numerics' M q'' - F).
+    F = [_forcing_from_terms(d, i, t) for i in range(len(m.q))]
+    lhs = [sum((t(d.mass_matrix[i, j]) * a for j, a in enumerate(m.qdd)), sp.S.Zero) - F[i]
+           for i in range(len(m.q))]
 
     def column(matrix) -> dict:
         return {q.name: p(e) for q, e in zip(m.q, matrix)}
@@ -95,14 +100,14 @@ def report_content(d: Derivation, printer: Callable[[sp.Expr], str], simplify: b
         "nonconservative_forces": column(d.nonconservative_forces),
         "forces_conservative": d.forces_conservative,
         "force_potential": None if d.force_potential is None else p(d.force_potential),
-        "equations": [{"coordinate": eq.coordinate.name, "lhs": p(eq.lhs), "rhs": p(eq.rhs)}
-                      for eq in d.equations],
+        "equations": [{"coordinate": eq.coordinate.name, "lhs": printer(lhs_i), "rhs": p(eq.rhs)}
+                      for eq, lhs_i in zip(d.equations, lhs)],
         "explicit_form": {
             "velocity_terms": column(d.velocity_terms),
             "mass_rate_terms": column(d.mass_rate_terms),
             "t1_rate_terms": column(d.t1_rate_terms),
             "position_terms": column(d.position_terms),
-            "forcing": column(d.forcing),
+            "forcing": {q.name: printer(F_i) for q, F_i in zip(m.q, F)},
         },
         "constraints": [{"kind": r.kind, "name": r.label, "multiplier": r.multiplier.name,
                          "expr": p(r.expr), "a": [p(e) for e in r.a], "d": p(r.d),
@@ -119,6 +124,13 @@ def report_content(d: Derivation, printer: Callable[[sp.Expr], str], simplify: b
         "jacobi_integral": None if d.jacobi_integral is None else p(d.jacobi_integral),
         "energy_is_jacobi": d.energy_is_jacobi,
     }
+
+
+def _forcing_from_terms(d: Derivation, i: int, t) -> sp.Expr:
+    """F_i = Q'_i - c_i - (M_t q')_i - (gamma q')_i - a_t,i - (dV/dq - dT0/dq)_i, each term tidied."""
+    gyroscopic = sum((t(d.gyroscopic_matrix[i, j]) * v for j, v in enumerate(d.model.qd)), sp.S.Zero)
+    return (t(d.nonconservative_forces[i]) - t(d.velocity_terms[i]) - t(d.mass_rate_terms[i])
+            - gyroscopic - t(d.t1_rate_terms[i]) - t(d.position_terms[i]))
 
 
 def check_content(d: Derivation) -> dict:
