@@ -38,16 +38,20 @@ def _run(ctx: click.Context, action) -> None:
 
 @cli.command()
 @click.argument("spec", type=SPEC)
-@click.option("--text", "fmt", flag_value="text", default=True, help="Readable sectioned report (default).")
-@click.option("--latex", "fmt", flag_value="latex", help="LaTeX (a fragment; see --standalone).")
-@click.option("--json", "fmt", flag_value="json", help="JSON with the contract's keys.")
+@click.option("--text", "as_text", is_flag=True, help="Readable sectioned report (default).")
+@click.option("--latex", "as_latex", is_flag=True, help="LaTeX (a fragment; see --standalone).")
+@click.option("--json", "as_json", is_flag=True, help="JSON with the contract's keys.")
 @click.option("--standalone", is_flag=True, help="With --latex: a complete document for pdflatex.")
 @click.option("--simplify/--no-simplify", default=True, show_default=True,
               help="Tidy small expressions (trigsimp) for display.")
 @click.option("-o", "--output", default=None, help="Output file ('-' or none: stdout).")
 @click.pass_context
-def derive(ctx, spec, fmt, standalone, simplify, output):
+def derive(ctx, spec, as_text, as_latex, as_json, standalone, simplify, output):
     """Derive the equations of motion of SPEC and report them."""
+    chosen = [name for name, on in (("text", as_text), ("latex", as_latex), ("json", as_json)) if on]
+    if len(chosen) > 1:
+        raise click.UsageError(f"choose one output format, not {' and '.join('--' + c for c in chosen)}")
+    fmt = chosen[0] if chosen else "text"
     if standalone and fmt != "latex":
         raise click.UsageError("--standalone goes with --latex")
 

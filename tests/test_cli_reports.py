@@ -110,3 +110,11 @@ def test_simplify_switch_changes_display_only():
     b = parse_output(raw["mass_matrix"][0][1], d.model)
     assert sp.count_ops(a) < sp.count_ops(b)
     assert numerically_zero([a - b])
+
+
+def test_one_output_format_at_a_time():
+    spec = str(SPECS[0])
+    result = run("derive", spec, "--json", "--latex")
+    assert result.exit_code == 2 and "choose one output format" in result.output
+    assert run("derive", spec, "--standalone").exit_code == 2
+    assert run("derive", spec, "--text").stdout == run("derive", spec).stdout
