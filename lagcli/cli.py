@@ -117,6 +117,33 @@ def simulate(ctx, spec, t_end, dt, method, rtol, atol, sets, inits, backend, bau
                                         progress=_progress_bar))
 
 
+@cli.command()
+@click.argument("name", required=False)
+@click.option("--copy", "copy_to", metavar="DIR", help="Copy every bundled spec into DIR.")
+@click.option("-o", "--output", default=None, help="With NAME: write the spec to this file ('-' or none: stdout).")
+@click.pass_context
+def examples(ctx, name, copy_to, output):
+    """List the bundled example specs, print one (NAME), or copy them all (--copy DIR).
+
+    \b
+    Examples:
+      lagcli examples                          # name and description of each
+      lagcli examples double_pendulum -o dp.yaml
+      lagcli examples --copy my_specs/ && lagcli derive my_specs/double_pendulum.yaml
+    """
+    from lagcli import examples as bundled
+
+    def action():
+        if copy_to:
+            written = bundled.copy_all(copy_to)
+            click.echo(f"copied {len(written)} specs into {copy_to}", err=True)
+        elif name:
+            write_output(output, bundled.find(name).read_text(encoding="utf-8"))
+        else:
+            click.echo(bundled.listing(), nl=False)
+    _run(ctx, action)
+
+
 @contextlib.contextmanager
 def _progress_bar(t_end: float):
     """A progress bar over [0, t_end] on stderr when it is a terminal; yields update(t) or None."""
