@@ -136,9 +136,9 @@ def cache_info():
     Example:
       XDG_CACHE_HOME=/tmp/c lagcli cache info
     """
-    from lagcli.simulate import cache as store
+    from lagcli.simulate import cache_admin
 
-    click.echo(store.describe(store.info()), nl=False)
+    click.echo(cache_admin.describe(cache_admin.info()), nl=False)
 
 
 @cache.command("clear")
@@ -149,10 +149,9 @@ def cache_clear():
     Example:
       lagcli cache clear
     """
-    from lagcli.simulate import cache as store
+    from lagcli.simulate import cache_admin
 
-    removed, freed = store.clear()
-    click.echo(f"removed {removed} cache entries ({store.human_size(freed)}) from {store.cache_root()}")
+    click.echo(cache_admin.describe_cleared(*cache_admin.clear()), nl=False)
 
 
 @contextlib.contextmanager

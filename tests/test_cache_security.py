@@ -222,12 +222,20 @@ def _give_to_another_user(home: Path) -> None:
     os.chown(home / "lagcli", 65534, 65534)
 
 
+def _link_to_another_users_directory(home: Path) -> None:
+    home.mkdir()
+    (home / "theirs").mkdir(mode=0o700)
+    os.chown(home / "theirs", 65534, 65534)
+    (home / "lagcli").symlink_to(home / "theirs")
+
+
 ROOTS = {
     "world-writable": (_make_world_writable, "other users can write to it (mode 0777)"),
     "a file": (_make_a_file, "it is not a directory"),
     "parent world-writable": (_make_parent_world_writable, "is writable by other users"),
     "read-only": (_make_read_only, "it is not writable"),
     "another user's": (_give_to_another_user, "it belongs to another user (uid 65534)"),
+    "a symlink to another user's": (_link_to_another_users_directory, "it belongs to another user (uid 65534)"),
 }
 
 
@@ -235,7 +243,7 @@ ROOTS = {
 @pytest.mark.parametrize("case", list(ROOTS))
 def test_an_unusable_cache_directory_is_not_used(home, spec, case, backend):
     make, reason = ROOTS[case]
-    if case == "another user's" and os.geteuid() != 0:
+    if "another user's" in case and os.geteuid() != 0:
         pytest.skip("giving a directory to another user needs root")
     make(home)
     before = sorted(os.listdir(home / "lagcli")) if (home / "lagcli").is_dir() else None
@@ -247,6 +255,15 @@ def test_an_unusable_cache_directory_is_not_used(home, spec, case, backend):
     assert "Traceback" not in result.output
     if before is not None:
         assert sorted(os.listdir(home / "lagcli")) == before
+
+
+def test_a_symlink_to_a_private_directory_of_ones_own_is_used(home, spec, tmp_path):
+    (tmp_path / "mine").mkdir(mode=0o700)
+    home.mkdir()
+    (home / "lagcli").symlink_to(tmp_path / "mine")
+    result = simulate(spec, "python")
+    assert_correct(result)
+    assert FALLBACK not in result.stderr and len(os.listdir(tmp_path / "mine")) == 1
 
 
 def test_the_temporary_directory_is_removed_at_exit(home, spec, tmp_path):
@@ -321,7 +338,7 @@ def test_cache_info_and_clear(home, spec):
     assert "entries: 1," in shown.stdout and "osc: Python module" in shown.stdout
     assert "left over by interrupted runs: 1" in shown.stdout
     cleared = runner.invoke(cli, ["cache", "clear"])
-    assert cleared.exit_code == 0 and "removed 2 cache entries" in cleared.stdout
+    assert cleared.exit_code == 0 and "removed 2 cache directories" in cleared.stdout
     assert sorted(os.listdir(root)) == ["mine", "notes.txt"]
     assert "entries: 0," in runner.invoke(cli, ["cache", "info"]).stdout
 

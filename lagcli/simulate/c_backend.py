@@ -82,20 +82,22 @@ def lookup(key: str) -> Cached | None:
 
 
 def _meta(data: bytes) -> dict | None:
-    """meta.json's values, or None unless every key a warm run reads is there with its type."""
+    """meta.json's values, or None unless it holds every key a warm run reads."""
     try:
         meta = json.loads(data)
     except (ValueError, UnicodeDecodeError):
         return None
-    if not isinstance(meta, dict) or not all(isinstance(meta.get(k), t) for k, t in META_TYPES.items()):
-        return None
-    return meta
+    return meta if _complete(meta) else None
+
+
+def _complete(meta) -> bool:
+    return isinstance(meta, dict) and all(isinstance(meta.get(k), t) for k, t in META_TYPES.items())
 
 
 def build(files: dict[str, str], key: str, compiler: str, meta: dict) -> Cached:
     """Compile the generated C `files` (name -> text) into the cache under `key`."""
-    if _meta(json.dumps(meta).encode()) is None:
-        raise SimulationError(f"lagcli bug: meta.json needs {sorted(META_TYPES)}")   # keeps lookup in step
+    if not _complete(meta):                # keeps META_TYPES in step with what run.py writes
+        raise SimulationError(f"lagcli bug: {META} needs {sorted(META_TYPES)}")
     with cache.new_entry(key) as work:
         for name, text in files.items():
             (work / name).write_text(text)

@@ -31,7 +31,8 @@ so the key is no secret):
 Anything unexpected makes `load` return None with a one-line note on stderr, and
 the entry is removed so the caller's rebuild replaces it.
 
-This module imports neither sympy nor numpy (the warm C path uses it).
+`lagcli cache info/clear` are in `lagcli.simulate.cache_admin`. This module imports
+neither sympy nor numpy (the warm C path uses it).
 """
 from __future__ import annotations
 
@@ -54,8 +55,8 @@ from lagcli import __version__
 
 MANIFEST = "manifest.json"
 _SOURCE_ROOTS = (Path(__file__).resolve().parents[1], Path(__file__).resolve().parents[2] / "templates")
-_ENTRY_NAME = re.compile(r"[0-9a-f]{32}")
-_LEFTOVER_NAME = re.compile(r"\.[0-9a-f]{32}\..+")        # work and set-aside directories
+ENTRY_NAME = re.compile(r"[0-9a-f]{32}")
+LEFTOVER_NAME = re.compile(r"\.[0-9a-f]{32}\..+")        # work and set-aside directories
 _PRIVATE = 0o077                                          # no permission bit for group or others
 _READ_FLAGS = os.O_RDONLY | os.O_NOFOLLOW | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0)
 _noted: set[str] = set()
@@ -108,12 +109,13 @@ def root_problem(root: Path, create: bool = True) -> str | None:
             with contextlib.suppress(FileExistsError):
                 os.mkdir(root, 0o700)
         real = os.path.realpath(root)
-        st = os.stat(real)
+        st, link = os.stat(real), os.lstat(root)
     except FileNotFoundError:
         return None if not create else "it cannot be created"
     except OSError as exc:
         return f"it cannot be created or read ({exc.strerror})"
-    problem = _directory_problem(st) or _parents_problem(Path(real))
+    problem = (_directory_problem(st) or _link_problem(link)
+               or _parents_problem(Path(os.path.abspath(root))) or _parents_problem(Path(real)))
     if problem is None and not os.access(real, os.W_OK | os.X_OK):
         problem = "it is not writable"
     if problem is None and stat.S_IMODE(st.st_mode) & _PRIVATE:
@@ -132,9 +134,15 @@ def _directory_problem(st: os.stat_result) -> str | None:
     return None
 
 
-def _parents_problem(real: Path) -> str | None:
+def _link_problem(link: os.stat_result) -> str | None:
+    if stat.S_ISLNK(link.st_mode) and link.st_uid != os.geteuid():
+        return f"it is a symlink of another user (uid {link.st_uid})"
+    return None
+
+
+def _parents_problem(path: Path) -> str | None:
     """Whoever can write a parent can swap the root itself (sticky directories excepted)."""
-    for parent in real.parents:
+    for parent in path.parents:
         st = os.stat(parent)
         if st.st_uid not in (0, os.geteuid()):
             return f"its parent {parent} belongs to another user (uid {st.st_uid})"
@@ -168,8 +176,8 @@ def _remove_fallback() -> None:
 
 # --- reading an entry ---------------------------------------------------------------
 
-class _Damaged(Exception):
-    """An entry that failed a check; the message says which."""
+class DamagedEntry(Exception):
+    """Raised by `read_entry` for an entry that failed a check; the message says which."""
 
 
 @dataclass(frozen=True)
@@ -188,10 +196,10 @@ def load(key: str, executable: str | None = None) -> Entry | None:
     stderr and removed, so that the caller rebuilds it)."""
     directory = active_root() / key
     try:
-        return _read_entry(directory, key, executable)
+        return read_entry(directory, key, executable)
     except FileNotFoundError:
         return None
-    except (_Damaged, OSError) as exc:
+    except (DamagedEntry, OSError) as exc:
         note(f"cache entry {directory} failed its integrity check ({_reason(exc)}); rebuilding it")
         discard(directory)
         return None
@@ -201,21 +209,21 @@ def _reason(exc: Exception) -> str:
     return exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
 
 
-def _read_entry(directory: Path, key: str, executable: str | None) -> Entry:
+def read_entry(directory: Path, key: str, executable: str | None) -> Entry:
     folder = os.open(directory, os.O_RDONLY | os.O_DIRECTORY | os.O_NOFOLLOW | getattr(os, "O_CLOEXEC", 0))
     try:
         _check_private(os.fstat(folder), "the entry directory", stat.S_ISDIR)
         expected, label = _manifest(folder, key)
         present = set(os.listdir(folder)) - {MANIFEST}
         if present != set(expected):
-            raise _Damaged(f"files {sorted(present ^ set(expected))} missing or unexpected")
+            raise DamagedEntry(f"files {sorted(present ^ set(expected))} missing or unexpected")
         contents, program = {}, None
         for name in sorted(expected):
             descriptor = os.open(name, _READ_FLAGS, dir_fd=folder)
             data = _checked_bytes(descriptor, name)
             if hashlib.sha256(data).hexdigest() != expected[name]:
                 os.close(descriptor)
-                raise _Damaged(f"{name}: its content differs from its recorded SHA-256")
+                raise DamagedEntry(f"{name}: its content differs from its recorded SHA-256")
             contents[name] = data
             if name == executable:
                 program = _program(descriptor, directory / name)
@@ -224,7 +232,7 @@ def _read_entry(directory: Path, key: str, executable: str | None) -> Entry:
     finally:
         os.close(folder)
     if executable is not None and program is None:
-        raise _Damaged(f"no {executable}")
+        raise DamagedEntry(f"no {executable}")
     return Entry(directory, contents, program, label)
 
 
@@ -233,18 +241,18 @@ def _manifest(folder: int, key: str) -> tuple[dict[str, str], str]:
     try:
         descriptor = os.open(MANIFEST, _READ_FLAGS, dir_fd=folder)
     except FileNotFoundError:
-        raise _Damaged(f"no {MANIFEST}") from None
+        raise DamagedEntry(f"no {MANIFEST}") from None
     try:
         manifest = json.loads(_checked_bytes(descriptor, MANIFEST))
     except (ValueError, UnicodeDecodeError):
-        raise _Damaged(f"{MANIFEST} is not valid JSON") from None
+        raise DamagedEntry(f"{MANIFEST} is not valid JSON") from None
     finally:
         os.close(descriptor)
     if not isinstance(manifest, dict) or manifest.get("lagcli") != __version__ or manifest.get("key") != key:
-        raise _Damaged(f"{MANIFEST} is for another lagcli version or key")
+        raise DamagedEntry(f"{MANIFEST} is for another lagcli version or key")
     files = manifest.get("files")
     if not isinstance(files, dict) or not all(isinstance(v, str) for v in files.values()):
-        raise _Damaged(f"{MANIFEST} has no valid 'files'")
+        raise DamagedEntry(f"{MANIFEST} has no valid 'files'")
     return files, str(manifest.get("label", ""))
 
 
@@ -256,11 +264,11 @@ def _checked_bytes(descriptor: int, name: str) -> bytes:
 
 def _check_private(st: os.stat_result, what: str, is_kind) -> None:
     if not is_kind(st.st_mode):
-        raise _Damaged(f"{what} is of the wrong kind")
+        raise DamagedEntry(f"{what} is of the wrong kind")
     if st.st_uid != os.geteuid():
-        raise _Damaged(f"{what} belongs to another user (uid {st.st_uid})")
+        raise DamagedEntry(f"{what} belongs to another user (uid {st.st_uid})")
     if stat.S_IMODE(st.st_mode) & _PRIVATE:
-        raise _Damaged(f"{what} has mode {stat.S_IMODE(st.st_mode):04o}, not private to its owner")
+        raise DamagedEntry(f"{what} has mode {stat.S_IMODE(st.st_mode):04o}, not private to its owner")
 
 
 def _program(descriptor: int, path: Path) -> str:
@@ -340,8 +348,8 @@ def publish(work: Path, key: str, label: str, executable: str | None = None) -> 
             if attempt:
                 raise
     try:
-        return _read_entry(target, key, executable)
-    except _Damaged as exc:
+        return read_entry(target, key, executable)
+    except DamagedEntry as exc:
         raise OSError(f"the new cache entry {target} cannot be read back: {exc}") from None
 
 
@@ -380,98 +388,3 @@ def _die_by(signum: int) -> None:
     os.kill(os.getpid(), signum)
     raise KeyboardInterrupt                # not reached: the default action ends the process
 
-
-# --- `lagcli cache info` and `lagcli cache clear` ----------------------------------
-
-@dataclass(frozen=True)
-class EntryInfo:
-    key: str
-    label: str
-    size: int
-    intact: bool
-
-
-@dataclass(frozen=True)
-class CacheInfo:
-    root: Path
-    problem: str | None                    # why the root is not used (None: it is used)
-    entries: tuple[EntryInfo, ...]
-    leftovers: int                         # work directories of interrupted runs (size included)
-    size: int
-
-
-def info() -> CacheInfo:
-    """What the cache holds, without changing it."""
-    root = cache_root()
-    problem = root_problem(root, create=False)
-    entries, leftovers, size = [], 0, 0
-    for name, path in _own_directories(root):
-        size += _size(path)
-        if _ENTRY_NAME.fullmatch(name):
-            entries.append(_entry_info(path, name))
-        else:
-            leftovers += 1
-    return CacheInfo(root, problem, tuple(entries), leftovers, size)
-
-
-def clear() -> tuple[int, int]:
-    """Remove lagcli's entries and leftover work directories (the user's own only, nothing
-    else in the directory). Returns (directories removed, bytes freed)."""
-    removed = freed = 0
-    for _, path in _own_directories(cache_root()):
-        size = _size(path)
-        shutil.rmtree(path, ignore_errors=True)
-        if not os.path.lexists(path):
-            removed, freed = removed + 1, freed + size
-    return removed, freed
-
-
-def _own_directories(root: Path) -> list[tuple[str, Path]]:
-    """The entry and work directories in `root` that belong to the user (no symlinks)."""
-    try:
-        names = sorted(os.listdir(root)) if os.path.isdir(root) else []
-    except OSError:
-        return []
-    found = []
-    for name in names:
-        if _ENTRY_NAME.fullmatch(name) or _LEFTOVER_NAME.fullmatch(name):
-            st = os.lstat(root / name)
-            if stat.S_ISDIR(st.st_mode) and st.st_uid == os.geteuid():
-                found.append((name, root / name))
-    return found
-
-
-def _entry_info(path: Path, key: str) -> EntryInfo:
-    try:
-        return EntryInfo(key, _read_entry(path, key, None).label, _size(path), True)
-    except (_Damaged, OSError):
-        return EntryInfo(key, "", _size(path), False)
-
-
-def _size(path: Path) -> int:
-    total = 0
-    for folder, _, files in os.walk(path):
-        for name in files:
-            with contextlib.suppress(OSError):
-                total += os.lstat(os.path.join(folder, name)).st_size
-    return total
-
-
-def describe(summary: CacheInfo) -> str:
-    """`lagcli cache info` as text."""
-    usable = "yes" if summary.problem is None else f"no: {summary.problem} (runs build in a temporary directory)"
-    lines = [f"cache directory: {summary.root}", f"usable: {usable}",
-             f"entries: {len(summary.entries)}, {human_size(summary.size)} in total"]
-    for e in summary.entries:
-        state = (e.label or "?") if e.intact else "damaged: rebuilt on next use"
-        lines.append(f"  {e.key}  {human_size(e.size):>9}  {state}")
-    if summary.leftovers:
-        lines.append(f"left over by interrupted runs: {summary.leftovers} work directories "
-                     "(`lagcli cache clear` removes them)")
-    return "\n".join(lines) + "\n"
-
-
-def human_size(size: int) -> str:
-    if size < 1000:
-        return f"{size} B"
-    return f"{size / 1e3:.1f} kB" if size < 1e6 else f"{size / 1e6:.1f} MB"
