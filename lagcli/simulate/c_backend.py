@@ -98,15 +98,15 @@ def build(files: dict[str, str], key: str, compiler: str, meta: dict) -> Cached:
     """Compile the generated C `files` (name -> text) into the cache under `key`."""
     if not _complete(meta):                # keeps META_TYPES in step with what run.py writes
         raise SimulationError(f"lagcli bug: {META} needs {sorted(META_TYPES)}")
-    with cache.new_entry(key) as work:
-        for name, text in files.items():
-            (work / name).write_text(text)
-        _compile(compiler, work, sorted(name for name in files if name.endswith(".c")))
-        (work / META).write_text(json.dumps(meta, indent=1))
-        try:
+    try:
+        with cache.new_entry(key) as work:
+            for name, text in files.items():
+                (work / name).write_text(text)
+            _compile(compiler, work, sorted(name for name in files if name.endswith(".c")))
+            (work / META).write_text(json.dumps(meta, indent=1))
             entry = cache.publish(work, key, f"{meta['name']}: C driver", executable=BINARY)
-        except OSError as exc:
-            raise SimulationError(f"the compiled driver could not be stored in the cache: {exc}") from None
+    except OSError as exc:                 # a full disk, say: even the temporary directory failed
+        raise SimulationError(f"the C driver could not be built and stored: {exc}") from None
     return Cached(entry, meta)
 
 

@@ -194,7 +194,10 @@ class Entry:
 def load(key: str, executable: str | None = None) -> Entry | None:
     """The entry `key` after every check, or None: missing, or damaged (then noted on
     stderr and removed, so that the caller rebuilds it)."""
-    directory = active_root() / key
+    try:
+        directory = active_root() / key
+    except OSError:                           # no usable root, not even a temporary one
+        return None
     try:
         return read_entry(directory, key, executable)
     except FileNotFoundError:
@@ -210,29 +213,35 @@ def _reason(exc: Exception) -> str:
 
 
 def read_entry(directory: Path, key: str, executable: str | None) -> Entry:
+    """Entry `key` at `directory`, every check passed (else DamagedEntry or OSError).
+    Everything is read through descriptors opened without following symlinks."""
     folder = os.open(directory, os.O_RDONLY | os.O_DIRECTORY | os.O_NOFOLLOW | getattr(os, "O_CLOEXEC", 0))
+    kept = None                                     # the executable's descriptor
     try:
         _check_private(os.fstat(folder), "the entry directory", stat.S_ISDIR)
         expected, label = _manifest(folder, key)
         present = set(os.listdir(folder)) - {MANIFEST}
         if present != set(expected):
             raise DamagedEntry(f"files {sorted(present ^ set(expected))} missing or unexpected")
-        contents, program = {}, None
+        if executable is not None and executable not in expected:
+            raise DamagedEntry(f"no {executable}")
+        contents = {}
         for name in sorted(expected):
             descriptor = os.open(name, _READ_FLAGS, dir_fd=folder)
-            data = _checked_bytes(descriptor, name)
-            if hashlib.sha256(data).hexdigest() != expected[name]:
-                os.close(descriptor)
-                raise DamagedEntry(f"{name}: its content differs from its recorded SHA-256")
-            contents[name] = data
             if name == executable:
-                program = _program(descriptor, directory / name)
-            else:
+                kept = descriptor                   # closed below unless handed to `program`
+                contents[name] = _checked_bytes(descriptor, name, expected[name])
+                continue
+            try:
+                contents[name] = _checked_bytes(descriptor, name, expected[name])
+            finally:
                 os.close(descriptor)
+        program = _program(kept, directory / executable) if executable is not None else None
+        kept = None                                 # handed over to `program`
     finally:
         os.close(folder)
-    if executable is not None and program is None:
-        raise DamagedEntry(f"no {executable}")
+        if kept is not None:
+            os.close(kept)
     return Entry(directory, contents, program, label)
 
 
@@ -256,10 +265,14 @@ def _manifest(folder: int, key: str) -> tuple[dict[str, str], str]:
     return files, str(manifest.get("label", ""))
 
 
-def _checked_bytes(descriptor: int, name: str) -> bytes:
+def _checked_bytes(descriptor: int, name: str, sha256: str | None = None) -> bytes:
+    """The content of a private regular file of the user, checked against `sha256` if given."""
     _check_private(os.fstat(descriptor), name, stat.S_ISREG)
     with os.fdopen(os.dup(descriptor), "rb") as handle:
-        return handle.read()
+        data = handle.read()
+    if sha256 is not None and hashlib.sha256(data).hexdigest() != sha256:
+        raise DamagedEntry(f"{name}: its content differs from its recorded SHA-256")
+    return data
 
 
 def _check_private(st: os.stat_result, what: str, is_kind) -> None:
