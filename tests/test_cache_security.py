@@ -331,14 +331,16 @@ def test_cache_info_and_clear(home, spec):
     (root / "notes.txt").write_text("mine")                  # not lagcli's: kept
     (root / "mine").mkdir()
     (root / f".{'a' * 32}.leftover").mkdir()                  # an interrupted run's work dir
+    (root / ("b" * 32)).mkdir(mode=0o700)                     # an entry without its manifest
     runner = CliRunner()
     shown = runner.invoke(cli, ["cache", "info"])
     assert shown.exit_code == 0
     assert f"cache directory: {root}" in shown.stdout and "usable: yes" in shown.stdout
-    assert "entries: 1," in shown.stdout and "osc: Python module" in shown.stdout
+    assert "entries: 2," in shown.stdout and "osc: Python module" in shown.stdout
+    assert f"{'b' * 32}  " in shown.stdout and "damaged: rebuilt on next use" in shown.stdout
     assert "left over by interrupted runs: 1" in shown.stdout
     cleared = runner.invoke(cli, ["cache", "clear"])
-    assert cleared.exit_code == 0 and "removed 2 cache directories" in cleared.stdout
+    assert cleared.exit_code == 0 and "removed 3 cache directories" in cleared.stdout
     assert sorted(os.listdir(root)) == ["mine", "notes.txt"]
     assert "entries: 0," in runner.invoke(cli, ["cache", "info"]).stdout
 
