@@ -316,25 +316,18 @@ def discard(directory: Path) -> None:
 def new_entry(key: str):
     """A private work directory for entry `key` (yielded), removed whatever happens:
     on an exception, on Ctrl-C, and on SIGTERM/SIGHUP (the process then still dies by
-    that signal). Fill it, then `publish` it from inside the `with`."""
+    that signal). Fill it, then `publish` it from inside the `with`. Raises OSError
+    when it cannot be made."""
     try:
         with _signals_as_exceptions():
-            work = _work_directory(key)
-            try:
+            work = active_root() / f".{key}.{os.urandom(6).hex()}"   # named before it exists,
+            try:                                                   # so no signal can orphan it
+                os.mkdir(work, 0o700)
                 yield work
             finally:
                 shutil.rmtree(work, ignore_errors=True)   # already gone when published
     except _Terminated as stop:
         _die_by(stop.signum)
-
-
-def _work_directory(key: str) -> Path:
-    try:
-        return Path(tempfile.mkdtemp(prefix=f".{key}.", dir=active_root()))
-    except OSError as exc:                 # the root turned unwritable since it was checked
-        note(f"cannot write to the cache directory ({exc.strerror}); building in a private "
-             "temporary directory instead (removed at exit)", once=True)
-        return Path(tempfile.mkdtemp(prefix=f".{key}.", dir=_fallback_root()))
 
 
 def publish(work: Path, key: str, label: str, executable: str | None = None) -> Entry:
