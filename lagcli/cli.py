@@ -144,6 +144,43 @@ def examples(ctx, name, copy_to, output):
     _run(ctx, action)
 
 
+@cli.group()
+def cache():
+    """Inspect or empty the cache of compiled drivers and generated modules.
+
+    \b
+    Examples:
+      lagcli cache info     # where it is, whether it is used, its entries and size
+      lagcli cache clear    # remove lagcli's entries (the next runs rebuild them)
+    """
+
+
+@cache.command("info")
+def cache_info():
+    """Show the cache directory, whether it is usable, its entries and their size.
+
+    \b
+    Example:
+      XDG_CACHE_HOME=/tmp/c lagcli cache info
+    """
+    from lagcli.simulate import cache_admin
+
+    click.echo(cache_admin.describe(cache_admin.info()), nl=False)
+
+
+@cache.command("clear")
+def cache_clear():
+    """Remove lagcli's cache entries (only those; nothing else in the directory).
+
+    \b
+    Example:
+      lagcli cache clear
+    """
+    from lagcli.simulate import cache_admin
+
+    click.echo(cache_admin.describe_cleared(*cache_admin.clear()), nl=False)
+
+
 @contextlib.contextmanager
 def _progress_bar(t_end: float):
     """A progress bar over [0, t_end] on stderr when it is a terminal; yields update(t) or None."""

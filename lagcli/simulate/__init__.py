@@ -5,6 +5,8 @@
     initial.py         consistent initial states of constrained systems (sympy + numpy)
     python_backend.py  the generated Python module + scipy's integrators
     c_backend.py       the generated C driver: compile, cache, run
+    cache.py           the cache: key, private verified entries (only what lagcli built runs)
+    cache_admin.py     lagcli cache info / clear
     trajectory.py      Trajectory (CSV rows), the output-time rule
     plot.py            --plot: coordinates and conserved-quantity drift (matplotlib)
 

@@ -1,8 +1,9 @@
 """The C backend: compile the generated driver once, cache it, run it.
 
 Cache: `lagcli.simulate.cache` (`$XDG_CACHE_HOME/lagcli/<key>/`, the compiler's
-`--version` line as the key's variant), holding the driver binary `sim` and
-`meta.json`.
+`--version` line as the key's variant), holding the generated sources, the driver
+binary `sim` and `meta.json`, all checked against the entry's manifest before the
+driver runs (see that module for why that is enough).
 
 `meta.json` is everything a warm run needs without sympy: state, parameter and
 column names, the spec's `initial:` and `simulate:` values, whether the system is
@@ -14,23 +15,26 @@ This module imports neither sympy nor numpy: a warm run goes spec bytes -> key
 """
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import shutil
+import signal
 import subprocess
 import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
-from lagcli import __version__
 from lagcli.errors import SimulationError, UsageError
 from lagcli.simulate import cache
-from lagcli.simulate.cache import cache_root
 from lagcli.simulate.options import RunSettings
 from lagcli.simulate.trajectory import Trajectory
 
 CFLAGS = ("-std=c99", "-O2", "-Wall", "-Wextra", "-Werror", "-pedantic")
 BINARY, META = "sim", "meta.json"
+META_TYPES = {"name": str, "coordinates": list, "state": list, "parameters": dict, "initial": dict,
+              "settings": dict, "constrained": bool, "energy_conserved": bool,
+              "default_state": (list, type(None)), "default_notes": list}
 
 
 def find_compiler() -> str | None:
@@ -51,55 +55,81 @@ def compiler_version(compiler: str) -> str:
 
 @dataclass(frozen=True)
 class Cached:
-    directory: Path
+    """A verified cache entry holding a driver; `binary` is what to execute (see
+    `lagcli.simulate.cache.Entry.program`)."""
+
+    entry: cache.Entry
     meta: dict
 
     @property
-    def binary(self) -> Path:
-        return self.directory / BINARY
+    def binary(self) -> str:
+        return self.entry.program
 
 
 def lookup(key: str) -> Cached | None:
-    directory = cache_root() / key
+    """The driver cached under `key`, checked; None when missing or damaged (a damaged
+    entry is noted on stderr and removed, so the caller's build replaces it)."""
+    entry = cache.load(key, executable=BINARY)
+    if entry is None:
+        return None
+    meta = _meta(entry.contents.get(META, b""))
+    if meta is None:
+        cache.note(f"cache entry {entry.directory} failed its integrity check ({META} lacks "
+                   "values a run needs); rebuilding it")
+        cache.discard(entry.directory)
+        return None
+    return Cached(entry, meta)
+
+
+def _meta(data: bytes) -> dict | None:
+    """meta.json's values, or None unless it holds every key a warm run reads."""
     try:
-        meta = json.loads((directory / META).read_text())
-    except (OSError, ValueError):
+        meta = json.loads(data)
+    except (ValueError, UnicodeDecodeError):
         return None
-    if not (directory / BINARY).is_file() or meta.get("lagcli") != __version__:
-        return None
-    return Cached(directory, meta)
+    return meta if _complete(meta) else None
+
+
+def _complete(meta) -> bool:
+    return isinstance(meta, dict) and all(isinstance(meta.get(k), t) for k, t in META_TYPES.items())
 
 
 def build(files: dict[str, str], key: str, compiler: str, meta: dict) -> Cached:
     """Compile the generated C `files` (name -> text) into the cache under `key`."""
-    root = cache_root()
-    root.mkdir(parents=True, exist_ok=True)
-    work = Path(tempfile.mkdtemp(prefix=f".{key}.", dir=root))
+    if not _complete(meta):                # keeps META_TYPES in step with what run.py writes
+        raise SimulationError(f"lagcli bug: {META} needs {sorted(META_TYPES)}")
     try:
-        for name, text in files.items():
-            (work / name).write_text(text)
-        _compile(compiler, work, sorted(name for name in files if name.endswith(".c")))
-        (work / META).write_text(json.dumps({**meta, "lagcli": __version__}, indent=1))
-        try:
-            os.rename(work, root / key)        # atomic; another run may have won the race
-        except OSError:
-            pass
-    finally:
-        shutil.rmtree(work, ignore_errors=True)
-    cached = lookup(key)
-    if cached is None:
-        raise SimulationError(f"the compiled driver could not be stored in {root / key}")
-    return cached
+        with cache.new_entry(key) as work:
+            for name, text in files.items():
+                (work / name).write_text(text)
+            _compile(compiler, work, sorted(name for name in files if name.endswith(".c")))
+            (work / META).write_text(json.dumps(meta, indent=1))
+            entry = cache.publish(work, key, f"{meta['name']}: C driver", executable=BINARY)
+    except OSError as exc:                 # a full disk, say: even the temporary directory failed
+        raise SimulationError(f"the C driver could not be built and stored: {exc}") from None
+    return Cached(entry, meta)
 
 
 def _compile(compiler: str, work: Path, sources: list[str]) -> None:
+    """Run the compiler in its own process group, so that an interruption stops all of it
+    (cc, cc1, as, ld) before the work directory is removed."""
     command = [compiler, *CFLAGS, "-o", BINARY, *sources, "-lm"]
     try:
-        done = subprocess.run(command, cwd=work, capture_output=True, text=True, timeout=600)
-    except (OSError, subprocess.SubprocessError) as exc:
+        proc = subprocess.Popen(command, cwd=work, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                                text=True, start_new_session=True)
+    except OSError as exc:
         raise SimulationError(f"cannot run the C compiler {compiler!r}: {exc}") from None
-    if done.returncode != 0:
-        log = "\n".join((done.stderr or done.stdout).strip().splitlines()[:40])
+    try:
+        out, err = proc.communicate(timeout=600)
+    except BaseException as exc:
+        with contextlib.suppress(OSError):
+            os.killpg(proc.pid, signal.SIGKILL)
+        proc.wait()
+        if isinstance(exc, subprocess.TimeoutExpired):
+            raise SimulationError(f"the C compiler {compiler!r} did not finish in 600 s") from None
+        raise
+    if proc.returncode != 0:
+        log = "\n".join((err or out).strip().splitlines()[:40])
         raise SimulationError(f"the C compiler failed: {' '.join(command)}\n{log}")
 
 

@@ -5,7 +5,8 @@ generated from sympy objects (never from spec text) and loaded from its source
 text. `cached_module` keeps that source in the cache of `lagcli.simulate.cache`
 (`<key>/module.py`, variant `python-module`): a second run of the same spec skips
 the code generation (tidying and CSE, ~2 s for rolling_disc), not the derivation
-(the initial state is solved from it).
+(the initial state is solved from it). A cached module is executed from the bytes
+whose SHA-256 the cache has just checked, never imported by its path.
 
 Integration is scipy.integrate.solve_ivp with `t_eval`, written out as its own
 loop (the same solver classes, steps and dense output, so the same numbers) in
@@ -18,8 +19,6 @@ with the step cap of `lagcli.numerics.max_step` (docs/simulate.md).
 """
 from __future__ import annotations
 
-import os
-import tempfile
 import types
 from pathlib import Path
 
@@ -27,7 +26,7 @@ import numpy as np
 from scipy import integrate
 
 from lagcli.numerics import max_step, output_times
-from lagcli.simulate.cache import cache_key, cache_root
+from lagcli.simulate import cache
 from lagcli.simulate.options import RunSettings
 from lagcli.simulate.trajectory import Trajectory, format_row
 
@@ -49,15 +48,15 @@ def load_module(derivation, spec_start=None) -> types.ModuleType:
 
 
 def cached_module(derivation, spec_path: str, spec_start=None) -> types.ModuleType:
-    """`load_module`, with the source read from the cache when this spec's module is
-    there, and stored there when it is not."""
-    path = cache_root() / cache_key(spec_path, Path(spec_path).read_bytes(), MODULE_VARIANT) / MODULE
-    try:
-        return _execute(derivation.model.name, path.read_text())
-    except (OSError, SyntaxError, ValueError):
-        pass                                  # missing or damaged: generate (again)
+    """`load_module`, with the source taken from the cache when this spec's module is
+    there (and intact), and stored there when it is not."""
+    # TODO: read_spec_bytes (spec/reader.py, size-limited) once it exists, instead of read_bytes
+    key = cache.cache_key(spec_path, Path(spec_path).read_bytes(), MODULE_VARIANT)
+    entry = cache.load(key)
+    if entry is not None and MODULE in entry.contents:
+        return _execute(derivation.model.name, entry.contents[MODULE].decode())
     source = module_source(derivation, spec_start)
-    _store(path, source)
+    _store(key, derivation.model.name, source)
     return _execute(derivation.model.name, source)
 
 
@@ -78,14 +77,12 @@ def _execute(model_name: str, source: str) -> types.ModuleType:
     return module
 
 
-def _store(path: Path, source: str) -> None:
-    """Write `source` to `path` atomically; a cache that cannot be written is skipped."""
+def _store(key: str, model_name: str, source: str) -> None:
+    """Cache `source` as the entry `key`; a cache that cannot be written is skipped."""
     try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        fd, temporary = tempfile.mkstemp(prefix=f".{MODULE}.", dir=path.parent)
-        with os.fdopen(fd, "w") as handle:
-            handle.write(source)
-        os.replace(temporary, path)
+        with cache.new_entry(key) as work:
+            (work / MODULE).write_text(source)
+            cache.publish(work, key, f"{model_name}: Python module")
     except OSError:
         pass
 
