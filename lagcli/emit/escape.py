@@ -11,7 +11,7 @@ through exactly one of these functions, chosen by where it lands:
     python_comment(text)   after '#', one line                Python module header
     python_string(text)    a '...' literal, quotes included   Python module constants
     latex_comment(text)    after '%', one line                LaTeX header lines
-    latex_text(text)       running text (and \\mathrm{...})    LaTeX titles, descriptions
+    latex_text(text)       running text                       LaTeX titles, descriptions
     xml_text(text)         element content                    (FMI model description)
     xml_attribute(text)    inside "..." of an attribute        (FMI model description)
     terminal_text(text)    what a terminal prints             text reports
@@ -28,21 +28,15 @@ tests/test_escaping.py checks each against its grammar with random text.
 from __future__ import annotations
 
 import re
-import unicodedata
 from xml.sax.saxutils import escape as _xml_escape
 
 ELLIPSIS = "..."
 
-# Unicode categories that are never shown as text: controls, format characters
-# (bidi overrides, zero-width joiners), surrogates, line/paragraph separators.
-_INVISIBLE = frozenset(("Cc", "Cf", "Cs", "Zl", "Zp"))
-
-
 def _one_line(text: str) -> str:
-    """`text` as one line of visible characters: whitespace runs (newlines, tabs,
-    U+0085, U+2028...) become one space, other invisible characters are dropped."""
-    text = " ".join(str(text).split())
-    return "".join(ch for ch in text if unicodedata.category(ch) not in _INVISIBLE)
+    """`text` as one line of printable characters: whitespace runs (newlines, tabs,
+    U+0085, U+2028...) become one space, other non-printable characters (controls,
+    format characters such as bidi overrides, surrogates, private use) are dropped."""
+    return "".join(ch for ch in " ".join(str(text).split()) if ch.isprintable())
 
 
 def shorten(text: str, limit: int) -> str:
@@ -128,8 +122,8 @@ _LATEX_SPECIALS = {"\\": r"\textbackslash{}", "_": r"\_", "%": r"\%", "&": r"\&"
                    "^": r"\textasciicircum{}", "<": r"\textless{}", ">": r"\textgreater{}",
                    "|": r"\textbar{}"}
 _LATEX_UNICODE = {"\u2013": "--", "\u2014": "---", "\u2018": "`", "\u2019": "'", "\u201c": "``",
-                  "\u201d": "''", "\u2026": r"\ldots{}", "\u00a0": "~"}
-_LATIN1_NOT_IN_OT1 = frozenset("\u00d0\u00d7\u00de\u00f0\u00f7\u00fe")   # Ð × Þ ð ÷ þ
+                  "\u201d": "''", "\u2026": r"\ldots{}"}
+_LATIN1_NOT_IN_OT1 = frozenset("\u00d0\u00de\u00f0\u00fe")   # Ð Þ ð þ: no glyph in the default font
 
 
 def latex_comment(text: str) -> str:
@@ -142,7 +136,8 @@ def latex_comment(text: str) -> str:
 
 
 def latex_text(text: str) -> str:
-    """`text` as LaTeX running text (a title, a description, a \\mathrm{} label).
+    """`text` as LaTeX running text (a title, a description; in \\mathrm{} only names,
+    which are identifiers: the text commands below are not for math mode).
 
     Each of TeX's special characters (catcodes 0-8, 13, 14: \\ { } $ & # ^ _ ~ %)
     becomes its text command, as do < > | (OT1 prints them as other glyphs), so no
@@ -173,9 +168,10 @@ _NOT_XML_CHAR = re.compile("[^\t\n\r\x20-\ud7ff\ue000-\ufffd\U00010000-\U0010fff
 
 def xml_text(text: str) -> str:
     """`text` as XML character data: `&` and `<` escaped (XML 1.0 2.4), `>` too
-    (no `]]>`), characters XML 1.0 forbids (2.2: most C0 controls, surrogates,
+    (no `]]>`), CR as a reference (end-of-line handling, 2.11, would make it a
+    newline), characters XML 1.0 forbids (2.2: most C0 controls, surrogates,
     U+FFFE/FFFF) dropped."""
-    return _xml_escape(_NOT_XML_CHAR.sub("", str(text)))
+    return _xml_escape(_NOT_XML_CHAR.sub("", str(text)), {"\r": "&#13;"})
 
 
 def xml_attribute(text: str) -> str:
@@ -201,7 +197,7 @@ def _terminal_char(ch: str) -> str:
         return ch
     if ch.isspace():
         return " "
-    return "" if unicodedata.category(ch) in _INVISIBLE else ch
+    return ch if ch.isprintable() else ""
 
 
 # The Jinja filters of the template environment (lagcli.emit.templates).
