@@ -367,6 +367,13 @@ def test_hostile_spec_latex(tmp_path, run):
     assert _pwned(tmp_path) == [] and not list(tmp_path.glob("pwned_tex*"))
 
 
+def test_error_messages_reach_the_terminal_without_controls(tmp_path, run):
+    (tmp_path / "keys.yaml").write_text('coordinates: [x]\nkinetic: x_dot**2/2\n"\\e]0;owned\\a\\e[2J": 1\n')
+    result = run("check", "keys.yaml")
+    assert result.exit_code == 2 and "unknown key" in result.stderr
+    assert "\x1b" not in result.stderr and "\x07" not in result.stderr and "]0;owned" in result.stderr
+
+
 def test_latex_outside_the_subset_is_refused(tmp_path, run):
     spec = hostile_spec(tmp_path, latex=r"\input{/etc/passwd}")
     result = run("derive", spec, "--latex")
