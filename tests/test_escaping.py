@@ -367,6 +367,16 @@ def test_hostile_spec_latex(tmp_path, run):
     assert _pwned(tmp_path) == [] and not list(tmp_path.glob("pwned_tex*"))
 
 
+def test_plot_title_is_not_mathtext(tmp_path, run):
+    pytest.importorskip("matplotlib")
+    spec = tmp_path / "x$\\frac$.yaml"   # two dollars: mathtext would parse it
+    spec.write_text("coordinates: [x]\nkinetic: x_dot**2/2\npotential: x**2/2\ninitial: {x: 1}\n")
+    result = run("simulate", spec, "--t-end", "0.1", "--backend", "python", "--plot", "p.png", "-o", "out.csv")
+    assert result.exit_code == 0, result.output + result.stderr
+    assert (tmp_path / "p.png").stat().st_size > 0
+    assert escape.plot_text("a$b$ \\$") == "a\\$b\\$ \\\\$"
+
+
 def test_error_messages_reach_the_terminal_without_controls(tmp_path, run):
     (tmp_path / "keys.yaml").write_text('coordinates: [x]\nkinetic: x_dot**2/2\n"\\e]0;owned\\a\\e[2J": 1\n')
     result = run("check", "keys.yaml")

@@ -14,7 +14,8 @@ through exactly one of these functions, chosen by where it lands:
     latex_text(text)       running text                       LaTeX titles, descriptions
     xml_text(text)         element content                    (FMI model description)
     xml_attribute(text)    inside "..." of an attribute        (FMI model description)
-    terminal_text(text)    what a terminal prints             text reports
+    terminal_text(text)    what a terminal prints             text reports, error messages
+    plot_text(text)        a matplotlib title or label        --plot
 
 Each defends the rule of its grammar that would let text end its context (a
 comment's terminator, a string's quote, a line end) or change how the rest of the
@@ -32,6 +33,7 @@ from xml.sax.saxutils import escape as _xml_escape
 
 ELLIPSIS = "..."
 
+
 def _one_line(text: str) -> str:
     """`text` as one line of printable characters: whitespace runs (newlines, tabs,
     U+0085, U+2028...) become one space, other non-printable characters (controls,
@@ -40,8 +42,8 @@ def _one_line(text: str) -> str:
 
 
 def shorten(text: str, limit: int) -> str:
-    """At most `limit` characters of `text` as one line, cut at a space when one is
-    near, with '...' when cut (for comment headers; apply before escaping)."""
+    """At most `limit` (>= 3) characters of `text` as one line, cut at a space when
+    one is near, with '...' when cut (for comment headers; apply before escaping)."""
     text = _one_line(text)
     if len(text) <= limit:
         return text
@@ -200,7 +202,16 @@ def _terminal_char(ch: str) -> str:
     return ch if ch.isprintable() else ""
 
 
+# -- matplotlib ------------------------------------------------------------------------
+
+def plot_text(text: str) -> str:
+    """`text` for a matplotlib title or label: one line, and every `$` escaped
+    (`\\$`), since text between two `$` is parsed as mathtext (a parse error
+    would stop the plot)."""
+    return _one_line(text).replace("$", r"\$")
+
+
 # The Jinja filters of the template environment (lagcli.emit.templates).
 FILTERS = {f.__name__: f for f in (c_comment, c_string, python_comment, python_string,
                                    latex_comment, latex_text, xml_text, xml_attribute,
-                                   terminal_text)}
+                                   terminal_text, plot_text)}
