@@ -12,10 +12,10 @@ from __future__ import annotations
 import ast
 import importlib.util
 import io
+import json
 import re
 import shutil
 import subprocess
-import sys
 import tokenize
 import xml.etree.ElementTree as ElementTree
 
@@ -295,7 +295,6 @@ def hostile_spec(tmp_path, latex: str = r"\theta"):
 
 def _yaml_string(text: str) -> str:
     """A YAML double-quoted scalar (JSON strings are YAML)."""
-    import json
     return json.dumps(text)
 
 

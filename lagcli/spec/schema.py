@@ -3,7 +3,8 @@
 Every problem is collected, with its location, and reported in one `SpecError`.
 Expressions are not parsed here: they travel as `Src` (text + location) to the
 model stage, which parses them safely. Key sets, value shapes, names,
-references and the spec's single dimension (2-D or 3-D) are checked here.
+references, the spec's single dimension (2-D or 3-D) and the safe LaTeX subset
+of `latex:` strings (latex_subset.py) are checked here.
 """
 from __future__ import annotations
 
