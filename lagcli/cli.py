@@ -9,6 +9,7 @@ import click
 
 from lagcli import __version__, commands
 from lagcli.emit import LANGUAGES
+from lagcli.emit.escape import terminal_text
 from lagcli.errors import LagcliError
 from lagcli.numerics import METHODS
 from lagcli.output import write_output
@@ -32,7 +33,7 @@ def _run(ctx: click.Context, action) -> None:
     except LagcliError as exc:
         if ctx.obj and ctx.obj.get("traceback"):
             traceback.print_exc()
-        click.echo(exc.render(), err=True)
+        click.echo(terminal_text(exc.render()), err=True)   # messages quote spec text
         sys.exit(exc.exit_code)
 
 

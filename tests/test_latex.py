@@ -26,7 +26,8 @@ from click.testing import CliRunner
 from sympy.parsing.sympy_parser import implicit_multiplication, parse_expr, standard_transformations
 
 from lagcli.emit.latex import latex_document, latex_fragment, latex_printer
-from lagcli.emit.latex_printer import LatexPrinter, escape_text
+from lagcli.emit.escape import latex_text
+from lagcli.emit.latex_printer import LatexPrinter
 from lagcli.spec_printer import spec_str
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -129,10 +130,10 @@ def test_symbol_map(odd_spec):
     assert printer.doprint(m.qd[0] ** 2) == r"\dot{\theta}_{1}^{2}"
 
 
-def test_escape_text():
-    assert escape_text("a_b%c&d#e$f{g}h") == r"a\_b\%c\&d\#e\$f\{g\}h"
-    assert escape_text("~^\\") == r"\textasciitilde{}\textasciicircum{}\textbackslash{}"
-    assert escape_text("line\nbreak\x00") == "line break"
+def test_latex_text():
+    assert latex_text("a_b%c&d#e$f{g}h") == r"a\_b\%c\&d\#e\$f\{g\}h"
+    assert latex_text("~^\\") == r"\textasciitilde{}\textasciicircum{}\textbackslash{}"
+    assert latex_text("line\nbreak\x00") == "line break"
 
 
 @needs_pdflatex

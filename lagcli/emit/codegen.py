@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 from lagcli.derive.result import Derivation
 from lagcli.emit.cse import CSE_OPTIMIZATIONS, Reduced, eliminate  # noqa: F401  (the pipeline's API)
-from lagcli.emit.interface import Interface, comment_safe, interface  # noqa: F401
+from lagcli.emit.interface import Interface, interface  # noqa: F401
 from lagcli.emit.outputs import GROUPS, Outputs, collect, invariant_columns  # noqa: F401
 from lagcli.emit.slots import SlotPrinter, check_slots, slots
 from lagcli.emit.tidy import tidy_expression, trigsimp_safe  # noqa: F401

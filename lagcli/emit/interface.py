@@ -1,12 +1,19 @@
-"""What a generated file says about itself (`Interface`), as plain values."""
+"""What a generated file says about itself (`Interface`), as plain values.
+
+Text from the spec (description, file name, notes) is kept as given here: each
+template escapes it for its own grammar with the filters of `lagcli.emit.escape`.
+"""
 from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import PurePath
 
 from lagcli.derive.result import Derivation
+from lagcli.emit.escape import shorten
 from lagcli.emit.outputs import Outputs
 from lagcli.numerics import DEFAULT_BAUMGARTE
+
+DESCRIPTION_LIMIT = 300   # characters of the spec's description repeated in file headers
 
 
 @dataclass(frozen=True)
@@ -16,7 +23,7 @@ class Interface:
     name: str
     spec_file: str                       # file name only: the bytes do not depend on the cwd
     version: str
-    description: str
+    description: str                     # one line, at most DESCRIPTION_LIMIT characters
     coordinates: tuple[str, ...]
     state: tuple[str, ...]
     parameters: tuple[tuple[str, float], ...]
@@ -44,24 +51,18 @@ def interface(d: Derivation, outputs: Outputs, initial=None, initial_notes=()) -
     columns = outputs.invariant_names + (("constraint_residual",) if d.constraints else ())
     return Interface(
         name=model.name,
-        spec_file=comment_safe(PurePath(model.source).name),
+        spec_file=PurePath(model.source).name,
         version=__version__,
-        description=comment_safe(" ".join(str(model.description or "").split())),
+        description=shorten(model.description or "", DESCRIPTION_LIMIT),
         coordinates=tuple(s.name for s in model.q),
         state=tuple(s.name for s in model.q + model.qd),
         parameters=tuple((p.symbol.name, float(p.value)) for p in model.parameters),
         multipliers=tuple(m.name for m in d.multipliers),
         invariants=columns,
         initial=tuple(float(v) for v in initial),
-        initial_notes=tuple(comment_safe(n) for n in initial_notes),
+        initial_notes=tuple(initial_notes),
         settings=(("t_end", float(s.t_end)), ("dt", float(s.dt)), ("method", s.method),
                   ("rtol", float(s.rtol)), ("atol", float(s.atol))),
         baumgarte=tuple(float(v) for v in DEFAULT_BAUMGARTE),
     )
 
-
-def comment_safe(text: str) -> str:
-    """One line that cannot end a C comment or a Python string, nor splice C lines
-    (no backslash, no trigraph)."""
-    text = " ".join(str(text).split()).replace("*/", "* /").replace("\\", "/")
-    return text.replace("??", "? ?").replace('"' * 3, "'" * 3)

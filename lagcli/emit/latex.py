@@ -18,7 +18,8 @@ from pathlib import Path
 
 import lagcli
 from lagcli.derive.result import Derivation
-from lagcli.emit.latex_printer import CONTENT_WIDTH, LatexPrinter, Tex, escape_text, tex_width
+from lagcli.emit.escape import latex_comment, latex_text
+from lagcli.emit.latex_printer import CONTENT_WIDTH, LatexPrinter, Tex, tex_width
 from lagcli.emit.report import report_content
 from lagcli.emit.templates import render
 
@@ -113,14 +114,14 @@ def _context(d: Derivation, simplify: bool) -> dict:
 
     return {
         "version": lagcli.__version__,
-        "spec_file": _comment(Path(m.source).name if m.source else ""),   # in % comments only
-        "spec_name": _comment(r["name"]),
-        "title": escape_text(r["name"]),
-        "description": _sentence(escape_text(r["description"] or "")),
+        "spec_file": latex_comment(Path(m.source).name if m.source else ""),   # in % comments only
+        "spec_name": latex_comment(r["name"]),
+        "title": latex_text(r["name"]),
+        "description": _sentence(latex_text(r["description"] or "")),
         "coordinates": LIST_SEP.join(qs),
         "velocities": LIST_SEP.join(printer.doprint(v) for v in m.qd),
         "parameters": [{"symbol": printer.doprint(info.symbol), "value": _number(info.value),
-                        "description": escape_text(info.description or "")}
+                        "description": latex_text(info.description or "")}
                        for info in m.parameters],
         "known": [row for name, e in r["known"].items()
                   for row in rows(f"{printer.symbol(name)}(t)", e)],
@@ -171,7 +172,7 @@ def _constraint(j: int, c: dict, row, printer: LatexPrinter, qs: list[str]) -> d
         "kind": c["kind"],
         "integrable": c["integrable"],
         "multiplier": printer.doprint(row.multiplier),
-        "name": escape_text(c["name"] or ""),
+        "name": latex_text(c["name"] or ""),
         "rows": [*equation_rows(rf"{printer.doprint(row.multiplier)}\colon", c["expr"], Tex("0")),
                  *a_rows, *rows(f"d_{{{j}}}", c["d"])],
     }
@@ -183,7 +184,7 @@ def _constraint_forces(r: dict, m, per_q) -> list[str]:
            for row in rows(label, generalized[q])]
     for name, vector in r["constraint_forces"]["particles"].items():
         for axis, e in zip(PLANAR_AXES, vector):
-            out.extend(rows(rf"R_{{\mathrm{{{escape_text(name)}}},{axis}}}", e))
+            out.extend(rows(rf"R_{{\mathrm{{{latex_text(name)}}},{axis}}}", e))
     return out
 
 
@@ -195,7 +196,7 @@ def _conserved(r: dict, qtex: dict, energy_is_jacobi: bool) -> list[str]:
     out = []
     for c in r["conserved_quantities"]:
         if c["kind"] == "momentum":
-            out.extend(rows(f"p_{{{momenta.get(c['name'], escape_text(c['name']))}}}", c["expr"]))
+            out.extend(rows(f"p_{{{momenta.get(c['name'], latex_text(c['name']))}}}", c["expr"]))
         elif c["kind"] == "jacobi":
             out.extend(rows("h", c["expr"], "T_2 - T_0 + V = T + V" if merged else "T_2 - T_0 + V"))
         elif not merged:
@@ -216,7 +217,3 @@ def _sentence(text: str) -> str:
     text = text.strip()
     return text + "." if text and text[-1] not in ".!?" else text
 
-
-def _comment(text: str) -> str:
-    """Text for a `%` comment line: printable characters only (no line breaks)."""
-    return "".join(ch for ch in text if ch.isprintable())

@@ -23,6 +23,8 @@ import sympy as sp
 from sympy.core.function import _coeff_isneg
 from sympy.printing.latex import LatexPrinter as SympyLatexPrinter
 
+from lagcli.emit.escape import latex_text
+
 # Widths are in "ems" of the estimate below; 1 unit is about 6 pt at 10 pt type.
 # The standalone document's text is 16 cm (455 pt) wide.
 LINE_WIDTH = 76.0
@@ -174,34 +176,8 @@ def multiplier_latex(multiplier: sp.Symbol, label: str | None) -> str:
     suffix = multiplier.name[len("lambda_"):]
     if label is None and suffix.isdigit():
         return rf"\lambda_{{{suffix}}}"
-    return rf"\lambda_{{\mathrm{{{escape_text(label or suffix)}}}}}"
+    return rf"\lambda_{{\mathrm{{{latex_text(label or suffix)}}}}}"
 
-
-_TEXT_ESCAPES = {"\\": r"\textbackslash{}", "_": r"\_", "%": r"\%", "&": r"\&", "#": r"\#",
-                 "$": r"\$", "{": r"\{", "}": r"\}", "~": r"\textasciitilde{}",
-                 "^": r"\textasciicircum{}", "<": r"\textless{}", ">": r"\textgreater{}",
-                 "|": r"\textbar{}"}
-_UNICODE_TEXT = {"\u2013": "--", "\u2014": "---", "\u2018": "`", "\u2019": "'", "\u201c": "``",
-                 "\u201d": "''", "\u2026": r"\ldots{}", "\u00a0": "~"}
-
-
-def escape_text(text: str) -> str:
-    """Text from the spec (name, description) made safe for LaTeX text (and \\mathrm)."""
-    out = []
-    for ch in text:
-        if ch in _TEXT_ESCAPES:
-            out.append(_TEXT_ESCAPES[ch])
-        elif ch in _UNICODE_TEXT:
-            out.append(_UNICODE_TEXT[ch])
-        elif ch in "\n\t\r":
-            out.append(" ")
-        elif ord(ch) < 32 or ord(ch) == 127:
-            continue
-        elif ord(ch) < 128 or 0xC0 <= ord(ch) <= 0xFF:
-            out.append(ch)            # ASCII and Latin-1 letters (pdflatex reads UTF-8)
-        else:
-            out.append(f"[U+{ord(ch):04X}]")
-    return "".join(out)
 
 
 # -- width estimate ----------------------------------------------------------------

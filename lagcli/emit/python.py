@@ -12,6 +12,7 @@ from sympy.printing.pycode import PythonCodePrinter
 
 from lagcli.derive.result import Derivation
 from lagcli.emit import codegen
+from lagcli.emit.escape import python_string
 from lagcli.emit.slots import SlotPrinter
 from lagcli.emit.templates import render
 
@@ -28,7 +29,7 @@ class PythonPrinter(SlotPrinter, PythonCodePrinter):
     def literal(value) -> str:
         """A Python literal for a number or string of the interface."""
         if isinstance(value, str):
-            return repr(value)
+            return python_string(value)
         value = float(value)
         return repr(value) if value == value and abs(value) != float("inf") else f"float({str(value)!r})"
 

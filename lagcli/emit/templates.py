@@ -13,6 +13,7 @@ from pathlib import Path
 
 import jinja2
 
+from lagcli.emit.escape import FILTERS
 from lagcli.errors import EmitError
 
 
@@ -28,7 +29,9 @@ def _template_dir() -> Path:
 
 @functools.lru_cache(maxsize=1)
 def environment() -> jinja2.Environment:
-    return jinja2.Environment(
+    """The one template environment; its filters are the escapes of spec text
+    (`{{ i.description | c_comment }}`, see lagcli/emit/escape.py)."""
+    env = jinja2.Environment(
         loader=jinja2.FileSystemLoader(str(_template_dir())),
         undefined=jinja2.StrictUndefined,
         trim_blocks=True,
@@ -36,6 +39,8 @@ def environment() -> jinja2.Environment:
         keep_trailing_newline=True,
         autoescape=False,
     )
+    env.filters.update(FILTERS)
+    return env
 
 
 def render(name: str, **context) -> str:

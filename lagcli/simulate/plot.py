@@ -24,6 +24,7 @@ from __future__ import annotations
 import io
 from pathlib import Path
 
+from lagcli.emit.escape import plot_text
 from lagcli.errors import SimulationError
 from lagcli.output import write_atomic
 from lagcli.simulate.trajectory import Trajectory, parse_csv
@@ -74,7 +75,7 @@ def build_figure(traj: Trajectory, coordinates, energy_conserved: bool, title: s
     top.set_ylabel("coordinates")
     top.legend(loc="best", fontsize="small")
     top.grid(True, alpha=0.3)
-    top.set_title(title)
+    top.set_title(plot_text(title), usetex=False)   # the spec's file name: never TeX
     if series:
         _drift_panel(axes[1, 0], column, series, np)
     axes[-1, 0].set_xlabel("t")

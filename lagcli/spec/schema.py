@@ -3,7 +3,8 @@
 Every problem is collected, with its location, and reported in one `SpecError`.
 Expressions are not parsed here: they travel as `Src` (text + location) to the
 model stage, which parses them safely. Key sets, value shapes, names,
-references and the spec's single dimension (2-D or 3-D) are checked here.
+references, the spec's single dimension (2-D or 3-D) and the safe LaTeX subset
+of `latex:` strings (latex_subset.py) are checked here.
 """
 from __future__ import annotations
 
@@ -14,6 +15,8 @@ from typing import Any, Callable
 from lagcli.errors import SpecError
 from lagcli.numerics import METHODS
 from lagcli.spec.checker import IDENTIFIER, Checker, describe, did_you_mean
+from lagcli.spec.latex_subset import HINT as LATEX_HINT
+from lagcli.spec.latex_subset import latex_problem
 from lagcli.spec.reader import KeyPath, RawDoc
 from lagcli.spec.types import (Body, Constraint, Coordinate, Force, Named, Parameter, Particle,
                                SimulateSettings, Spec, Spring, Src, Vector)
@@ -108,7 +111,7 @@ class _SpecChecker(Checker):
             return None
         table = self.table(path, item, ("name", "latex"), ("name",))
         name = self.string(path + ("name",), table["name"], "a name") if "name" in table else None
-        latex = self.optional_string(table, path, "latex")
+        latex = self.latex_symbol(table, path)
         return Coordinate(name, latex, self.raw.loc(path)) if name is not None else None
 
     def parameter(self, name: str, path: KeyPath, value: Any) -> Parameter | None:
@@ -118,9 +121,18 @@ class _SpecChecker(Checker):
             return Parameter(name, src, None, None, self.raw.loc(path, at_key=True)) if src else None
         table = self.table(path, value, ("value", "latex", "description"), ("value",))
         src = self.expr(path + ("value",), table["value"]) if "value" in table else None
-        latex = self.optional_string(table, path, "latex")
+        latex = self.latex_symbol(table, path)
         description = self.optional_string(table, path, "description")
         return Parameter(name, src, latex, description, self.raw.loc(path, at_key=True)) if src else None
+
+    def latex_symbol(self, table: dict, path: KeyPath) -> str | None:
+        """The item's `latex:`, when it is in the safe subset of lagcli/spec/latex_subset.py."""
+        latex = self.optional_string(table, path, "latex")
+        problem = latex_problem(latex) if latex is not None else None
+        if problem:
+            self.fail(path + ("latex",), problem, LATEX_HINT)
+            return None
+        return latex
 
     def named(self, kind: str) -> Callable[[str, KeyPath, Any], Named | None]:
         """Builder for `name: expression` sections that declare `name` (known, definitions)."""
