@@ -166,3 +166,44 @@ def _progress_bar(t_end: float):
 
 def main() -> None:
     cli(prog_name="lagcli")
+
+
+# -- analysis commands (lagcli/analysis/, docs/analysis.md) --------------------
+
+def _format(as_json: bool, as_latex: bool = False) -> str:
+    if as_json and as_latex:
+        raise click.UsageError("choose one output format, not --json and --latex")
+    return "json" if as_json else "latex" if as_latex else "text"
+
+
+@cli.command()
+@click.argument("spec", type=SPEC)
+@click.option("--at", "at", multiple=True, metavar="NAME=VALUE",
+              help="Operating value of a coordinate, velocity (q_dot) or parameter (repeatable; "
+                   "others 0 / the spec's value). VALUE may use the parameters and the sweep variable.")
+@click.option("--independent", multiple=True, metavar="NAME",
+              help="An independent coordinate or speed of a constrained system (repeatable; "
+                   "default: the best-conditioned choice).")
+@click.option("--input", "inputs", multiple=True, metavar="PARAMETER",
+              help="Treat this parameter as an input: its column goes into B (repeatable).")
+@click.option("--sweep", metavar="NAME=START:STOP:COUNT",
+              help="Linearize at COUNT values of NAME (a parameter, or a name the --at values use).")
+@click.option("--find-critical", is_flag=True,
+              help="With --sweep: find where the number of unstable eigenvalues changes (brentq).")
+@click.option("--json", "as_json", is_flag=True, help="JSON (full precision).")
+@click.option("--latex", "as_latex", is_flag=True, help="A LaTeX fragment (amsmath).")
+@click.option("-o", "--output", default=None, help="Output file ('-' or none: stdout).")
+@click.pass_context
+def linearize(ctx, spec, at, independent, inputs, sweep, find_critical, as_json, as_latex, output):
+    """Linearize SPEC about an operating point: A, B, M, C, K, eigenvalues and a stability verdict.
+
+    \b
+    Examples:
+      lagcli linearize specs/bead_on_spinning_hoop.yaml --at theta=0
+      lagcli linearize specs/cart_pole.yaml --input F --json
+      lagcli linearize specs/rolling_disc.yaml --at phi_dot=w --at x_dot=r*w \\
+          --sweep w=0:10:101 --find-critical
+    """
+    fmt = _format(as_json, as_latex)
+    _run(ctx, lambda: write_output(output, commands.linearize(spec, at, independent, inputs, sweep,
+                                                              find_critical, fmt)))

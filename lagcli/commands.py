@@ -109,3 +109,45 @@ def generate(path: str, lang: str, output: str | None = None) -> None:
     else:
         (text,) = files.values()
         write_output(output, text)
+
+
+# -- analysis: lagcli linearize / equilibria / hamiltonian / routh (lagcli/analysis/) --
+
+def linearize(path: str, at=(), independent=(), inputs=(), sweep: str | None = None,
+              find_critical: bool = False, fmt: str = "text") -> str:
+    """`lagcli linearize`: the linear model about `--at`, or the eigenvalue table of a sweep."""
+    from lagcli.analysis import report
+    from lagcli.analysis.linearize import CompiledSystem, linearize as linear_model
+    from lagcli.analysis.operating_point import evaluate, parse_assignments
+    from lagcli.analysis.stability import stability
+    from lagcli.analysis.sweep import critical_values, parse_sweep, sweep as run_sweep
+    from lagcli.errors import UsageError
+
+    d = _derive(path)
+    span = parse_sweep(sweep) if sweep else None
+    if find_critical and span is None:
+        raise UsageError("--find-critical needs --sweep NAME=START:STOP:COUNT")
+    points = parse_assignments(d, at, span.name if span else None)
+    system = CompiledSystem(d, inputs)
+    if span is not None:
+        table = run_sweep(system, points, span.values, independent)
+        critical = critical_values(system, points, table, independent) if find_critical else []
+        content = report.sweep_content(span.name, table, critical)
+        if fmt == "latex":
+            raise UsageError("--sweep prints a table: use the text or --json output")
+        return report.to_json(content) if fmt == "json" else report.sweep_text(content)
+    lm = linear_model(system, evaluate(d, points), independent)
+    content = report.linear_content(d, lm, stability(lm))
+    if fmt == "json":
+        return report.to_json(content)
+    if fmt == "latex":
+        return report.linear_latex(content, _latex_names(d))
+    return report.linear_text(content)
+
+
+def _latex_names(d):
+    """name -> LaTeX of a coordinate, velocity or parameter, by the LaTeX emitter's printer."""
+    from lagcli.emit.latex_printer import LatexPrinter
+
+    printer = LatexPrinter(d.model)
+    return lambda name: printer.doprint(d.model.symbol(name))
