@@ -25,7 +25,7 @@ from lagcli.analysis.linearize import LinearModel
 
 STRUCTURAL_ZERO = 1e-12     # |entry| <= this * max|A| counts as a structural zero
 MARGIN = 1e-9               # |Re s| <= this * max(1, max|s|) counts as on the imaginary axis
-ROUNDING = 1e-12            # parts of s below this * max(1, max|s|) are rounding noise: set to 0
+ROUNDING = 1000 * np.finfo(float).eps  # parts of s below this * rounding_scale(A) are noise: set to 0
 
 
 @dataclass(frozen=True)
@@ -72,13 +72,18 @@ def essential(A: np.ndarray, states) -> tuple[np.ndarray, list[str], list[str]]:
 def sorted_eigenvalues(A: np.ndarray) -> np.ndarray:
     values = np.linalg.eigvals(A).astype(complex) if A.size else np.zeros(0, dtype=complex)
     scale = max(1.0, np.max(np.abs(values), initial=0.0))
-    noise = ROUNDING * scale   # so the same model prints the same eigenvalues on every machine
+    noise = ROUNDING * rounding_scale(A)   # so the same model prints the same eigenvalues everywhere
     values = np.where(np.abs(values.real) <= noise, 0.0, values.real) \
         + 1j * np.where(np.abs(values.imag) <= noise, 0.0, values.imag)
     # round away the last bits so conjugate pairs and ties sort the same on every machine
     real = np.round(values.real / (MARGIN * scale)) * MARGIN * scale
     order = np.lexsort((-values.imag, -real))
     return values[order]
+
+
+def rounding_scale(A: np.ndarray) -> float:
+    """The size eigenvalue errors of A scale with (backward-stable eigensolver: eps |A|)."""
+    return max(1.0, A.shape[0] * np.max(np.abs(A), initial=0.0))
 
 
 def stability(model: LinearModel) -> Stability:

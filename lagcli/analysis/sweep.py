@@ -18,7 +18,7 @@ import numpy as np
 
 from lagcli.analysis.linearize import CompiledSystem, linearize
 from lagcli.analysis.operating_point import Assignments, evaluate
-from lagcli.analysis.stability import ROUNDING, Stability, stability, unstable_count
+from lagcli.analysis.stability import Stability, stability, unstable_count
 from lagcli.errors import UsageError
 
 _XTOL = 1e-13
@@ -83,7 +83,7 @@ def critical_values(system: CompiledSystem, at: Assignments, points: list[SweepP
         def real_part(v, rank=rank):
             values = np.sort(_stability_at(system, at, v, independent).eigenvalues.real)[::-1]
             value = values[rank] if rank < values.size else -1.0
-            return value if value != 0 else -ROUNDING   # on the axis counts as the stable side
+            return value if value != 0 else -1e-300   # on the axis counts as the stable side
 
         root = brentq(real_part, left.value, right.value, xtol=_XTOL, rtol=4 * np.finfo(float).eps)
         found.append(Critical(float(root), below, above))
