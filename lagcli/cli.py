@@ -207,3 +207,64 @@ def linearize(ctx, spec, at, independent, inputs, sweep, find_critical, as_json,
     fmt = _format(as_json, as_latex)
     _run(ctx, lambda: write_output(output, commands.linearize(spec, at, independent, inputs, sweep,
                                                               find_critical, fmt)))
+
+
+@cli.command()
+@click.argument("spec", type=SPEC)
+@click.option("--set", "sets", multiple=True, metavar="NAME=VALUE", help="Override a parameter (repeatable).")
+@click.option("--guess", "guesses", multiple=True, metavar="NAME=VALUE[,NAME=VALUE...]",
+              help="A starting point of the numeric search (repeatable; default: the spec's "
+                   "initial state and the origin).")
+@click.option("--json", "as_json", is_flag=True, help="JSON (full precision).")
+@click.option("-o", "--output", default=None, help="Output file ('-' or none: stdout).")
+@click.pass_context
+def equilibria(ctx, spec, sets, guesses, as_json, output):
+    """Equilibria of SPEC (q' = 0: stationary points of V - T0) and their stability.
+
+    \b
+    Examples:
+      lagcli equilibria specs/bead_on_spinning_hoop.yaml
+      lagcli equilibria specs/bead_on_spinning_hoop.yaml --set Omega=3
+      lagcli equilibria specs/cartesian_pendulum.yaml --guess x=0.1,y=-1
+    """
+    _run(ctx, lambda: write_output(output, commands.equilibria(spec, sets, guesses, _format(as_json))))
+
+
+@cli.command()
+@click.argument("spec", type=SPEC)
+@click.option("--momentum", "momenta", multiple=True, metavar="p_NAME=VALUE",
+              help="Value of a cyclic coordinate's momentum (repeatable): then the steady motions.")
+@click.option("--set", "sets", multiple=True, metavar="NAME=VALUE", help="Override a parameter (repeatable).")
+@click.option("--guess", "guesses", multiple=True, metavar="NAME=VALUE[,NAME=VALUE...]",
+              help="A starting point for the steady-motion search (repeatable).")
+@click.option("--json", "as_json", is_flag=True, help="JSON.")
+@click.option("-o", "--output", default=None, help="Output file ('-' or none: stdout).")
+@click.pass_context
+def routh(ctx, spec, momenta, sets, guesses, as_json, output):
+    """Routh reduction of SPEC over its cyclic coordinates: Routhian, effective potential,
+    reduced equations and, at given momenta, the steady motions and their small oscillations.
+
+    \b
+    Examples:
+      lagcli routh specs/spherical_pendulum.yaml
+      lagcli routh specs/spherical_pendulum.yaml --momentum p_phi=0.5 --guess theta=1
+    """
+    _run(ctx, lambda: write_output(output, commands.routh(spec, momenta, sets, guesses, _format(as_json))))
+
+
+@cli.command()
+@click.argument("spec", type=SPEC)
+@click.option("--json", "as_json", is_flag=True, help="JSON.")
+@click.option("--latex", "as_latex", is_flag=True, help="A LaTeX fragment (amsmath).")
+@click.option("-o", "--output", default=None, help="Output file ('-' or none: stdout).")
+@click.pass_context
+def hamiltonian(ctx, spec, as_json, as_latex, output):
+    """Hamilton's form of SPEC: momenta p = M q' + a, H(q, p, t) and Hamilton's equations.
+
+    \b
+    Examples:
+      lagcli hamiltonian specs/spherical_pendulum.yaml
+      lagcli hamiltonian specs/bead_on_spinning_hoop.yaml --latex
+    """
+    fmt = _format(as_json, as_latex)
+    _run(ctx, lambda: write_output(output, commands.hamiltonian(spec, fmt)))

@@ -151,3 +151,73 @@ def _latex_names(d):
 
     printer = LatexPrinter(d.model)
     return lambda name: printer.doprint(d.model.symbol(name))
+
+
+def _parameters(d, sets) -> dict:
+    """Every parameter's value by name: the spec's, overridden by `--set NAME=VALUE`."""
+    from lagcli.simulate.options import parse_assignments as assignments
+
+    names = [p.symbol.name for p in d.model.parameters]
+    return {p.symbol.name: float(p.value) for p in d.model.parameters} | assignments(
+        tuple(sets), "--set", names, "parameter", "parameters")
+
+
+def _guesses(d, guesses) -> list[dict]:
+    """`--guess theta=1.2,phi=0` (one starting point each) -> [{name: value}]."""
+    from lagcli.simulate.options import parse_assignments as assignments
+
+    names = [s.name for s in (*d.model.q, *d.multipliers)]
+    return [assignments(tuple(g.split(",")), "--guess", names, "coordinate", "coordinates") for g in guesses]
+
+
+def equilibria(path: str, sets=(), guesses=(), fmt: str = "text") -> str:
+    """`lagcli equilibria`: static and relative equilibria with their stability."""
+    from lagcli.analysis import report
+    from lagcli.analysis.equilibria import default_guesses, equilibria as find
+    from lagcli.spec_printer import spec_str
+
+    d = _derive(path)
+    found = find(d, _parameters(d, sets), default_guesses(d, _guesses(d, guesses)))
+    content = report.equilibria_content(d, found, spec_str)
+    return report.to_json(content) if fmt == "json" else report.equilibria_text(content)
+
+
+def routh(path: str, momenta=(), sets=(), guesses=(), fmt: str = "text") -> str:
+    """`lagcli routh`: the Routhian over the cyclic coordinates and the steady motions."""
+    from lagcli.analysis import report
+    from lagcli.analysis.routh import routhian, steady_motions
+    from lagcli.simulate.options import parse_assignments as assignments
+    from lagcli.spec_printer import spec_str
+
+    d = _derive(path)
+    reduction = routhian(d)
+    names = [p.name for p in reduction.momenta]
+    given = assignments(tuple(momenta), "--momentum", names, "momentum", "momenta")
+    motions = []
+    if given:
+        missing = [n for n in names if n not in given]
+        if missing:
+            from lagcli.errors import UsageError
+            raise UsageError(f"--momentum: give every cyclic momentum (missing: {', '.join(missing)})")
+        guess_points = [{k: v for k, v in g.items()} for g in _guesses(d, guesses)] or [dict(d.model.initial), {}]
+        motions = steady_motions(d, reduction, given, _parameters(d, sets), guess_points)
+    content = report.routh_content(d, reduction, motions, spec_str)
+    return report.to_json(content) if fmt == "json" else report.routh_text(content)
+
+
+def hamiltonian(path: str, fmt: str = "text") -> str:
+    """`lagcli hamiltonian`: momenta, H(q, p, t) and Hamilton's equations."""
+    from lagcli.analysis import report
+    from lagcli.analysis.hamiltonian import hamilton_form
+    from lagcli.emit.latex_printer import LatexPrinter
+    from lagcli.spec_printer import spec_str
+
+    d = _derive(path)
+    form = hamilton_form(d)
+    if fmt == "latex":
+        printer = LatexPrinter(d.model)
+        printer._settings["symbol_names"].update({p: f"p_{{{printer.doprint(q)}}}"
+                                                  for p, q in zip(form.momenta, d.model.q)})
+        return report.hamilton_latex(form, d, printer)
+    content = report.hamilton_content(d, form, spec_str)
+    return report.to_json(content) if fmt == "json" else report.hamilton_text(content)

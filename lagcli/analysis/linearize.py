@@ -41,6 +41,10 @@ from lagcli.analysis.operating_point import Partition, Point, choose_partition, 
 from lagcli.errors import UsageError
 
 
+class SingularPoint(UsageError):
+    """The equations cannot be solved for q'' (and lambda) at the operating point."""
+
+
 class CompiledSystem:
     """The derivation's matrices and their symbolic Jacobians, compiled once (sympy's
     lambdify with cse, of expressions lagcli built) and evaluated at points."""
@@ -102,7 +106,12 @@ class CompiledSystem:
         first = self._core(self._values(point))
         K = _augmented(first["M"], first["A"])
         rhs = np.concatenate([first["F"].reshape(-1), first["b"].reshape(-1)])
-        solution = np.linalg.solve(K, rhs)
+        try:
+            solution = np.linalg.solve(K, rhs)
+        except np.linalg.LinAlgError:
+            raise SingularPoint("the mass matrix (with the constraint rows) is singular at this point\n"
+                                "  hint: a coordinate singularity (e.g. theta = 0 of spherical angles) "
+                                "or dependent constraints; choose another point") from None
         qdd, lam = solution[:self.n], solution[self.n:]
         return qdd, lam, self._core(self._values(point, qdd, lam))
 

@@ -172,3 +172,105 @@ def linear_latex(c: dict, printer) -> str:
                                          for e in c["eigenvalues"]) + "$; verdict: "
            + c["verdict"] + ".", ""]
     return "\n".join(out)
+
+
+def equilibria_content(d, found, printer) -> dict:
+    def one(e) -> dict:
+        st = e.stability
+        return {
+            "coordinates": e.coordinates,
+            "closed_form": {k: printer(v) for k, v in e.symbolic.items()} if e.symbolic else None,
+            "eigenvalues": [_pair(s) for s in st.eigenvalues] if st else None,
+            "frequencies": sorted({round(m.natural_frequency, 12) for m in st.modes if m.eigenvalue.imag > 0})
+            if st else [],
+            "verdict": st.verdict if st else "not linearizable here (singular mass matrix)",
+        }
+
+    return {"name": d.model.name, "equilibria": [one(e) for e in found]}
+
+
+def equilibria_text(c: dict) -> str:
+    if not c["equilibria"]:
+        return f"{c['name']}: no equilibrium found\n  hint: give a starting point with --guess NAME=VALUE,...\n"
+    lines = [f"equilibria of {c['name']} (q' = 0):"]
+    for k, e in enumerate(c["equilibria"], 1):
+        where = ", ".join(f"{q} = {number(v, 12)}" for q, v in e["coordinates"].items())
+        lines.append(f"{k}. {where}: {e['verdict']}")
+        if e["closed_form"]:
+            lines.append("   closed form: " + ", ".join(f"{q} = {v}" for q, v in e["closed_form"].items()))
+        if e["eigenvalues"] is not None:
+            values = ", ".join(complex_text(complex(*s), 8) for s in e["eigenvalues"])
+            lines.append(f"   eigenvalues: {values or '(none)'}")
+        if e["frequencies"]:
+            lines.append("   small-oscillation frequencies (rad/s): " + ", ".join(number(w) for w in e["frequencies"]))
+    return "\n".join(lines) + "\n"
+
+
+def routh_content(d, routh, motions, printer) -> dict:
+    return {
+        "name": d.model.name,
+        "cyclic": [c.name for c in routh.cyclic],
+        "momenta": [p.name for p in routh.momenta],
+        "routhian": printer(routh.R),
+        "effective_potential": printer(routh.effective_potential),
+        "cyclic_velocities": {d.model.qd[d.model.q.index(c)].name: printer(e)
+                              for c, e in zip(routh.cyclic, routh.cyclic_velocities)},
+        "reduced_equations": [printer(e) for e in routh.equations],
+        "steady_motions": [{"coordinates": m.coordinates, "cyclic_rates": m.cyclic_rates,
+                            "eigenvalues": [_pair(s) for s in m.eigenvalues],
+                            "frequencies": list(m.frequencies)} for m in motions],
+    }
+
+
+def routh_text(c: dict) -> str:
+    lines = [f"Routh reduction of {c['name']} over {', '.join(c['cyclic'])} "
+             f"(momenta {', '.join(c['momenta'])} held constant)",
+             f"R = {c['routhian']}", f"V_eff = {c['effective_potential']}"]
+    lines += [f"{name} = {expr}" for name, expr in c["cyclic_velocities"].items()]
+    lines += ["reduced equations (= 0):"] + [f"  {e}" for e in c["reduced_equations"]]
+    if not c["steady_motions"]:
+        lines.append("no steady motion found at these momenta\n  hint: give a starting point with --guess")
+    for k, m in enumerate(c["steady_motions"], 1):
+        where = ", ".join(f"{q} = {number(v, 12)}" for q, v in {**m["coordinates"], **m["cyclic_rates"]}.items())
+        lines.append(f"steady motion {k}: {where}")
+        lines.append("   eigenvalues: " + ", ".join(complex_text(complex(*s), 8) for s in m["eigenvalues"]))
+        if m["frequencies"]:
+            lines.append("   small-oscillation frequencies (rad/s): " + ", ".join(number(w) for w in m["frequencies"]))
+    return "\n".join(lines) + "\n"
+
+
+def hamilton_content(d, form, printer) -> dict:
+    model = d.model
+    return {
+        "name": model.name,
+        "momenta": {p.name: printer(e) for p, e in zip(form.momenta, form.momentum_exprs)},
+        "hamiltonian": printer(form.H) if form.H is not None else None,
+        "equations": ({**{q.name + "_dot": printer(e) for q, e in zip(model.q, form.qdot)},
+                       **{p.name + "_dot": printer(e) for p, e in zip(form.momenta, form.pdot)}}
+                      if form.H is not None else None),
+        "solved_form": form.H is None,
+    }
+
+
+def hamilton_text(c: dict) -> str:
+    lines = [f"Hamilton's equations of {c['name']}", "momenta:"]
+    lines += [f"  {p} = {e}" for p, e in c["momenta"].items()]
+    if c["solved_form"]:
+        lines += ["H = 1/2 (p - a)^T M^-1 (p - a) - T0 + V   (M full and larger than 2 x 2: kept solved)",
+                  "q_dot = M^-1 (p - a),  p_dot = dL/dq + Q'  at that q_dot"]
+    else:
+        lines.append(f"H = {c['hamiltonian']}")
+        lines += [f"  {k} = {e}" for k, e in c["equations"].items()]
+    return "\n".join(lines) + "\n"
+
+
+def hamilton_latex(c_form, d, latex_printer) -> str:
+    model = d.model
+    if c_form.H is None:
+        return ("% M is full and larger than 2 x 2: H is kept in its solved form\n"
+                r"\[ H = \tfrac12 (p - a)^\mathsf{T} M^{-1} (p - a) - T_0 + V \]" + "\n")
+    rows = [rf"H &= {latex_printer.doprint(c_form.H)}"]
+    for q, p, qd, pd in zip(model.q, c_form.momenta, c_form.qdot, c_form.pdot):
+        rows.append(rf"\dot{{{latex_printer.doprint(q)}}} &= {latex_printer.doprint(qd)}")
+        rows.append(rf"\dot p_{{{latex_printer.doprint(q)}}} &= {latex_printer.doprint(pd)}")
+    return "\\begin{align*}\n" + " \\\\\n".join(rows) + "\n\\end{align*}\n"
