@@ -114,7 +114,7 @@ def generate(path: str, lang: str, output: str | None = None) -> None:
 # -- analysis: lagcli linearize / equilibria / hamiltonian / routh (lagcli/analysis/) --
 
 def linearize(path: str, at=(), independent=(), inputs=(), sweep: str | None = None,
-              find_critical: bool = False, fmt: str = "text") -> str:
+              find_critical: bool = False, fmt: str = "text", symbolic: bool = False) -> str:
     """`lagcli linearize`: the linear model about `--at`, or the eigenvalue table of a sweep."""
     from lagcli.analysis import report
     from lagcli.analysis.linearize import CompiledSystem, linearize as linear_model
@@ -128,6 +128,8 @@ def linearize(path: str, at=(), independent=(), inputs=(), sweep: str | None = N
     if find_critical and span is None:
         raise UsageError("--find-critical needs --sweep NAME=START:STOP:COUNT")
     points = parse_assignments(d, at, span.name if span else None)
+    if symbolic:
+        return _symbolic_linear(d, points, inputs, fmt)
     system = CompiledSystem(d, inputs)
     if span is not None:
         table = run_sweep(system, points, span.values, independent)
@@ -143,6 +145,24 @@ def linearize(path: str, at=(), independent=(), inputs=(), sweep: str | None = N
     if fmt == "latex":
         return report.linear_latex(content, _latex_names(d))
     return report.linear_text(content)
+
+
+def _symbolic_linear(d, points, inputs, fmt: str) -> str:
+    from lagcli.analysis import report
+    from lagcli.analysis.symbolic import symbolic_linear
+    from lagcli.emit.latex_printer import LatexPrinter
+    from lagcli.spec_printer import spec_str
+
+    params = [p.symbol.name for p in d.model.parameters]
+    unknown = [name for name in inputs if name not in params]
+    if unknown:
+        from lagcli.errors import UsageError
+        raise UsageError(f"--input {unknown[0]!r}: not a parameter")
+    lin = symbolic_linear(d, points, inputs)
+    if fmt == "latex":
+        return report.symbolic_latex(lin, LatexPrinter(d.model))
+    content = report.symbolic_content(d, lin, spec_str)
+    return report.to_json(content) if fmt == "json" else report.symbolic_text(content)
 
 
 def _latex_names(d):

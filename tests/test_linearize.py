@@ -27,7 +27,7 @@ def test_cartesian_pendulum_in_its_independent_coordinate(derived):
     g, l = 9.81, 1.0
     assert lm.states == ("x", "x_dot") and lm.dependent == ("y", "y_dot")
     np.testing.assert_allclose(lm.A, [[0, 1], [-g / l, 0]], atol=1e-12)
-    assert stability(lm).verdict == "marginally stable"
+    assert stability(lm).verdict == "stable"
 
 
 def test_dependent_coordinate_is_solved_for(derived):
@@ -149,3 +149,20 @@ def test_cli_text_latex_and_errors():
     assert bad.exit_code == 2
     help_text = runner.invoke(cli, ["linearize", "--help"])
     assert "Examples:" in help_text.output
+
+
+def test_symbolic_cart_pole_and_bead(derived, assert_zero):
+    from lagcli.analysis.symbolic import symbolic_linear
+
+    d = derived("cart_pole")
+    lin = symbolic_linear(d, parse_assignments(d, []), ["F"])
+    mc, m, l, g = (d.model.symbol(n) for n in ("mc", "m", "l", "g"))
+    assert_zero(lin.A - sp.Matrix([[0, 0, 1, 0], [0, 0, 0, 1], [0, -m * g / mc, 0, 0], [0, (mc + m) * g / (mc * l), 0, 0]]))
+    assert_zero(lin.B - sp.Matrix([0, 0, 1 / mc, -1 / (mc * l)]))
+    d = derived("bead_on_spinning_hoop")
+    lin = symbolic_linear(d, parse_assignments(d, ["theta=acos(g/(R*Omega**2))"]))
+    R, g, W = (d.model.symbol(n) for n in ("R", "g", "Omega"))
+    # small oscillations about the off-axis equilibrium: omega^2 = Omega^2 sin^2(theta*)
+    assert_zero(lin.A[1, 0] + W**2 * (1 - (g / (R * W**2))**2))
+    with pytest.raises(Exception, match="unconstrained"):
+        symbolic_linear(derived("cartesian_pendulum"), parse_assignments(derived("cartesian_pendulum"), []))

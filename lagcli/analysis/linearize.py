@@ -158,6 +158,7 @@ class LinearModel:
     B2: np.ndarray           # speeds x inputs (second-order form's input matrix)
     speed_rates: np.ndarray  # u_s' at the point: 0 at an equilibrium or steady motion
     dependent: tuple[str, ...]
+    energy_conserved: bool   # the Jacobi integral h = T2 - T0 + V exists (derivation)
 
     @property
     def states(self) -> tuple[str, ...]:
@@ -206,6 +207,7 @@ def linearize(system: CompiledSystem, point: Point, independent=()) -> LinearMod
         speed_rates=qdd[si],
         dependent=tuple([names[0][k] for k in partition.dependent_coordinates]
                         + [names[1][k] for k in partition.dependent_speeds]),
+        energy_conserved=d.jacobi_integral is not None,
     )
 
 

@@ -130,6 +130,8 @@ def _modes_text(c: dict) -> list[str]:
     verdict = c["verdict"]
     if verdict == "gyroscopically stabilized":
         verdict += " (the stiffness K alone has a negative eigenvalue; the linear model is marginally stable)"
+    elif verdict == "stable":
+        verdict += " (at rest on a strict minimum of the conserved h = T2 - T0 + V: Lagrange-Dirichlet)"
     elif verdict == "marginally stable":
         verdict += " (all eigenvalues on the imaginary axis: the linear model does not decide)"
     lines.append(f"verdict: {verdict}")
@@ -274,3 +276,28 @@ def hamilton_latex(c_form, d, latex_printer) -> str:
         rows.append(rf"\dot{{{latex_printer.doprint(q)}}} &= {latex_printer.doprint(qd)}")
         rows.append(rf"\dot p_{{{latex_printer.doprint(q)}}} &= {latex_printer.doprint(pd)}")
     return "\\begin{align*}\n" + " \\\\\n".join(rows) + "\n\\end{align*}\n"
+
+
+def symbolic_content(d, lin, printer) -> dict:
+    return {"name": d.model.name, "states": list(lin.states), "inputs": list(lin.inputs),
+            "A": [[printer(e) for e in lin.A.row(i)] for i in range(lin.A.rows)],
+            "B": [[printer(e) for e in lin.B.row(i)] for i in range(lin.B.rows)]}
+
+
+def symbolic_text(c: dict) -> str:
+    lines = [f"linearization of {c['name']} (symbolic)",
+             "x' = A x + B u,  x = (" + ", ".join(c["states"]) + ")"
+             + (", u = (" + ", ".join(c["inputs"]) + ")" if c["inputs"] else "")]
+    for label, rows in (("A", c["A"]), ("B", c["B"])):
+        if rows and rows[0]:
+            lines.append(f"{label} =")
+            lines += [f"  {state}: [" + ", ".join(row) + "]" for state, row in zip(c["states"], rows)]
+    return "\n".join(lines) + "\n"
+
+
+def symbolic_latex(lin, printer) -> str:
+    out = [r"\begin{align*}", rf"A &= {printer.doprint(lin.A)}"]
+    if lin.B.cols:
+        out[-1] += r" \\"
+        out.append(rf"B &= {printer.doprint(lin.B)}")
+    return "\n".join(out + [r"\end{align*}", ""])

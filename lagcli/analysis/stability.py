@@ -10,7 +10,11 @@ so the other eigenvalues are exactly those of A'. What is left are the
 Verdict (tolerance `tol` relative to the largest eigenvalue):
   asymptotically stable   every essential Re(s) < -tol
   unstable                some Re(s) > tol
-  marginally stable       all on the imaginary axis (the linear model does not decide)
+  stable                  all on the imaginary axis at a point of rest (q' = 0) where the
+                          Jacobi integral h = T2 - T0 + V is conserved, no damping, and K
+                          (the Hessian of V - T0) is positive definite: h has a strict
+                          minimum there (Lagrange-Dirichlet)
+  marginally stable       otherwise all on the imaginary axis (the linear model does not decide)
   gyroscopically stabilized   marginally stable although the stiffness matrix
                           K (the Hessian of the fictitious potential for a
                           scleronomic system) has a negative eigenvalue.
@@ -99,9 +103,22 @@ def stability(model: LinearModel) -> Stability:
         verdict = "asymptotically stable"
     elif negative:
         verdict = "gyroscopically stabilized"
+    elif _energy_minimum(model, K):
+        verdict = "stable"
     else:
         verdict = "marginally stable"
     return Stability(values, tuple(kept), tuple(dropped), verdict, negative)
+
+
+def _energy_minimum(model: LinearModel, K: np.ndarray | None) -> bool:
+    """Lagrange-Dirichlet: at rest, h conserved, no damping, K symmetric positive definite."""
+    if not model.energy_conserved or K is None or not K.size or np.any(model.point.qd != 0):
+        return False
+    if model.square_stiffness.shape[1] != model.K.shape[1]:
+        return False       # coordinates without a speed (nonholonomic): K is not V's Hessian
+    scale = max(np.max(np.abs(K)), np.max(np.abs(model.C), initial=0.0))
+    symmetric = np.allclose(K, K.T, atol=MARGIN * scale) and np.allclose(model.damping, 0, atol=MARGIN * scale)
+    return symmetric and np.min(np.linalg.eigvalsh((K + K.T) / 2)) > MARGIN * scale
 
 
 def unstable_count(values: np.ndarray) -> int:
