@@ -64,3 +64,16 @@ def test_constrained_equilibria_and_cli():
     found = json.loads(result.output)["equilibria"]
     assert sorted(round(e["coordinates"]["y"], 12) for e in found) == [-1.0, 1.0]
     assert {e["verdict"] for e in found} == {"unstable", "stable"}
+
+
+def test_explicitly_time_dependent_system_has_no_equilibria(derived):
+    from lagcli.errors import UsageError
+
+    d = derived("kapitza_pendulum")
+    with pytest.raises(UsageError, match="depend explicitly on t"):
+        find(d)
+
+
+def test_nonholonomic_rest_states_are_reported_once(derived):
+    found = find(derived("chaplygin_sled"))
+    assert len(found) == 1 and found[0].coordinates == {"x": 0.0, "y": 0.0, "phi": 0.0}

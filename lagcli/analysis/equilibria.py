@@ -37,9 +37,14 @@ def solve_stationary(equations, unknowns, parameters: dict, guesses) -> list[Sta
     found = _symbolic(equations, unknowns, parameters)
     if not found:   # not attempted, or nothing real in closed form: search numerically
         found = _numeric(equations, unknowns, parameters, guesses)
+    return distinct(found, len(unknowns))
+
+
+def distinct(found: list[Stationary], k: int) -> list[Stationary]:
+    """`found` without repeats (the first k values within _SAME), sorted."""
     unique: list[Stationary] = []
     for s in found:
-        if not any(np.max(np.abs(np.subtract(s.values, u.values))) < _SAME for u in unique):
+        if not any(np.max(np.abs(np.subtract(s.values[:k], u.values[:k])), initial=0.0) < _SAME for u in unique):
             unique.append(s)
     return sorted(unique, key=lambda s: s.values)
 
@@ -102,6 +107,7 @@ def equilibria(d, parameters: dict, guesses: list[dict], independent=()) -> list
     model = d.model
     rest = {v: 0 for v in model.qd} | {model.t: 0}
     lam = sp.Matrix(d.multipliers)
+    _require_autonomous(d)
     balance = sp.Matrix(d.forcing).xreplace(rest)
     if d.constraints:
         balance += sp.Matrix(d.constraint_matrix).xreplace(rest).T * lam
@@ -110,7 +116,7 @@ def equilibria(d, parameters: dict, guesses: list[dict], independent=()) -> list
     symbols = {p.symbol: parameters[p.symbol.name] for p in model.parameters}
     starts = [[g.get(s.name, 0.0) for s in unknowns] for g in guesses]
     if d.constraints:
-        found = _numeric(list(balance) + holonomic, unknowns, symbols, starts)
+        found = distinct(_numeric(list(balance) + holonomic, unknowns, symbols, starts), len(model.q))
     else:
         found = solve_stationary(list(balance), unknowns, symbols, starts)
     system = CompiledSystem(d)
@@ -127,6 +133,19 @@ def equilibria(d, parameters: dict, guesses: list[dict], independent=()) -> list
                                dict(zip(names, s.symbolic[:n])) if s.symbolic else None,
                                lm, stability(lm) if lm is not None else None))
     return out
+
+
+def _require_autonomous(d) -> None:
+    """Equilibria need F(q, 0, t) without t (a cancelling W t, as on the spinning hoop, is fine)."""
+    from lagcli.calculus import numerically_zero
+    from lagcli.errors import UsageError
+
+    model = d.model
+    at_rest = sp.Matrix(d.forcing).xreplace({v: 0 for v in model.qd})
+    if model.t in at_rest.free_symbols and not numerically_zero([e.diff(model.t) for e in at_rest]):
+        raise UsageError(f"{model.source}: the equations at rest depend explicitly on t, so there is "
+                         "no equilibrium in the usual sense\n  hint: `lagcli linearize --at t=...` "
+                         "gives the instantaneous linear model")
 
 
 def default_guesses(d, given: list[dict]) -> list[dict]:

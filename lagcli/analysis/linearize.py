@@ -11,8 +11,9 @@ the point, with K = [[M, -A^T], [A, 0]],
     K d[q''; lambda] = -(G_q dq + G_q' dq' + G_u du),     G_x = d[R; S]/dx at (q'', lambda) of the point,
 
 gives the Jacobians of q'' = f(q, q', u) of the augmented equations. The
-symbolic Jacobians are taken first and evaluated afterwards (no 0/0 at the point,
-the pitfall sympy's Linearizer documents), and every solve is numeric.
+symbolic Jacobians are taken first (along the common subexpressions:
+`jacobians.py`) and evaluated afterwards (no 0/0 at the point, the pitfall sympy's
+Linearizer documents), and every solve is numeric.
 
 On the manifold, with independent coordinates q_i (the rest solved from the
 holonomic rows phi = 0) and independent speeds u_s = q'_s (the rest from
@@ -37,6 +38,7 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
+from lagcli.analysis.jacobians import CompiledJacobians
 from lagcli.analysis.operating_point import Partition, Point, choose_partition, on_manifold
 from lagcli.errors import UsageError
 
@@ -62,7 +64,7 @@ class CompiledSystem:
         self.inputs = tuple(params[name] for name in inputs)
         self.holonomic = [j for j, row in enumerate(d.constraints) if row.kind == "holonomic"]
         lam = sp.Matrix(d.multipliers)
-        q, qd, qdd = sp.Matrix(model.q), sp.Matrix(model.qd), sp.Matrix(model.qdd)
+        qd, qdd = sp.Matrix(model.qd), sp.Matrix(model.qdd)
         M, F, A, b = (sp.Matrix(x) for x in (d.mass_matrix, d.forcing, d.constraint_matrix, d.constraint_bias))
         R = M * qdd - F - (A.T * lam if self.m else sp.zeros(self.n, 1))
         S = A * qdd - b
@@ -70,16 +72,16 @@ class CompiledSystem:
         velocity = A * qd + sp.Matrix([row.d for row in d.constraints]) if self.m else sp.zeros(0, 1)
         phi = sp.Matrix([d.constraints[j].expr for j in self.holonomic])
         self.args = [model.t, *model.q, *model.qd, *model.qdd, *d.multipliers, *model.parameter_symbols]
-        self._core = _compile(self.args, {
-            "M": M, "F": F, "A": A, "b": b,
-            "G_q": RS.jacobian(q), "G_qd": RS.jacobian(qd),
-            "G_u": RS.jacobian(list(self.inputs)) if self.inputs else sp.zeros(RS.rows, 0),
-            "V_q": velocity.jacobian(q) if self.m else sp.zeros(0, self.n),
-        })
-        self._constraints = _compile(self.args, {
-            "phi": phi, "phi_q": phi.jacobian(q) if self.holonomic else sp.zeros(0, self.n),
-            "A": A, "d": sp.Matrix([row.d for row in d.constraints]) if self.m else sp.zeros(0, 1),
-        })
+        jacobians = {"G_q": ("RS", list(model.q)), "G_qd": ("RS", list(model.qd))}
+        if self.inputs:
+            jacobians["G_u"] = ("RS", list(self.inputs))
+        if self.m:
+            jacobians["V_q"] = ("velocity", list(model.q))
+        self._core = CompiledJacobians(self.args, {"M": M, "F": F, "A": A, "b": b, "RS": RS,
+                                                   "velocity": velocity}, jacobians)
+        self._constraints = CompiledJacobians(self.args, {
+            "phi": phi, "A": A, "d": sp.Matrix([row.d for row in d.constraints]) if self.m else sp.zeros(0, 1),
+        }, {"phi_q": ("phi", list(model.q))})
 
     def _values(self, point: Point, qdd=None, lam=None) -> list[float]:
         model = self.derivation.model
@@ -113,33 +115,15 @@ class CompiledSystem:
                                 "  hint: a coordinate singularity (e.g. theta = 0 of spherical angles) "
                                 "or dependent constraints; choose another point") from None
         qdd, lam = solution[:self.n], solution[self.n:]
-        return qdd, lam, self._core(self._values(point, qdd, lam))
+        second = self._core(self._values(point, qdd, lam))
+        second.setdefault("G_u", np.zeros((self.n + self.m, 0)))
+        second.setdefault("V_q", np.zeros((0, self.n)))
+        return qdd, lam, second
 
 
 def _augmented(M: np.ndarray, A: np.ndarray) -> np.ndarray:
     m = A.shape[0]
     return np.block([[M, -A.T], [A, np.zeros((m, m))]]) if m else M
-
-
-class _Compiled:
-    """One lambdified function returning several named matrices."""
-
-    def __init__(self, args, matrices: dict):
-        self.shapes = {name: sp.Matrix(mat).shape for name, mat in matrices.items()}
-        flat = [e for mat in matrices.values() for e in sp.Matrix(mat)]
-        self.function = sp.lambdify(args, flat or [sp.S.Zero], modules="numpy", cse=True)
-
-    def __call__(self, values) -> dict:
-        flat = np.asarray(self.function(*values), dtype=float).reshape(-1)
-        out, k = {}, 0
-        for name, (rows, cols) in self.shapes.items():
-            out[name] = flat[k:k + rows * cols].reshape(rows, cols)
-            k += rows * cols
-        return out
-
-
-def _compile(args, matrices: dict) -> _Compiled:
-    return _Compiled(args, matrices)
 
 
 @dataclass(frozen=True)
