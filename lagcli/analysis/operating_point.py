@@ -78,14 +78,6 @@ class Point:
     parameters: dict        # name -> float
     notes: tuple[str, ...] = ()
 
-    def named(self, d) -> dict:
-        """name -> value of every coordinate, velocity and parameter (and t)."""
-        model = d.model
-        values = {"t": self.t, **self.parameters}
-        values.update({s.name: float(v) for s, v in zip(model.q, self.q)})
-        values.update({s.name: float(v) for s, v in zip(model.qd, self.qd)})
-        return values
-
 
 def evaluate(d, at: Assignments, sweep_value: float | None = None) -> Point:
     """The numbers of `at` (with the sweep variable at `sweep_value`), before any constraint solve."""
