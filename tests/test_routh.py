@@ -36,3 +36,23 @@ def test_routh_refuses_constrained_and_non_cyclic(derived):
         routhian(derived("cartesian_pendulum"))
     with pytest.raises(UsageError):
         routhian(derived("double_pendulum"))
+
+
+def test_cli_routh_json_and_errors():
+    import json
+
+    from click.testing import CliRunner
+
+    from lagcli.cli import cli
+    from conftest import spec_path
+
+    runner = CliRunner()
+    path = str(spec_path("spherical_pendulum"))
+    result = runner.invoke(cli, ["routh", path, "--momentum", "p_phi=0.5", "--guess", "theta=1", "--json"])
+    assert result.exit_code == 0, result.output
+    content = json.loads(result.output)
+    assert content["cyclic"] == ["phi"] and len(content["steady_motions"]) == 1
+    bad = runner.invoke(cli, ["routh", path, "--momentum", "p_ph=0.5"])
+    assert bad.exit_code == 2 and "did you mean 'p_phi'" in bad.output
+    bad = runner.invoke(cli, ["routh", str(spec_path("double_pendulum"))])
+    assert bad.exit_code == 2 and "no ignorable coordinate" in bad.output
