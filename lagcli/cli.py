@@ -204,3 +204,108 @@ def _progress_bar(t_end: float):
 
 def main() -> None:
     cli(prog_name="lagcli")
+
+
+# -- analysis commands (lagcli/analysis/, docs/analysis.md) --------------------
+
+def _format(as_json: bool, as_latex: bool = False) -> str:
+    if as_json and as_latex:
+        raise click.UsageError("choose one output format, not --json and --latex")
+    return "json" if as_json else "latex" if as_latex else "text"
+
+
+@cli.command()
+@click.argument("spec", type=SPEC)
+@click.option("--at", "at", multiple=True, metavar="NAME=VALUE",
+              help="Operating value of a coordinate, velocity (q_dot) or parameter (repeatable; "
+                   "others 0 / the spec's value). VALUE may use the parameters and the sweep variable.")
+@click.option("--independent", multiple=True, metavar="NAME",
+              help="An independent coordinate or speed of a constrained system (repeatable; "
+                   "default: the best-conditioned choice).")
+@click.option("--input", "inputs", multiple=True, metavar="PARAMETER",
+              help="Treat this parameter as an input: its column goes into B (repeatable).")
+@click.option("--sweep", metavar="NAME=START:STOP:COUNT",
+              help="Linearize at COUNT values of NAME (a parameter, or a name the --at values use).")
+@click.option("--find-critical", is_flag=True,
+              help="With --sweep: find where the number of unstable eigenvalues changes (brentq).")
+@click.option("--symbolic", is_flag=True,
+              help="A and B as expressions of the parameters (small unconstrained systems).")
+@click.option("--json", "as_json", is_flag=True, help="JSON (full precision).")
+@click.option("--latex", "as_latex", is_flag=True, help="A LaTeX fragment (amsmath).")
+@click.option("-o", "--output", default=None, help="Output file ('-' or none: stdout).")
+@click.pass_context
+def linearize(ctx, spec, at, independent, inputs, sweep, find_critical, symbolic, as_json, as_latex, output):
+    """Linearize SPEC about an operating point: A, B, M, C, K, eigenvalues and a stability verdict.
+
+    \b
+    Examples:
+      lagcli linearize specs/bead_on_spinning_hoop.yaml --at theta=0
+      lagcli linearize specs/cart_pole.yaml --input F --json
+      lagcli linearize specs/cart_pole.yaml --input F --symbolic
+      lagcli linearize specs/rolling_disc.yaml --at phi_dot=w --at x_dot=r*w \\
+          --sweep w=0:10:101 --find-critical
+    """
+    fmt = _format(as_json, as_latex)
+    _run(ctx, lambda: write_output(output, commands.linearize(spec, at, independent, inputs, sweep,
+                                                              find_critical, fmt, symbolic)))
+
+
+@cli.command()
+@click.argument("spec", type=SPEC)
+@click.option("--set", "sets", multiple=True, metavar="NAME=VALUE", help="Override a parameter (repeatable).")
+@click.option("--guess", "guesses", multiple=True, metavar="NAME=VALUE[,NAME=VALUE...]",
+              help="A starting point of the numeric search (repeatable; default: the spec's "
+                   "initial state and the origin).")
+@click.option("--json", "as_json", is_flag=True, help="JSON (full precision).")
+@click.option("-o", "--output", default=None, help="Output file ('-' or none: stdout).")
+@click.pass_context
+def equilibria(ctx, spec, sets, guesses, as_json, output):
+    """Equilibria of SPEC (q' = 0: stationary points of V - T0) and their stability.
+
+    \b
+    Examples:
+      lagcli equilibria specs/bead_on_spinning_hoop.yaml
+      lagcli equilibria specs/bead_on_spinning_hoop.yaml --set Omega=3
+      lagcli equilibria specs/cartesian_pendulum.yaml --guess x=0.1,y=-1
+    """
+    _run(ctx, lambda: write_output(output, commands.equilibria(spec, sets, guesses, _format(as_json))))
+
+
+@cli.command()
+@click.argument("spec", type=SPEC)
+@click.option("--momentum", "momenta", multiple=True, metavar="p_NAME=VALUE",
+              help="Value of a cyclic coordinate's momentum (repeatable): then the steady motions.")
+@click.option("--set", "sets", multiple=True, metavar="NAME=VALUE", help="Override a parameter (repeatable).")
+@click.option("--guess", "guesses", multiple=True, metavar="NAME=VALUE[,NAME=VALUE...]",
+              help="A starting point for the steady-motion search (repeatable).")
+@click.option("--json", "as_json", is_flag=True, help="JSON.")
+@click.option("-o", "--output", default=None, help="Output file ('-' or none: stdout).")
+@click.pass_context
+def routh(ctx, spec, momenta, sets, guesses, as_json, output):
+    """Routh reduction of SPEC over its cyclic coordinates: Routhian, effective potential,
+    reduced equations and, at given momenta, the steady motions and their small oscillations.
+
+    \b
+    Examples:
+      lagcli routh specs/spherical_pendulum.yaml
+      lagcli routh specs/spherical_pendulum.yaml --momentum p_phi=0.5 --guess theta=1
+    """
+    _run(ctx, lambda: write_output(output, commands.routh(spec, momenta, sets, guesses, _format(as_json))))
+
+
+@cli.command()
+@click.argument("spec", type=SPEC)
+@click.option("--json", "as_json", is_flag=True, help="JSON.")
+@click.option("--latex", "as_latex", is_flag=True, help="A LaTeX fragment (amsmath).")
+@click.option("-o", "--output", default=None, help="Output file ('-' or none: stdout).")
+@click.pass_context
+def hamiltonian(ctx, spec, as_json, as_latex, output):
+    """Hamilton's form of SPEC: momenta p = M q' + a, H(q, p, t) and Hamilton's equations.
+
+    \b
+    Examples:
+      lagcli hamiltonian specs/spherical_pendulum.yaml
+      lagcli hamiltonian specs/bead_on_spinning_hoop.yaml --latex
+    """
+    fmt = _format(as_json, as_latex)
+    _run(ctx, lambda: write_output(output, commands.hamiltonian(spec, fmt)))

@@ -109,3 +109,135 @@ def generate(path: str, lang: str, output: str | None = None) -> None:
     else:
         (text,) = files.values()
         write_output(output, text)
+
+
+# -- analysis: lagcli linearize / equilibria / hamiltonian / routh (lagcli/analysis/) --
+
+def linearize(path: str, at=(), independent=(), inputs=(), sweep: str | None = None,
+              find_critical: bool = False, fmt: str = "text", symbolic: bool = False) -> str:
+    """`lagcli linearize`: the linear model about `--at`, or the eigenvalue table of a sweep."""
+    from lagcli.analysis import report
+    from lagcli.analysis.linearize import CompiledSystem, linearize as linear_model
+    from lagcli.analysis.operating_point import evaluate, parse_assignments
+    from lagcli.analysis.stability import stability
+    from lagcli.analysis.sweep import critical_values, parse_sweep, sweep as run_sweep
+    from lagcli.errors import UsageError
+
+    d = _derive(path)
+    span = parse_sweep(sweep) if sweep else None
+    if find_critical and span is None:
+        raise UsageError("--find-critical needs --sweep NAME=START:STOP:COUNT")
+    points = parse_assignments(d, at, span.name if span else None)
+    if symbolic:
+        return _symbolic_linear(d, points, inputs, fmt)
+    system = CompiledSystem(d, inputs)
+    if span is not None:
+        table = run_sweep(system, points, span.values, independent)
+        critical = critical_values(system, points, table, independent) if find_critical else []
+        content = report.sweep_content(span.name, table, critical)
+        if fmt == "latex":
+            raise UsageError("--sweep prints a table: use the text or --json output")
+        return report.to_json(content) if fmt == "json" else report.sweep_text(content)
+    lm = linear_model(system, evaluate(d, points), independent)
+    content = report.linear_content(d, lm, stability(lm))
+    if fmt == "json":
+        return report.to_json(content)
+    if fmt == "latex":
+        return report.linear_latex(content, _latex_names(d))
+    return report.linear_text(content)
+
+
+def _symbolic_linear(d, points, inputs, fmt: str) -> str:
+    from lagcli.analysis import report
+    from lagcli.analysis.symbolic import symbolic_linear
+    from lagcli.emit.latex_printer import LatexPrinter
+    from lagcli.spec_printer import spec_str
+
+    params = [p.symbol.name for p in d.model.parameters]
+    unknown = [name for name in inputs if name not in params]
+    if unknown:
+        from lagcli.errors import UsageError
+        raise UsageError(f"--input {unknown[0]!r}: not a parameter")
+    lin = symbolic_linear(d, points, inputs)
+    if fmt == "latex":
+        return report.symbolic_latex(lin, LatexPrinter(d.model))
+    content = report.symbolic_content(d, lin, spec_str)
+    return report.to_json(content) if fmt == "json" else report.symbolic_text(content)
+
+
+def _latex_names(d):
+    """name -> LaTeX of a coordinate, velocity or parameter, by the LaTeX emitter's printer."""
+    from lagcli.emit.latex_printer import LatexPrinter
+
+    printer = LatexPrinter(d.model)
+    return lambda name: printer.doprint(d.model.symbol(name))
+
+
+def _parameters(d, sets) -> dict:
+    """Every parameter's value by name: the spec's, overridden by `--set NAME=VALUE`."""
+    from lagcli.simulate.options import parse_assignments as assignments
+
+    names = [p.symbol.name for p in d.model.parameters]
+    return {p.symbol.name: float(p.value) for p in d.model.parameters} | assignments(
+        tuple(sets), "--set", names, "parameter", "parameters")
+
+
+def _guesses(d, guesses) -> list[dict]:
+    """`--guess theta=1.2,phi=0` (one starting point each) -> [{name: value}]."""
+    from lagcli.simulate.options import parse_assignments as assignments
+
+    names = [s.name for s in (*d.model.q, *d.multipliers)]
+    return [assignments(tuple(g.split(",")), "--guess", names, "coordinate", "coordinates") for g in guesses]
+
+
+def equilibria(path: str, sets=(), guesses=(), fmt: str = "text") -> str:
+    """`lagcli equilibria`: static and relative equilibria with their stability."""
+    from lagcli.analysis import report
+    from lagcli.analysis.equilibria import default_guesses, equilibria as find
+    from lagcli.spec_printer import spec_str
+
+    d = _derive(path)
+    found = find(d, _parameters(d, sets), default_guesses(d, _guesses(d, guesses)))
+    content = report.equilibria_content(d, found, spec_str)
+    return report.to_json(content) if fmt == "json" else report.equilibria_text(content)
+
+
+def routh(path: str, momenta=(), sets=(), guesses=(), fmt: str = "text") -> str:
+    """`lagcli routh`: the Routhian over the cyclic coordinates and the steady motions."""
+    from lagcli.analysis import report
+    from lagcli.analysis.routh import routhian, steady_motions
+    from lagcli.simulate.options import parse_assignments as assignments
+    from lagcli.spec_printer import spec_str
+
+    d = _derive(path)
+    reduction = routhian(d)
+    names = [p.name for p in reduction.momenta]
+    given = assignments(tuple(momenta), "--momentum", names, "momentum", "momenta")
+    motions = []
+    if given:
+        missing = [n for n in names if n not in given]
+        if missing:
+            from lagcli.errors import UsageError
+            raise UsageError(f"--momentum: give every cyclic momentum (missing: {', '.join(missing)})")
+        guess_points = [{k: v for k, v in g.items()} for g in _guesses(d, guesses)] or [dict(d.model.initial), {}]
+        motions = steady_motions(d, reduction, given, _parameters(d, sets), guess_points)
+    content = report.routh_content(d, reduction, motions, spec_str)
+    return report.to_json(content) if fmt == "json" else report.routh_text(content)
+
+
+def hamiltonian(path: str, fmt: str = "text") -> str:
+    """`lagcli hamiltonian`: momenta, H(q, p, t) and Hamilton's equations."""
+    from lagcli.analysis import report
+    from lagcli.analysis.hamiltonian import hamilton_form
+    from lagcli.emit.latex_printer import LatexPrinter
+    from lagcli.spec_printer import spec_str
+
+    d = _derive(path)
+    form = hamilton_form(d)
+    if fmt == "latex":
+        printer = LatexPrinter(d.model)
+        printer._settings["symbol_names"].update({p: f"p_{{{printer.doprint(q)}}}"
+                                                  for p, q in zip(form.momenta, d.model.q)})
+        return report.hamilton_latex(form, d, printer)
+    content = report.hamilton_content(d, form, spec_str)
+    return report.to_json(content) if fmt == "json" else report.hamilton_text(content)

@@ -1,0 +1,139 @@
+"""Routh reduction over the cyclic coordinates (lecture notes, the Routhian).
+
+For cyclic coordinates s (ignorable and absent from the constraints: an
+unconstrained system here) with momenta p_s = dL/dq'_s = M_ss q'_s + M_sr q'_r + a_s
+held at given values, the cyclic velocities are eliminated,
+
+    q'_s = M_ss^-1 (p_s - M_sr q'_r - a_s),
+
+and the Routhian R(q_r, q'_r) = L - p_s . q'_s is the Lagrangian of the reduced
+coordinates r: d/dt(dR/dq'_r) - dR/dq_r = Q'_r. Its velocity-free part gives the
+effective potential
+
+    V_eff(q_r) = -R(q_r, 0) = V - T0 + 1/2 (p_s - a_s)^T M_ss^-1 (p_s - a_s),
+
+whose stationary points are the steady motions (q_r constant, q'_s constant),
+and small oscillations about one follow from M_red q_r'' + G q_r' + K q_r = 0
+with M_red = d2R/dq'_r^2, K the Hessian of V_eff and G the gyroscopic matrix of
+R's part linear in q'_r. M_ss is inverted symbolically: it is as small as the
+number of cyclic coordinates.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import sympy as sp
+
+from lagcli.errors import UsageError
+
+
+@dataclass(frozen=True)
+class Routhian:
+    cyclic: tuple[sp.Symbol, ...]
+    momenta: tuple[sp.Symbol, ...]          # p_<q> symbols
+    reduced: tuple[sp.Symbol, ...]          # q_r
+    R: sp.Expr                              # R(q_r, q'_r, p)
+    effective_potential: sp.Expr            # V_eff(q_r, p)
+    cyclic_velocities: tuple[sp.Expr, ...]  # q'_s(q_r, q'_r, p)
+    equations: tuple[sp.Expr, ...]          # d/dt(dR/dq'_r) - dR/dq_r - Q'_r = 0
+
+
+def routhian(d) -> Routhian:
+    model = d.model
+    if d.constraints:
+        raise UsageError(f"{model.source}: Routh reduction here needs an unconstrained system "
+                         "(cyclic coordinates of a constrained one enter its constraint rows)")
+    cyclic = tuple(d.ignorable)
+    if not cyclic:
+        raise UsageError(f"{model.source}: no ignorable coordinate, nothing to reduce\n"
+                         "  hint: `lagcli derive` lists the ignorable coordinates")
+    s = [model.q.index(c) for c in cyclic]
+    r = [k for k in range(len(model.q)) if k not in s]
+    M, a = sp.Matrix(d.mass_matrix), sp.Matrix(d.t1_coefficients)
+    qd = sp.Matrix(model.qd)
+    p = sp.Matrix([sp.Symbol(f"p_{c.name}", real=True) for c in cyclic])
+    M_ss, M_sr = M.extract(s, s), M.extract(s, r)
+    qd_r = sp.Matrix([model.qd[k] for k in r])
+    qd_s = M_ss.LUsolve(p - M_sr * qd_r - a.extract(s, [0]))
+    qd_s = sp.Matrix([sp.cancel(e) for e in qd_s])
+    eliminate = {model.qd[k]: e for k, e in zip(s, qd_s)}
+    R = _tidy((d.L - sum(pi * model.qd[k] for pi, k in zip(p, s))).xreplace(eliminate))
+    at_rest = {model.qd[k]: 0 for k in r}
+    V_eff = _tidy(-R.xreplace(at_rest))
+    equations = _reduced_equations(model, R, r, d.nonconservative_forces.xreplace(eliminate))
+    return Routhian(cyclic, tuple(p), tuple(model.q[k] for k in r), R, V_eff,
+                    tuple(_tidy(e) for e in qd_s), tuple(_tidy(e) for e in equations))
+
+
+TIDY_BUDGET = 150   # count_ops up to which an expression is trigsimp'd for display
+
+
+def _tidy(expr: sp.Expr) -> sp.Expr:
+    return sp.trigsimp(sp.cancel(expr)) if sp.count_ops(expr) <= TIDY_BUDGET else expr
+
+
+def _reduced_equations(model, R, r, Q) -> tuple[sp.Expr, ...]:
+    from lagcli.calculus import TimeDerivative
+
+    q_r = [model.q[k] for k in r]
+    D = TimeDerivative(model.t, q_r, [model.qd[k] for k in r], [model.qdd[k] for k in r])
+    return tuple(D(R.diff(model.qd[k])) - R.diff(model.q[k]) - Q[k] for k in r)
+
+
+@dataclass(frozen=True)
+class SteadyMotion:
+    coordinates: dict                 # reduced coordinate -> value
+    cyclic_rates: dict                # cyclic velocity name -> value
+    eigenvalues: np.ndarray           # of the reduced linearization
+    frequencies: tuple[float, ...]    # small-oscillation frequencies (rad/s)
+
+
+def steady_motions(d, routh: Routhian, momenta: dict, parameters: dict, guesses) -> list[SteadyMotion]:
+    """Stationary points of V_eff at the given momenta, each with its small oscillations."""
+    from lagcli.analysis.equilibria import solve_stationary
+    from lagcli.analysis.stability import sorted_eigenvalues
+
+    model = d.model
+    values = {p.symbol: parameters[p.symbol.name] for p in model.parameters}
+    values.update({p: momenta[p.name] for p in routh.momenta})
+    values[model.t] = 0.0
+    q_r = list(routh.reduced)
+    gradient = [routh.effective_potential.diff(q) for q in q_r]
+    starts = [[g.get(q.name, 0.0) for q in q_r] for g in guesses]
+    out = []
+    for found in solve_stationary(gradient, q_r, values, starts):
+        here = {**values, **dict(zip(q_r, found.values))}
+        A = _reduced_linear(model, routh, here)
+        eig = sorted_eigenvalues(A)
+        rates = {model.qd[model.q.index(c)].name: _number(e, here, model, q_r) for c, e in
+                 zip(routh.cyclic, routh.cyclic_velocities)}
+        out.append(SteadyMotion(dict(zip((q.name for q in q_r), found.values)), rates, eig,
+                                tuple(sorted({float(abs(s)) for s in eig if s.imag > 0}))))
+    return out
+
+
+def _number(expr, here, model, q_r) -> float:
+    rest = {model.qd[model.q.index(q)]: 0 for q in q_r}
+    return float(sp.sympify(expr).xreplace(rest).xreplace({k: sp.Float(v, 30) for k, v in here.items()}).evalf(30))
+
+
+def _reduced_linear(model, routh: Routhian, here: dict) -> np.ndarray:
+    """A of x = (q_r, q'_r) for M_red q'' + G q' + K q = 0 at the steady motion."""
+    q_r = list(routh.reduced)
+    qd_r = [model.qd[model.q.index(q)] for q in q_r]
+    rest = {v: 0 for v in qd_r}
+    R = routh.R
+    numbers = {k: sp.Float(v, 30) for k, v in here.items()}
+
+    def num(matrix) -> np.ndarray:
+        return np.array(sp.Matrix(matrix).xreplace(rest).xreplace(numbers).evalf(30), dtype=float)
+
+    M_red = num(sp.hessian(R, qd_r))
+    K = num(sp.hessian(routh.effective_potential, q_r))
+    b = sp.Matrix([R.diff(v) for v in qd_r]).xreplace(rest)       # R1 = b . q'_r
+    G = num(sp.Matrix(len(q_r), len(q_r), lambda i, j: b[i].diff(q_r[j]) - b[j].diff(q_r[i])))
+    n = len(q_r)
+    # Lagrange's operator on R1 = b . q'_r gives sum_j G_ij q'_j: M q'' + G q' + K q = 0 (Q'_r left out)
+    return np.block([[np.zeros((n, n)), np.eye(n)],
+                     [-np.linalg.solve(M_red, K), -np.linalg.solve(M_red, G)]])

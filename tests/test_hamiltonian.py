@@ -1,0 +1,90 @@
+"""Hamilton's form (lagcli/analysis/hamiltonian.py) against the Lagrangian equations.
+
+For every bundled unconstrained spec, Hamilton's equations in (q, p) are integrated
+with scipy and compared with an integration of M q'' = F (the derivation's own
+Lagrangian form) from the same state: q and q'(q, p) agree to 1e-8. Where the
+Jacobi integral exists, H(q, p) equals it along the way and stays constant.
+"""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import sympy as sp
+from scipy.integrate import solve_ivp
+
+from lagcli.analysis.hamiltonian import HamiltonRhs, hamilton_form
+
+from conftest import SPECS
+
+UNCONSTRAINED = sorted(p.stem for p in SPECS.glob("*.yaml")
+                       if "constraints:" not in p.read_text(encoding="utf-8"))
+T_END = 1.0
+
+
+def lagrangian_rhs(d, params):
+    model = d.model
+    values = {p.symbol: params[p.symbol.name] for p in model.parameters}
+    args = [model.t, list(model.q), list(model.qd)]
+    M = sp.lambdify(args, sp.Matrix(d.mass_matrix).xreplace(values), "numpy", cse=True)
+    F = sp.lambdify(args, sp.Matrix(d.forcing).xreplace(values), "numpy", cse=True)
+    n = len(model.q)
+
+    def rhs(t, y):
+        q, qd = y[:n], y[n:]
+        qdd = np.linalg.solve(np.asarray(M(t, q, qd), float).reshape(n, n), np.asarray(F(t, q, qd), float).reshape(n))
+        return np.concatenate([qd, qdd])
+    return rhs
+
+
+@pytest.mark.parametrize("name", UNCONSTRAINED)
+def test_hamilton_equations_agree_with_lagrange(derived, name):
+    d = derived(name)
+    model = d.model
+    n = len(model.q)
+    params = {p.symbol.name: p.value for p in model.parameters}
+    y0 = np.array([model.initial.get(s.name, 0.0) for s in (*model.q, *model.qd)], dtype=float)
+    y0[:n] += 0.1      # away from symmetric starts, so every coordinate moves
+    ham = HamiltonRhs(d, params)
+    values = {p.symbol: params[p.symbol.name] for p in model.parameters}
+    momentum = sp.lambdify([model.t, list(model.q), list(model.qd)],
+                           (sp.Matrix(d.mass_matrix) * sp.Matrix(model.qd) + sp.Matrix(d.t1_coefficients)).xreplace(values))
+    p0 = np.asarray(momentum(0.0, y0[:n], y0[n:]), float).reshape(n)
+    times = np.linspace(0, T_END, 11)
+    tol = dict(rtol=1e-12, atol=1e-12, method="DOP853", t_eval=times)
+    lag = solve_ivp(lagrangian_rhs(d, params), (0, T_END), y0, **tol)
+    hamilton = solve_ivp(ham, (0, T_END), np.concatenate([y0[:n], p0]), **tol)
+    assert lag.success and hamilton.success
+    velocities = np.array([ham.velocities(t, y[:n], y[n:]) for t, y in zip(times, hamilton.y.T)]).T
+    np.testing.assert_allclose(hamilton.y[:n], lag.y[:n], atol=1e-8, rtol=0)
+    np.testing.assert_allclose(velocities, lag.y[n:], atol=1e-8 * max(1.0, np.max(np.abs(lag.y[n:]))), rtol=0)
+    if d.jacobi_integral is not None:
+        h = sp.lambdify([model.t, list(model.q), list(model.qd)], d.jacobi_integral.xreplace(values))
+        H = [ham.hamiltonian(t, y) for t, y in zip(times, hamilton.y.T)]
+        jacobi = [h(t, y[:n], v) for t, y, v in zip(times, hamilton.y.T, velocities.T)]
+        np.testing.assert_allclose(H, jacobi, rtol=1e-10, atol=1e-10)
+        assert np.ptp(H) < 1e-8 * max(1.0, abs(H[0]))
+
+
+def test_spherical_pendulum_hamiltonian_closed_form(derived, assert_zero):
+    d = derived("spherical_pendulum")
+    form = hamilton_form(d)
+    th = d.model.symbol("theta")
+    m, L, g = (d.model.symbol(n) for n in ("m", "L", "g"))
+    p_th, p_ph = form.momenta
+    # H = p_th^2/(2 m L^2) + p_ph^2/(2 m L^2 sin^2 th) - m g L cos th  (textbook)
+    assert_zero(form.H - (p_th**2 / (2 * m * L**2) + p_ph**2 / (2 * m * L**2 * sp.sin(th)**2) - m * g * L * sp.cos(th)))
+    assert form.pdot[1] == 0
+
+
+def test_cli_hamiltonian_formats():
+    from click.testing import CliRunner
+
+    from lagcli.cli import cli
+    from conftest import spec_path
+
+    runner = CliRunner()
+    path = str(spec_path("bead_on_spinning_hoop"))
+    assert "H = " in runner.invoke(cli, ["hamiltonian", path]).output
+    assert r"\begin{align*}" in runner.invoke(cli, ["hamiltonian", path, "--latex"]).output
+    bad = runner.invoke(cli, ["hamiltonian", str(spec_path("cartesian_pendulum"))])
+    assert bad.exit_code == 2 and "unconstrained" in bad.output
