@@ -6,12 +6,14 @@ from pathlib import PurePath
 
 from lagcli.derive.result import Derivation
 from lagcli.emit.outputs import Outputs
+from lagcli.layout import layout_of
 from lagcli.numerics import DEFAULT_BAUMGARTE
 
 
 @dataclass(frozen=True)
 class Interface:
-    """What a generated file says about itself, as plain values (names in spec order)."""
+    """What a generated file says about itself, as plain values (names in spec order),
+    read from the system's `lagcli.layout.Layout` plus what only generated files say."""
 
     name: str
     spec_file: str                       # file name only: the bytes do not depend on the cwd
@@ -36,26 +38,24 @@ def interface(d: Derivation, outputs: Outputs, initial=None, initial_notes=()) -
     (missing values 0)."""
     from lagcli import __version__
 
-    model = d.model
-    s = model.settings
+    model, layout = d.model, layout_of(d)
     if initial is None:
         given = dict(model.initial)
-        initial = tuple(float(given.get(x.name, 0.0)) for x in model.q + model.qd)
-    columns = outputs.invariant_names + (("constraint_residual",) if d.constraints else ())
+        initial = tuple(float(given.get(name, 0.0)) for name in layout.state_names)
     return Interface(
-        name=model.name,
+        name=layout.name,
         spec_file=comment_safe(PurePath(model.source).name),
         version=__version__,
         description=comment_safe(" ".join(str(model.description or "").split())),
-        coordinates=tuple(s.name for s in model.q),
-        state=tuple(s.name for s in model.q + model.qd),
-        parameters=tuple((p.symbol.name, float(p.value)) for p in model.parameters),
-        multipliers=tuple(m.name for m in d.multipliers),
-        invariants=columns,
+        coordinates=layout.coordinates,
+        state=layout.state_names,
+        parameters=tuple((p.name, p.default) for p in layout.parameters),
+        multipliers=layout.multiplier_names,
+        invariants=tuple(c.name for c in layout.invariants),
         initial=tuple(float(v) for v in initial),
         initial_notes=tuple(comment_safe(n) for n in initial_notes),
-        settings=(("t_end", float(s.t_end)), ("dt", float(s.dt)), ("method", s.method),
-                  ("rtol", float(s.rtol)), ("atol", float(s.atol))),
+        settings=tuple((key, value if key == "method" else float(value))
+                       for key, value in layout.settings.as_dict().items()),
         baumgarte=tuple(float(v) for v in DEFAULT_BAUMGARTE),
     )
 

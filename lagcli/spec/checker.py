@@ -14,6 +14,8 @@ import re
 from typing import Any, Callable
 
 from lagcli.errors import Problem
+from lagcli.layout import column_clash
+from lagcli.layout import reserved_reason as generated_name_reason
 from lagcli.spec.reader import KeyPath, RawDoc
 from lagcli.spec.types import Src, Vector
 
@@ -44,13 +46,7 @@ def reserved_reason(name: str, coordinates: set[str]) -> str:
         return "it is a Python keyword"
     if name.startswith("__"):
         return "names starting with '__' are reserved"
-    if name.startswith("lambda_"):
-        return "'lambda_...' names are the constraint multipliers"
-    for suffix, what in (("_ddot", "acceleration"), ("_dot", "velocity")):
-        base = name[: -len(suffix)]
-        if name.endswith(suffix) and base in coordinates:
-            return f"it is the {what} of coordinate '{base}'"
-    return ""
+    return generated_name_reason(name, coordinates)
 
 
 def describe(value: Any) -> str:
@@ -197,6 +193,8 @@ class Checker:
             self.fail(path, f"'{name}' is not a valid name", NAME_HINT, at_key)
             return
         reason = reserved_reason(name, self.coordinate_names)
+        if kind == "coordinate":
+            reason = reason or column_clash(name, self.coordinate_names)
         if reason:
             self.fail(path, f"the name '{name}' is reserved: {reason}", "choose another name", at_key)
         if name in self.names:
