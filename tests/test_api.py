@@ -99,3 +99,11 @@ def _has_pandas() -> bool:
     except ImportError:
         return False
     return True
+
+
+def test_plot_gives_the_simulate_figure(tmp_path):
+    pytest.importorskip("matplotlib")
+    trajectory = lagcli.load(SPECS / "cartesian_pendulum.yaml").simulate(t_end=0.2)
+    figure = trajectory.plot(tmp_path / "p.png")
+    assert (tmp_path / "p.png").read_bytes().startswith(b"\x89PNG")
+    assert [line.get_label() for line in figure.axes[0].get_lines()] == ["x", "y"]

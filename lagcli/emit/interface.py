@@ -24,6 +24,8 @@ class Interface:
     parameters: tuple[tuple[str, float], ...]
     multipliers: tuple[str, ...]
     invariants: tuple[str, ...]          # CSV invariant columns, constraint_residual included
+    evaluated: tuple[str, ...]           # those with an expression (all but the residual)
+    residual: str | None                 # the residual column, when constrained
     initial: tuple[float, ...]           # full state, as given by the caller
     initial_notes: tuple[str, ...]
     settings: tuple[tuple[str, object], ...]
@@ -52,6 +54,8 @@ def interface(d: Derivation, outputs: Outputs, initial=None, initial_notes=()) -
         parameters=tuple((p.name, p.default) for p in layout.parameters),
         multipliers=layout.multiplier_names,
         invariants=tuple(c.name for c in layout.invariants),
+        evaluated=tuple(c.name for c in layout.invariants if c.kind != "residual"),
+        residual=next((c.name for c in layout.invariants if c.kind == "residual"), None),
         initial=tuple(float(v) for v in initial),
         initial_notes=tuple(comment_safe(n) for n in initial_notes),
         settings=tuple((key, value if key == "method" else float(value))

@@ -36,7 +36,9 @@ def reserved_reason(name: str, coordinates: set[str]) -> str:
     """Why `name` cannot be declared in a spec, or '' when it can.
 
     C keywords are fine: generated code refers to every symbol by its array slot
-    (y[i], p[j]), so spec names never become C or Python identifiers.
+    (y[i], p[j]); spec names appear in C only behind a prefix (`<NAME>_Q_<q>`,
+    `<NAME>_P_<p>` index macros), never as identifiers of their own. The names lagcli
+    generates (velocities, multipliers, output columns) are `lagcli.layout`'s rules.
     """
     if name in ("t", "pi"):
         return "'t' is time" if name == "t" else "'pi' is the constant pi"
