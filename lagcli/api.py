@@ -1,4 +1,4 @@
-"""The library entry points behind the CLI: path -> Model -> Derivation."""
+"""The library entry points behind the CLI: path (or spec text) -> Model -> Derivation."""
 from __future__ import annotations
 
 from pathlib import Path
@@ -7,17 +7,36 @@ from lagcli.derive import derive
 from lagcli.derive.result import Derivation
 from lagcli.model import build_model
 from lagcli.model_types import Model
-from lagcli.errors import SpecError
+from lagcli.errors import Loc, Problem, SpecError
 from lagcli.spec.reader import read_document
 from lagcli.spec.schema import check
+
+
+TEXT_SOURCE = "<string>"      # where problems of a spec given as text are located
 
 
 def load_model(path: str | Path) -> Model:
     """Read, validate and build the model of a spec file (raises SpecError).
 
     When the spec has format problems, its expressions are still parsed where
-    possible so that one run reports every problem (CONTRACT §2: all together)."""
-    spec, problems = check(read_document(str(path)))
+    possible so that one run reports every problem (all together, as the docs say)."""
+    return _build(read_document(str(path)))
+
+
+def load_model_text(text: str, toml: bool = False) -> Model:
+    """`load_model` for a spec given as YAML (or TOML) text; problems are located in
+    `<string>` (line and column as in a file)."""
+    from lagcli.spec import reader
+
+    if len(text.encode()) > reader.MAX_BYTES:
+        raise SpecError(Problem(Loc(TEXT_SOURCE), "spec text is too large (the limit is 1 MiB)"))
+    # the reader's per-format parsers (a public `read_text` there would be better)
+    parse = reader._read_toml if toml else reader._read_yaml
+    return _build(parse(TEXT_SOURCE, text))
+
+
+def _build(raw) -> Model:
+    spec, problems = check(raw)
     if not problems:
         return build_model(spec)
     raise SpecError(problems + [p for p in _expression_problems(spec) if p not in problems])

@@ -5,7 +5,7 @@ simulate` with a warm C cache must start without importing sympy at all.
 """
 from __future__ import annotations
 
-import json
+from pathlib import Path
 
 
 def _derive(path: str):
@@ -16,27 +16,21 @@ def _derive(path: str):
 
 
 def derive_text(path: str, simplify: bool = True) -> str:
-    from lagcli.emit.report import report_content
-    from lagcli.spec_printer import spec_str
-    from lagcli.emit.templates import render
+    from lagcli.system import load
 
-    content = report_content(_derive(path), spec_str, simplify)
-    return render("report/derive.txt.jinja", r=content)
+    return load(Path(path)).report("text", simplify)
 
 
 def derive_json(path: str, simplify: bool = True) -> str:
-    from lagcli.emit.report import report_content
-    from lagcli.spec_printer import spec_str
+    from lagcli.system import load
 
-    content = report_content(_derive(path), spec_str, simplify)
-    return json.dumps(content, indent=2) + "\n"
+    return load(Path(path)).report("json", simplify)
 
 
 def derive_latex(path: str, simplify: bool = True, standalone: bool = False) -> str:
-    from lagcli.emit.latex import latex_document, latex_fragment
+    from lagcli.system import load
 
-    derivation = _derive(path)
-    return latex_document(derivation, simplify) if standalone else latex_fragment(derivation, simplify)
+    return load(Path(path)).report("latex-document" if standalone else "latex", simplify)
 
 
 def check_summary(path: str) -> str:
@@ -81,34 +75,23 @@ def simulate(request, output: str | None = None, plot: str | None = None,
 def generate(path: str, lang: str, output: str | None = None) -> None:
     """`lagcli generate`: code or a document for `path` in `lang` (see lagcli.emit.LANGUAGES).
 
-    One-file languages write to `output` (stdout for None or '-'); C writes its three
-    files into the directory `output` (required), each atomically, after all are made."""
-    from pathlib import Path
-
-    from lagcli.emit import LANGUAGES, generate as emit
+    One-file languages write to `output` (stdout for None or '-'); C writes its files
+    into the directory `output` (required), each atomically, after all are made."""
+    from lagcli.emit import LANGUAGES
     from lagcli.errors import UsageError
-    from lagcli.output import write_atomic, write_output
+    from lagcli.output import write_output
+    from lagcli.system import load
 
     language = LANGUAGES.get(lang)
     if language is not None and language.directory and output in (None, "-"):
         raise UsageError(f"--lang {lang} writes several files: give the directory with -o DIR")
-    derivation = _derive(path)
-    initial, notes = None, ()
-    if language is not None and language.embeds_initial:   # solved for once, here, not in emit
-        from lagcli.simulate.initial import spec_initial_state
-
-        start, _ = spec_initial_state(derivation)
-        initial, notes = start.values, start.notes
-    files = emit(derivation, lang, initial, notes)
-    if language.directory:
-        directory = Path(output)
-        if directory.exists() and not directory.is_dir():
+    if language is not None and language.directory:
+        if Path(output).exists() and not Path(output).is_dir():
             raise UsageError(f"-o {output}: not a directory")
-        for name, text in files.items():
-            write_atomic(directory / name, text)
-    else:
-        (text,) = files.values()
-        write_output(output, text)
+        load(Path(path)).generate(lang, output)
+        return
+    (text,) = load(Path(path)).generate(lang).values()
+    write_output(output, text)
 
 
 # -- analysis: lagcli linearize / equilibria / hamiltonian / routh (lagcli/analysis/) --

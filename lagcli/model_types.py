@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 import sympy as sp
 
 from lagcli.errors import Loc
+from lagcli.layout import Settings  # noqa: F401 - the run settings and their defaults live in the layout
 
 
 @dataclass(frozen=True)
@@ -82,15 +83,6 @@ class ConstraintSpec:
     label: str | None
     expr: sp.Expr
     loc: Loc | None = None
-
-
-@dataclass(frozen=True)
-class Settings:
-    t_end: float = 10.0
-    dt: float = 0.01
-    method: str = "DOP853"
-    rtol: float = 1e-9
-    atol: float = 1e-12
 
 
 @dataclass(frozen=True)

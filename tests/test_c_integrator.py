@@ -1,12 +1,11 @@
-"""The C integrator fragment (templates/c/integrator.c.jinja) against scipy.
+"""The C integrator (lagcli/runtime/c/lagcli_ode.c) against scipy.
 
-The fragment re-implements scipy.integrate.solve_ivp's RK45 and DOP853: the
+It re-implements scipy.integrate.solve_ivp's RK45 and DOP853: the
 same tableaus, initial step, error norms, step-size control and dense output.
 So for the same rtol/atol it must take the same accepted steps, spend the same
 number of rhs evaluations (nfev) and print the same values at t_eval up to
-rounding.  The harness (tests/c_harness/harness.c.jinja) includes the
-fragment the way a generated <name>_main.c does and is compiled with the
-contract's strict flags.
+rounding.  The harness (tests/c_harness/harness.c) includes the
+shipped source and is compiled with the contract's strict flags.
 
 Observed with scipy 1.17 (harmonic, Van der Pol, Lorenz; both methods;
 rtol 1e-12 .. 1e-3): nfev equal in every case; outputs equal to 1e-13
@@ -30,7 +29,6 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from jinja2 import Environment, FileSystemLoader, StrictUndefined
 from scipy.integrate import solve_ivp
 from scipy.integrate._ivp import dop853_coefficients
 from scipy.integrate._ivp.rk import RK45
@@ -60,23 +58,14 @@ METHODS = ["RK45", "DOP853"]
 CLOSE = 1e-8  # max relative difference from scipy allowed; see the module docstring
 
 
-def render(template, **variables):
-    env = Environment(
-        loader=FileSystemLoader([str(ROOT / "templates"), str(ROOT / "tests" / "c_harness")]),
-        undefined=StrictUndefined,
-        trim_blocks=True,
-        lstrip_blocks=True,
-        keep_trailing_newline=True,
-    )
-    return env.get_template(template).render(**variables)
+RUNTIME = ROOT / "lagcli" / "runtime" / "c"
 
 
-def compile_harness(directory, **variables):
-    source = directory / "harness.c"
-    source.write_text(render("harness.c.jinja", **variables))
+def compile_harness(directory):
     exe = directory / "harness"
     proc = subprocess.run(
-        [CC, *CFLAGS, str(source), "-o", str(exe), "-lm"], capture_output=True, text=True
+        [CC, *CFLAGS, "-I", str(RUNTIME), str(ROOT / "tests" / "c_harness" / "harness.c"),
+         "-o", str(exe), "-lm"], capture_output=True, text=True
     )
     assert proc.returncode == 0, proc.stderr
     return exe
@@ -89,9 +78,9 @@ def harness(tmp_path_factory):
 
 @pytest.fixture(scope="module")
 def codes():
-    """Return codes, read from the fragment's enum so the test cannot drift."""
-    text = render("c/integrator.c.jinja")
-    return {name: int(value) for name, value in re.findall(r"ODE_(\w+) = (\d+)", text)}
+    """Return codes, read from the integrator's header so the test cannot drift."""
+    text = (RUNTIME / "lagcli_ode.h").read_text()
+    return {name: int(value) for name, value in re.findall(r"LAGCLI_ODE_(\w+) = (\d+)", text)}
 
 
 class Run:
@@ -144,7 +133,7 @@ def test_coefficients_are_scipys_to_the_bit(harness):
     tables = {}
     for line in out.stdout.splitlines():
         name, *values = line.split()
-        tables[name.removeprefix("ODE_")] = np.array([float(v) for v in values])
+        tables[name.removeprefix("LAGCLI_ODE_")] = np.array([float(v) for v in values])
     d = dop853_coefficients
     expected = {
         "RK45_A": np.pad(RK45.A, ((0, 0), (0, 16 - RK45.A.shape[1]))),
@@ -277,12 +266,3 @@ def test_invalid_arguments(harness, codes, method, times, kwargs):
     result = run(harness, "harmonic", method, times, **kwargs)
     assert result.rc == codes["ERR_ARGS"]
     assert result.nfev == 0 and len(result.times) == 0
-
-
-def test_name_prefix(tmp_path):
-    text = render("c/integrator.c.jinja", integrator_prefix="lagsim")
-    assert "lagsim_integrate(" in text and "LAGSIM_ERR_RHS" in text
-    assert not re.search(r"\b(ode|ODE)_", text)
-    exe = compile_harness(tmp_path, integrator_prefix="lagsim")
-    result = run(exe, "harmonic", "RK45", output_times(1.0, 0.1))
-    assert result.rc == 0

@@ -108,11 +108,12 @@ def test_python_module_agrees_with_engine(generated, derivation):
 
 @pytest.mark.skipif(CC is None, reason="no C compiler (cc)")
 def test_c_library_agrees_with_engine(generated, derivation):
-    from test_codegen_c import CFLAGS, call
+    from test_codegen_c import CFLAGS, RUNTIME_SOURCES, call
 
     folder, _ = generated
     c_dir = folder / "c"
-    done = subprocess.run([CC, *CFLAGS, "all_functions.c", "all_functions_main.c", "-o", "drv", "-lm"],
+    done = subprocess.run([CC, *CFLAGS, "all_functions.c", "all_functions_main.c", *RUNTIME_SOURCES,
+                           "-o", "drv", "-lm"],
                           cwd=c_dir, capture_output=True, text=True)
     assert done.returncode == 0, done.stderr
     done = subprocess.run([CC, *CFLAGS, "-shared", "-fPIC", "all_functions.c", "-o", "lib.so", "-lm"],

@@ -53,10 +53,10 @@ class Built:
 
         self.name = spec.stem if spec.suffix else spec.name
         commands.generate(str(spec), "c", str(directory))
-        self.name = next(p.stem for p in directory.glob("*.h"))
+        self.name = next(p.stem for p in directory.glob("*.h") if not p.name.startswith("lagcli_"))
         self.directory = directory
         self.driver = directory / self.name
-        compile_c([f"{self.name}.c", f"{self.name}_main.c", "-o", self.name], directory)
+        compile_c([f"{self.name}.c", f"{self.name}_main.c", *RUNTIME_SOURCES, "-o", self.name], directory)
         library = directory / f"lib{self.name}.so"
         compile_c(["-shared", "-fPIC", f"{self.name}.c", "-o", library.name], directory)
         self.lib = ctypes.CDLL(str(library))
@@ -78,6 +78,9 @@ class Built:
 
     def run(self, *args: str) -> subprocess.CompletedProcess:
         return subprocess.run([str(self.driver), *args], capture_output=True, text=True, timeout=300)
+
+
+RUNTIME_SOURCES = ("lagcli_ode.c", "lagcli_driver.c")    # lagcli/runtime/c/, copied by generate
 
 
 def compile_c(arguments: list[str], directory: Path) -> None:
@@ -238,7 +241,7 @@ def test_keyword_names_compile(tmp_path, built):
     assert "3.14159265358979323846" in code
 
 
-def test_generate_c_cli_writes_three_files_and_needs_a_directory(tmp_path):
+def test_generate_c_cli_writes_the_model_and_the_runtime_and_needs_a_directory(tmp_path):
     from click.testing import CliRunner
 
     from lagcli.cli import cli
@@ -250,7 +253,8 @@ def test_generate_c_cli_writes_three_files_and_needs_a_directory(tmp_path):
     result = CliRunner().invoke(cli, ["generate", spec, "--lang", "c", "-o", str(tmp_path / "out")])
     assert result.exit_code == 0, result.output
     assert sorted(p.name for p in (tmp_path / "out").iterdir()) == [
-        "double_pendulum.c", "double_pendulum.h", "double_pendulum_main.c"]
+        "double_pendulum.c", "double_pendulum.h", "double_pendulum_main.c",
+        "lagcli_driver.c", "lagcli_driver.h", "lagcli_model.h", "lagcli_ode.c", "lagcli_ode.h"]
 
 
 def test_printed_functions_evaluate_in_c_like_math(tmp_path):

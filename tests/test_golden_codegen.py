@@ -51,9 +51,14 @@ def compare_or_update(path: Path, text: str) -> None:
 @pytest.mark.parametrize("lang", LANGS)
 @pytest.mark.parametrize("spec", SPECS)
 def test_golden(spec, lang):
+    from lagcli.runtime import c_runtime_files
+
     files = generate(spec, lang)
     expected = {"python": [f"{spec}.py"], "c": [f"{spec}.h", f"{spec}.c", f"{spec}_main.c"]}[lang]
-    assert sorted(files) == sorted(expected)
+    runtime = c_runtime_files() if lang == "c" else {}
+    assert sorted(files) == sorted(expected + list(runtime))
+    for name in runtime:       # the shipped sources, unchanged: not golden files of their own
+        assert files.pop(name) == (ROOT / "lagcli" / "runtime" / "c" / name).read_text()
     for name, text in files.items():
         compare_or_update(GOLDEN / lang / name, text)
 

@@ -16,6 +16,7 @@ import sympy as sp
 from lagcli.calculus import TimeDerivative, almost_everywhere, numerically_zero
 from lagcli.derive.result import ConstraintRow
 from lagcli.errors import Loc, Problem, SpecError
+from lagcli.layout import multiplier_name
 from lagcli.model_types import ConstraintSpec, Model
 
 
@@ -32,7 +33,7 @@ def constraint_rows(model: Model) -> tuple[ConstraintRow, ...]:
 
 
 def _row(model: Model, j: int, spec: ConstraintSpec) -> ConstraintRow:
-    multiplier = sp.Symbol(f"lambda_{spec.label or j}", real=True)
+    multiplier = sp.Symbol(multiplier_name(j, spec.label), real=True)
     expr, qd = spec.expr, model.qd
     if not expr.free_symbols & set(qd):
         a = tuple(almost_everywhere(expr.diff(qk)) for qk in model.q)

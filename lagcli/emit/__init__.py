@@ -1,24 +1,30 @@
 """Output languages of `lagcli generate`: a Derivation in, {file name: text} out.
 
     python   lagcli/emit/python.py   templates/python/module.py.jinja      one module
-    c        lagcli/emit/c.py        templates/c/model.{h,c}.jinja, main.c  three files
+    c        lagcli/emit/c.py        templates/c/model.{h,c}.jinja, main.c  the model and its driver,
+                                     plus lagcli/runtime/c/ copied as it is
     latex    lagcli/emit/latex.py    templates/latex/document.tex.jinja     one document
 
-How to add an output language (say Julia):
+How to add a code target (say Julia) — a printer configuration and templates:
 
 1. Printer: in `lagcli/emit/julia.py`, subclass `slots.SlotPrinter` and sympy's
    printer for the language (`class JuliaPrinter(SlotPrinter, JuliaCodePrinter)`),
-   setting only what differs as class attributes: `power_format`, `sqrt_function`,
-   `literal`, `imports`. Symbols are printed as slots (t, y[i], p[j]; mind 1-based
-   arrays: override `slots.slots`'s strings) and the printer refuses any symbol
+   setting only what differs as class attributes: `index_base = 1` and `subscript`
+   (how `y[i]`, `p[j]` are written), `power_format`, `sqrt_function`, `literal`,
+   `imports`. Symbols print as those slots and the printer refuses any symbol
    without one.
 2. Context: `codegen.generated_context(d, JuliaPrinter, initial, initial_notes)` runs
    the shared pipeline (collect -> tidy -> one CSE -> print every function body) and
    returns strings only: the bodies, matrix rows, stabilisation and residual terms,
-   the `Interface` (names, defaults, version, spec file) and the shared numerics.
+   the `Interface` (names, defaults, version, spec file; read from the system's
+   `lagcli.layout.Layout`) and the shared numerics.
 3. Templates: `templates/julia/<file>.jl.jinja`, rendered with `templates.render`; they
-   lay out the pre-printed strings (macros for repeated statements), document the
-   interface at the top and hold no dates or host names.
+   lay out the pre-printed strings (macros for repeated statements; indices of their
+   own arrays in the language's base), document the interface at the top and hold no
+   dates or host names. Code that is the same for every model (an integrator, a
+   driver) is not a template: put it under `lagcli/runtime/julia/`, list it in
+   `lagcli/runtime/__init__.py` and add its files to the output, as `c.c_files` does
+   with `c_runtime_files()` (and to `[tool.setuptools.package-data]`).
 4. Register: add a `Language` to `LANGUAGES` below (module path, function name, whether the
    output is a directory) and the name to the `--lang` choice follows automatically.
 5. Tests: run the generated code at seeded random states against the Derivation

@@ -1,4 +1,6 @@
-"""`lagcli generate --lang c`: `<name>.h`, `<name>.c` (C99 + libm) and the driver `<name>_main.c`.
+"""`lagcli generate --lang c`: `<name>.h`, `<name>.c` (C99 + libm), the driver `<name>_main.c`
+and lagcli's C runtime beside them (`lagcli/runtime/c/`: the integrator `lagcli_ode.{h,c}`,
+the model table `lagcli_model.h` and the driver `lagcli_driver.{h,c}`, copied as they are).
 
 The interface is docs/design.md ("Generated C"). The right-hand side assembles the
 augmented system [[M, -A^T], [A, 0]] [q''; lambda] = [F; b - 2 alpha (A q' + d) -
@@ -20,8 +22,10 @@ from lagcli.derive.result import Derivation
 from lagcli.emit import codegen
 from lagcli.emit.slots import SlotPrinter
 from lagcli.emit.templates import render
-
-INTEGRATOR_PREFIX = "lagcli_ode"     # names of the integrator fragment: lagcli_ode_integrate, ...
+from lagcli.errors import Loc, Problem, SpecError
+from lagcli.layout import layout_of
+from lagcli.numerics import EXPLICIT_METHODS
+from lagcli.runtime import c_runtime_files
 
 
 class CPrinter(SlotPrinter, C99CodePrinter):
@@ -52,15 +56,21 @@ class CPrinter(SlotPrinter, C99CodePrinter):
 
 
 def c_files(d: Derivation, initial=None, initial_notes=()) -> dict[str, str]:
-    """{file name: text} of `<name>.h`, `<name>.c` and `<name>_main.c`; `initial` (the
-    default state, made consistent by the caller) and `initial_notes`: see
-    `lagcli.emit.interface.interface`."""
+    """{file name: text} of `<name>.h`, `<name>.c`, `<name>_main.c` and the C runtime;
+    `initial` (the default state, made consistent by the caller) and `initial_notes`:
+    see `lagcli.emit.interface.interface`."""
     context = c_context(d, initial, initial_notes)
     name = d.model.name
+    runtime = c_runtime_files()
+    if {f"{name}.h", f"{name}.c", f"{name}_main.c"} & set(runtime):
+        raise SpecError(Problem(Loc(d.model.source, path="name"),
+                                f"the name {name!r} gives a file name of lagcli's C runtime "
+                                f"({', '.join(runtime)})", "set another `name:` in the spec"))
     return {
         f"{name}.h": render("c/model.h.jinja", **context),
         f"{name}.c": render("c/model.c.jinja", **context),
         f"{name}_main.c": render("c/main.c.jinja", **context),
+        **runtime,
     }
 
 
@@ -68,5 +78,10 @@ def c_context(d: Derivation, initial=None, initial_notes=()) -> dict:
     """Everything the C templates need, pre-printed."""
     context = codegen.generated_context(d, CPrinter, initial, initial_notes)
     name = d.model.name
+    layout = layout_of(d)
+    settings = layout.settings
+    kinds = [c.kind for c in layout.invariants]
     return dict(context, prefix=name, PREFIX=name.upper(), nsys=context["n"] + context["m"],
-                integrator_prefix=INTEGRATOR_PREFIX)
+                settings=settings,
+                driver_method=settings.method if settings.method in EXPLICIT_METHODS else EXPLICIT_METHODS[-1],
+                residual_column=kinds.index("residual") if "residual" in kinds else -1)

@@ -102,7 +102,7 @@ def generated_context(d: Derivation, printer_class, initial=None, initial_notes=
     (lagcli.numerics) the generated code repeats."""
     outputs = collect(d)
     reduced = eliminate(outputs)
-    printer = printer_class(slots(d, reduced))
+    printer = printer_class(slots(d, reduced, printer_class))
     n, m = d.n, len(d.constraints)
     bodies = function_bodies(reduced, printer, outputs, n, m)
     return dict(

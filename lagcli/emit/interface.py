@@ -11,6 +11,7 @@ from pathlib import PurePath
 from lagcli.derive.result import Derivation
 from lagcli.emit.escape import shorten
 from lagcli.emit.outputs import Outputs
+from lagcli.layout import layout_of
 from lagcli.numerics import DEFAULT_BAUMGARTE
 
 DESCRIPTION_LIMIT = 300   # characters of the spec's description repeated in file headers
@@ -18,7 +19,8 @@ DESCRIPTION_LIMIT = 300   # characters of the spec's description repeated in fil
 
 @dataclass(frozen=True)
 class Interface:
-    """What a generated file says about itself, as plain values (names in spec order)."""
+    """What a generated file says about itself, as plain values (names in spec order),
+    read from the system's `lagcli.layout.Layout` plus what only generated files say."""
 
     name: str
     spec_file: str                       # file name only: the bytes do not depend on the cwd
@@ -29,6 +31,8 @@ class Interface:
     parameters: tuple[tuple[str, float], ...]
     multipliers: tuple[str, ...]
     invariants: tuple[str, ...]          # CSV invariant columns, constraint_residual included
+    evaluated: tuple[str, ...]           # those with an expression (all but the residual)
+    residual: str | None                 # the residual column, when constrained
     initial: tuple[float, ...]           # full state, as given by the caller
     initial_notes: tuple[str, ...]
     settings: tuple[tuple[str, object], ...]
@@ -43,26 +47,26 @@ def interface(d: Derivation, outputs: Outputs, initial=None, initial_notes=()) -
     (missing values 0)."""
     from lagcli import __version__
 
-    model = d.model
-    s = model.settings
+    model, layout = d.model, layout_of(d)
     if initial is None:
         given = dict(model.initial)
-        initial = tuple(float(given.get(x.name, 0.0)) for x in model.q + model.qd)
-    columns = outputs.invariant_names + (("constraint_residual",) if d.constraints else ())
+        initial = tuple(float(given.get(name, 0.0)) for name in layout.state_names)
     return Interface(
-        name=model.name,
+        name=layout.name,
         spec_file=PurePath(model.source).name,
         version=__version__,
         description=shorten(model.description or "", DESCRIPTION_LIMIT),
-        coordinates=tuple(s.name for s in model.q),
-        state=tuple(s.name for s in model.q + model.qd),
-        parameters=tuple((p.symbol.name, float(p.value)) for p in model.parameters),
-        multipliers=tuple(m.name for m in d.multipliers),
-        invariants=columns,
+        coordinates=layout.coordinates,
+        state=layout.state_names,
+        parameters=tuple((p.name, p.default) for p in layout.parameters),
+        multipliers=layout.multiplier_names,
+        invariants=tuple(c.name for c in layout.invariants),
+        evaluated=tuple(c.name for c in layout.invariants if c.kind != "residual"),
+        residual=next((c.name for c in layout.invariants if c.kind == "residual"), None),
         initial=tuple(float(v) for v in initial),
         initial_notes=tuple(initial_notes),
-        settings=(("t_end", float(s.t_end)), ("dt", float(s.dt)), ("method", s.method),
-                  ("rtol", float(s.rtol)), ("atol", float(s.atol))),
+        settings=tuple((key, value if key == "method" else float(value))
+                       for key, value in layout.settings.as_dict().items()),
         baumgarte=tuple(float(v) for v in DEFAULT_BAUMGARTE),
     )
 

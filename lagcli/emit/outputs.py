@@ -11,6 +11,7 @@ import sympy as sp
 
 from lagcli.derive.result import Derivation
 from lagcli.emit.tidy import tidy_expression
+from lagcli.layout import layout_of
 
 @dataclass(frozen=True)
 class Outputs:
@@ -78,13 +79,10 @@ def _collect(d: Derivation) -> Outputs:
 
 
 def invariant_columns(d: Derivation) -> tuple[tuple[str, ...], tuple]:
-    """The CSV invariant columns with an expression, in CSV order: energy, jacobi, p_<q>."""
-    names, exprs = ["energy"], [d.energy]
-    if d.jacobi_integral is not None:
-        names.append("jacobi")
-        exprs.append(d.jacobi_integral)
+    """The CSV invariant columns that have an expression (all but the residual), in the
+    layout's order, and their expressions."""
     momenta = {c.name: c.expr for c in d.conserved if c.kind == "momentum"}
-    for q in d.ignorable:
-        names.append(f"p_{q.name}")
-        exprs.append(momenta[f"p_{q.name}"])
-    return tuple(names), tuple(exprs)
+    expression = {"energy": lambda c: d.energy, "jacobi": lambda c: d.jacobi_integral,
+                  "momentum": lambda c: momenta[c.name]}
+    columns = [c for c in layout_of(d).invariants if c.kind in expression]
+    return tuple(c.name for c in columns), tuple(expression[c.kind](c) for c in columns)

@@ -26,14 +26,17 @@ CONSTANT_DIGITS = 21          # pi, E, ... as literals: 3.14159265358979323846
 MAX_PRODUCT_POWER = 4         # x**k, 2 <= |k| <= 4, prints as x*x*...; larger via pow
 
 
-def slots(d: Derivation, reduced: Reduced) -> dict:
-    """symbol -> code: t, y[i] for q and q', p[j] for parameters, x<k> for temporaries."""
+def slots(d: Derivation, reduced: Reduced, printer_class=None) -> dict:
+    """symbol -> code: t, y[i] for q and q', p[j] for parameters, x<k> for temporaries;
+    the subscripts as `printer_class` writes them (`index_base`, `subscript`)."""
+    printer_class = printer_class or SlotPrinter
+    base, subscript = printer_class.index_base, printer_class.subscript
     model = d.model
     table = {model.t: "t"}
     for i, symbol in enumerate(model.q + model.qd):
-        table[symbol] = f"y[{i}]"
+        table[symbol] = subscript.format(array="y", index=i + base)
     for j, symbol in enumerate(model.parameter_symbols):
-        table[symbol] = f"p[{j}]"
+        table[symbol] = subscript.format(array="p", index=j + base)
     for k, (symbol, _) in enumerate(reduced.temporaries):
         table[symbol] = f"x{k}"
     return table
@@ -54,9 +57,13 @@ class SlotPrinter:
     """Mixin for a sympy code printer: symbols print as their slot, strictly.
 
     A subclass sets `sqrt_function`, `power_format` and `literal`, overrides `imports`
-    when the language imports functions by name, and lists this mixin first.
+    when the language imports functions by name, and lists this mixin first; a language
+    whose arrays start at 1 or are subscripted otherwise sets `index_base` and
+    `subscript` (`slots` reads them).
     """
 
+    index_base = 0
+    subscript = "{array}[{index}]"
     sqrt_function = "sqrt"
     power_format = "{base}**{exp}"
 

@@ -84,7 +84,7 @@ def source_fingerprint() -> str:
         for folder, dirs, files in os.walk(root):
             dirs[:] = sorted(d for d in dirs if d != "__pycache__")
             for name in sorted(files):
-                if name.endswith((".py", ".jinja")):
+                if name.endswith((".py", ".jinja", ".c", ".h")):   # .c, .h: the C runtime
                     st = os.stat(os.path.join(folder, name))
                     items.append(f"{name}:{st.st_size}:{st.st_mtime_ns}")
     return ";".join(items)

@@ -114,7 +114,7 @@ def _cold(request: Request, compiler: str | None, note, progress) -> Outcome:
                                "coordinates and velocities")
     d = derive(model)
     params = {**{p.symbol.name: p.value for p in model.parameters}, **sets}
-    soft = set(model.initial) - set(inits) if inits else ()
+    soft = set(model.initial) - set(inits)        # the spec's values: solved for when nothing else can be
     start = initial_state(d, {**model.initial, **inits}, params, soft=soft)
     for text in start.notes:
         note(text)

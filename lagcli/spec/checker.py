@@ -14,6 +14,8 @@ import re
 from typing import Any, Callable
 
 from lagcli.errors import Problem
+from lagcli.layout import column_clash
+from lagcli.layout import reserved_reason as generated_name_reason
 from lagcli.spec.reader import KeyPath, RawDoc
 from lagcli.spec.types import Src, Vector
 
@@ -34,7 +36,9 @@ def reserved_reason(name: str, coordinates: set[str]) -> str:
     """Why `name` cannot be declared in a spec, or '' when it can.
 
     C keywords are fine: generated code refers to every symbol by its array slot
-    (y[i], p[j]), so spec names never become C or Python identifiers.
+    (y[i], p[j]); spec names appear in C only behind a prefix (`<NAME>_Q_<q>`,
+    `<NAME>_P_<p>` index macros), never as identifiers of their own. The names lagcli
+    generates (velocities, multipliers, output columns) are `lagcli.layout`'s rules.
     """
     if name in ("t", "pi"):
         return "'t' is time" if name == "t" else "'pi' is the constant pi"
@@ -44,13 +48,7 @@ def reserved_reason(name: str, coordinates: set[str]) -> str:
         return "it is a Python keyword"
     if name.startswith("__"):
         return "names starting with '__' are reserved"
-    if name.startswith("lambda_"):
-        return "'lambda_...' names are the constraint multipliers"
-    for suffix, what in (("_ddot", "acceleration"), ("_dot", "velocity")):
-        base = name[: -len(suffix)]
-        if name.endswith(suffix) and base in coordinates:
-            return f"it is the {what} of coordinate '{base}'"
-    return ""
+    return generated_name_reason(name, coordinates)
 
 
 def describe(value: Any) -> str:
@@ -197,6 +195,8 @@ class Checker:
             self.fail(path, f"'{name}' is not a valid name", NAME_HINT, at_key)
             return
         reason = reserved_reason(name, self.coordinate_names)
+        if kind == "coordinate":
+            reason = reason or column_clash(name, self.coordinate_names)
         if reason:
             self.fail(path, f"the name '{name}' is reserved: {reason}", "choose another name", at_key)
         if name in self.names:

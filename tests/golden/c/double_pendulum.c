@@ -205,3 +205,34 @@ int double_pendulum_forcing(double t, const double *y, const double *p, double *
     F[1] = x6*(x11*x9*p[2] - x3*p[4]);
     return double_pendulum_all_finite(DOUBLE_PENDULUM_NQ, F) ? 0 : 2;
 }
+
+int double_pendulum_constraint_matrix(double t, const double *y, const double *p, double *A)
+{
+    (void)t;
+    (void)y;
+    (void)p;
+    return double_pendulum_all_finite(DOUBLE_PENDULUM_NLAMBDA * DOUBLE_PENDULUM_NQ, A) ? 0 : 2;
+}
+
+int double_pendulum_constraint_bias(double t, const double *y, const double *p, double *b)
+{
+    (void)t;
+    (void)y;
+    (void)p;
+    return double_pendulum_all_finite(DOUBLE_PENDULUM_NLAMBDA, b) ? 0 : 2;
+}
+
+const lagcli_model double_pendulum_model = {
+    "double_pendulum",
+    DOUBLE_PENDULUM_NQ, DOUBLE_PENDULUM_NSTATE, DOUBLE_PENDULUM_NPARAM, DOUBLE_PENDULUM_NLAMBDA, DOUBLE_PENDULUM_NINV,
+    double_pendulum_state_names,
+    double_pendulum_parameter_names,
+    double_pendulum_parameter_defaults,
+    double_pendulum_multiplier_names,
+    double_pendulum_invariant_names,
+    -1,
+    double_pendulum_initial_state,
+    10.0, 0.01, 1e-10, 1e-12,
+    "DOP853",
+    double_pendulum_rhs_stabilized,
+    double_pendulum_invariants};

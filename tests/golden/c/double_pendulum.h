@@ -15,11 +15,31 @@
 #ifndef DOUBLE_PENDULUM_H
 #define DOUBLE_PENDULUM_H
 
+#include "lagcli_model.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 #define DOUBLE_PENDULUM_NQ 2
 #define DOUBLE_PENDULUM_NSTATE 4
 #define DOUBLE_PENDULUM_NPARAM 5
 #define DOUBLE_PENDULUM_NLAMBDA 0
 #define DOUBLE_PENDULUM_NINV 2
+
+/* Slots: y[DOUBLE_PENDULUM_Q_<q>] = q, y[DOUBLE_PENDULUM_QD_<q>] = q', p[DOUBLE_PENDULUM_P_<name>],
+ * lambda[DOUBLE_PENDULUM_L_<multiplier>], invariants out[DOUBLE_PENDULUM_INV_<column>]. */
+#define DOUBLE_PENDULUM_Q_theta1 0
+#define DOUBLE_PENDULUM_Q_theta2 1
+#define DOUBLE_PENDULUM_QD_theta1 2
+#define DOUBLE_PENDULUM_QD_theta2 3
+#define DOUBLE_PENDULUM_P_m1 0
+#define DOUBLE_PENDULUM_P_m2 1
+#define DOUBLE_PENDULUM_P_l1 2
+#define DOUBLE_PENDULUM_P_l2 3
+#define DOUBLE_PENDULUM_P_g 4
+#define DOUBLE_PENDULUM_INV_energy 0
+#define DOUBLE_PENDULUM_INV_jacobi 1
 
 /* NULL-terminated name lists; defaults and initial state in the same orders. */
 extern const char *const double_pendulum_state_names[];
@@ -42,5 +62,17 @@ int double_pendulum_invariants(double t, const double *y, const double *p, doubl
 /* M (NQ x NQ, row-major) and F (NQ): M q'' = F + A^T lambda. */
 int double_pendulum_mass_matrix(double t, const double *y, const double *p, double *M);
 int double_pendulum_forcing(double t, const double *y, const double *p, double *F);
+
+/* A (NLAMBDA x NQ, row-major) and b (NLAMBDA) = -(A' q' + d'): A q'' = b. Nothing is
+ * written when the system is unconstrained. */
+int double_pendulum_constraint_matrix(double t, const double *y, const double *p, double *A);
+int double_pendulum_constraint_bias(double t, const double *y, const double *p, double *b);
+
+/* Everything above as one table, for a driver (lagcli_driver.c) or an embedding program. */
+extern const lagcli_model double_pendulum_model;
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* DOUBLE_PENDULUM_H */

@@ -208,3 +208,42 @@ int ex6_9_two_wheels_axle_forcing(double t, const double *y, const double *p, do
     F[2] = 0;
     return ex6_9_two_wheels_axle_all_finite(EX6_9_TWO_WHEELS_AXLE_NQ, F) ? 0 : 2;
 }
+
+int ex6_9_two_wheels_axle_constraint_matrix(double t, const double *y, const double *p, double *A)
+{
+    (void)t;
+    (void)y;
+    (void)p;
+    const double x2 = sin(y[2]);
+    const double x3 = cos(y[2]);
+    A[0] = x2;
+    A[1] = -x3;
+    A[2] = 0;
+    return ex6_9_two_wheels_axle_all_finite(EX6_9_TWO_WHEELS_AXLE_NLAMBDA * EX6_9_TWO_WHEELS_AXLE_NQ, A) ? 0 : 2;
+}
+
+int ex6_9_two_wheels_axle_constraint_bias(double t, const double *y, const double *p, double *b)
+{
+    (void)t;
+    (void)y;
+    (void)p;
+    const double x2 = sin(y[2]);
+    const double x3 = cos(y[2]);
+    b[0] = -y[5]*(x2*y[4] + x3*y[3]);
+    return ex6_9_two_wheels_axle_all_finite(EX6_9_TWO_WHEELS_AXLE_NLAMBDA, b) ? 0 : 2;
+}
+
+const lagcli_model ex6_9_two_wheels_axle_model = {
+    "ex6_9_two_wheels_axle",
+    EX6_9_TWO_WHEELS_AXLE_NQ, EX6_9_TWO_WHEELS_AXLE_NSTATE, EX6_9_TWO_WHEELS_AXLE_NPARAM, EX6_9_TWO_WHEELS_AXLE_NLAMBDA, EX6_9_TWO_WHEELS_AXLE_NINV,
+    ex6_9_two_wheels_axle_state_names,
+    ex6_9_two_wheels_axle_parameter_names,
+    ex6_9_two_wheels_axle_parameter_defaults,
+    ex6_9_two_wheels_axle_multiplier_names,
+    ex6_9_two_wheels_axle_invariant_names,
+    2,
+    ex6_9_two_wheels_axle_initial_state,
+    10.0, 0.01, 1e-09, 1e-12,
+    "DOP853",
+    ex6_9_two_wheels_axle_rhs_stabilized,
+    ex6_9_two_wheels_axle_invariants};

@@ -15,11 +15,32 @@
 #ifndef EX6_9_TWO_WHEELS_AXLE_H
 #define EX6_9_TWO_WHEELS_AXLE_H
 
+#include "lagcli_model.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 #define EX6_9_TWO_WHEELS_AXLE_NQ 3
 #define EX6_9_TWO_WHEELS_AXLE_NSTATE 6
 #define EX6_9_TWO_WHEELS_AXLE_NPARAM 2
 #define EX6_9_TWO_WHEELS_AXLE_NLAMBDA 1
 #define EX6_9_TWO_WHEELS_AXLE_NINV 3
+
+/* Slots: y[EX6_9_TWO_WHEELS_AXLE_Q_<q>] = q, y[EX6_9_TWO_WHEELS_AXLE_QD_<q>] = q', p[EX6_9_TWO_WHEELS_AXLE_P_<name>],
+ * lambda[EX6_9_TWO_WHEELS_AXLE_L_<multiplier>], invariants out[EX6_9_TWO_WHEELS_AXLE_INV_<column>]. */
+#define EX6_9_TWO_WHEELS_AXLE_Q_x 0
+#define EX6_9_TWO_WHEELS_AXLE_Q_y 1
+#define EX6_9_TWO_WHEELS_AXLE_Q_phi 2
+#define EX6_9_TWO_WHEELS_AXLE_QD_x 3
+#define EX6_9_TWO_WHEELS_AXLE_QD_y 4
+#define EX6_9_TWO_WHEELS_AXLE_QD_phi 5
+#define EX6_9_TWO_WHEELS_AXLE_P_m 0
+#define EX6_9_TWO_WHEELS_AXLE_P_l 1
+#define EX6_9_TWO_WHEELS_AXLE_L_lambda_1 0
+#define EX6_9_TWO_WHEELS_AXLE_INV_energy 0
+#define EX6_9_TWO_WHEELS_AXLE_INV_jacobi 1
+#define EX6_9_TWO_WHEELS_AXLE_INV_constraint_residual 2
 
 /* NULL-terminated name lists; defaults and initial state in the same orders. */
 extern const char *const ex6_9_two_wheels_axle_state_names[];
@@ -42,5 +63,17 @@ int ex6_9_two_wheels_axle_invariants(double t, const double *y, const double *p,
 /* M (NQ x NQ, row-major) and F (NQ): M q'' = F + A^T lambda. */
 int ex6_9_two_wheels_axle_mass_matrix(double t, const double *y, const double *p, double *M);
 int ex6_9_two_wheels_axle_forcing(double t, const double *y, const double *p, double *F);
+
+/* A (NLAMBDA x NQ, row-major) and b (NLAMBDA) = -(A' q' + d'): A q'' = b. Nothing is
+ * written when the system is unconstrained. */
+int ex6_9_two_wheels_axle_constraint_matrix(double t, const double *y, const double *p, double *A);
+int ex6_9_two_wheels_axle_constraint_bias(double t, const double *y, const double *p, double *b);
+
+/* Everything above as one table, for a driver (lagcli_driver.c) or an embedding program. */
+extern const lagcli_model ex6_9_two_wheels_axle_model;
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* EX6_9_TWO_WHEELS_AXLE_H */

@@ -1,94 +1,38 @@
-{#
-  C99 + libm fragment: the RK45 / DOP853 integrator of generated drivers.
-  Include it once per translation unit: {% include "c/integrator.c.jinja" %}.
-  Optional variable `integrator_prefix` (default "ode") prefixes every name it
-  defines: functions and types with "<prefix>_", constants with "<PREFIX>_".
-  Documented in docs/c-integrator.md; tested by tests/test_c_integrator.py.
-#}
-{% set p = integrator_prefix | default("ode") %}
-{% set P = p | upper %}
-/* ------------------------------------------------------------------------
- * Explicit embedded Runge-Kutta integrator: RK45 (Dormand-Prince 5(4)) and
- * DOP853 (Hairer's 8(5,3)).  The step-size control, error norms and dense
- * output are those of scipy.integrate.solve_ivp (scipy/integrate/_ivp/rk.py,
- * common.py), so the same rtol/atol give the same accepted steps and the
- * same number of right-hand-side evaluations (nfev) as solve_ivp(t_eval=...).
- *
- *   int {{ p }}_integrate(method, rhs, out, ctx, n, t0, y0, t_end,
- *                     t_out, n_out, rtol, atol, max_step, &stats);
- *
- * method    "RK45" or "DOP853" (scipy's names, case-sensitive)
- * rhs       int rhs(double t, const double *y, double *dydt, void *ctx),
- *           nonzero return = failure ({{ P }}_ERR_RHS)
- * out       int out(double t, const double *y, void *ctx), called once per
- *           output time with the dense-output value; nonzero return stops
- *           the integration ({{ P }}_INTERRUPTED).  May be NULL if n_out == 0.
- * n, y0     state size (>= 1) and initial state at t0
- * t_out     n_out output times, strictly monotonic towards t_end and
- *           inside [t0, t_end] (solve_ivp's t_eval)
- * rtol,atol scalar tolerances; rtol below 100*DBL_EPSILON is raised to it
- * max_step  largest step size; INFINITY (or HUGE_VAL) for no limit
- * stats     may be NULL; receives the time reached (on failure: the last
- *           accepted step), nfev, step counts and a message
- *
- * Returns {{ P }}_OK or one of the {{ P }}_ERR_* / {{ P }}_INTERRUPTED codes below.
- * The workspace is malloc'ed once on entry and freed on return; nothing is
- * allocated inside the step loop.
- * ------------------------------------------------------------------------ */
+/* lagcli's explicit Runge-Kutta integrator (RK45, DOP853): see lagcli_ode.h and
+ * docs/c-integrator.md. Shipped with lagcli (lagcli/runtime/c/) and copied next to
+ * every generated C model; C99 + libm. */
 #include <float.h>
 #include <math.h>
 #include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
-/* Return codes of {{ p }}_integrate. */
-enum {
-    {{ P }}_OK = 0,                 /* reached t_end; every output time was emitted */
-    {{ P }}_ERR_STEP_TOO_SMALL = 1, /* step size fell below 10 ulp(t), as scipy's status -1 */
-    {{ P }}_ERR_RHS = 2,            /* the rhs callback returned nonzero */
-    {{ P }}_ERR_NONFINITE = 3,      /* y0, f(t0, y0) or an accepted state is inf/nan, or
-                                   the step shrank to nothing because every trial
-                                   step produced inf/nan (scipy: status -1) */
-    {{ P }}_INTERRUPTED = 4,        /* the output callback returned nonzero */
-    {{ P }}_ERR_ARGS = 5,           /* unknown method, bad tolerances or output times */
-    {{ P }}_ERR_NOMEM = 6           /* the workspace could not be allocated */
-};
-
-typedef int (*{{ p }}_rhs_fn)(double t, const double *y, double *dydt, void *ctx);
-typedef int (*{{ p }}_out_fn)(double t, const double *y, void *ctx);
-
-typedef struct {
-    double t;            /* t_end on success; else the time of the last accepted step */
-    long nfev;           /* rhs evaluations, counted like scipy's nfev */
-    long n_accepted;     /* accepted steps */
-    long n_rejected;     /* rejected step attempts */
-    const char *message; /* static description of the return code */
-} {{ p }}_stats;
+#include "lagcli_ode.h"
 
 /* Step-size control constants of scipy/integrate/_ivp/rk.py. */
-static const double {{ P }}_SAFETY = 0.9;      /* applied to the asymptotic step estimate */
-static const double {{ P }}_MIN_FACTOR = 0.2;  /* largest decrease in one rejection */
-static const double {{ P }}_MAX_FACTOR = 10.0; /* largest increase after one step */
+static const double LAGCLI_ODE_SAFETY = 0.9;      /* applied to the asymptotic step estimate */
+static const double LAGCLI_ODE_MIN_FACTOR = 0.2;  /* largest decrease in one rejection */
+static const double LAGCLI_ODE_MAX_FACTOR = 10.0; /* largest increase after one step */
 
-enum { {{ P }}_MAX_STAGES = 16 }; /* DOP853: 12 stages, FSAL, 3 dense-output stages */
-enum { {{ P }}_KIND_RK45, {{ P }}_KIND_DOP853 };
+enum { LAGCLI_ODE_MAX_STAGES = 16 }; /* DOP853: 12 stages, FSAL, 3 dense-output stages */
+enum { LAGCLI_ODE_KIND_RK45, LAGCLI_ODE_KIND_DOP853 };
 
 /* ---- RK45: Dormand-Prince 5(4), scipy's RK45 class ------------------- */
-static const double {{ P }}_RK45_C[6] = {0.0, 1.0 / 5, 3.0 / 10, 4.0 / 5, 8.0 / 9, 1.0};
-static const double {{ P }}_RK45_A[6][{{ P }}_MAX_STAGES] = {
+static const double LAGCLI_ODE_RK45_C[6] = {0.0, 1.0 / 5, 3.0 / 10, 4.0 / 5, 8.0 / 9, 1.0};
+static const double LAGCLI_ODE_RK45_A[6][LAGCLI_ODE_MAX_STAGES] = {
     {0.0},
     {1.0 / 5},
     {3.0 / 40, 9.0 / 40},
     {44.0 / 45, -56.0 / 15, 32.0 / 9},
     {19372.0 / 6561, -25360.0 / 2187, 64448.0 / 6561, -212.0 / 729},
     {9017.0 / 3168, -355.0 / 33, 46732.0 / 5247, 49.0 / 176, -5103.0 / 18656}};
-static const double {{ P }}_RK45_B[6] = {
+static const double LAGCLI_ODE_RK45_B[6] = {
     35.0 / 384, 0.0, 500.0 / 1113, 125.0 / 192, -2187.0 / 6784, 11.0 / 84};
 /* Error weights over the 7 rows of K (the 7th is the FSAL f(t+h, y_new)). */
-static const double {{ P }}_RK45_E[7] = {
+static const double LAGCLI_ODE_RK45_E[7] = {
     -71.0 / 57600, 0.0, 71.0 / 16695, -71.0 / 1920, 17253.0 / 339200, -22.0 / 525, 1.0 / 40};
 /* Quartic dense output (Shampine 1986): y(t_old + x h) = y_old + h K^T P [x x^2 x^3 x^4]. */
-static const double {{ P }}_RK45_P[7][4] = {
+static const double LAGCLI_ODE_RK45_P[7][4] = {
     {1.0, -8048581381.0 / 2820520608, 8663915743.0 / 2820520608,
      -12715105075.0 / 11282082432},
     {0.0, 0.0, 0.0, 0.0},
@@ -103,7 +47,7 @@ static const double {{ P }}_RK45_P[7][4] = {
 
 /* ---- DOP853: coefficients of scipy's dop853_coefficients.py ----------- */
 /* Nodes: 12 stages, the FSAL node 1.0, then the 3 extra dense-output stages. */
-static const double {{ P }}_DOP853_C[16] = {
+static const double LAGCLI_ODE_DOP853_C[16] = {
     0.0, 0.526001519587677318785587544488e-01, 0.789002279381515978178381316732e-01,
     0.118350341907227396726757197510, 0.281649658092772603273242802490,
     0.333333333333333333333333333333, 0.25, 0.307692307692307692307692307692,
@@ -112,7 +56,7 @@ static const double {{ P }}_DOP853_C[16] = {
 };
 /* Row s holds a[s][0..s-1]; row 12 is the solution weights b; rows 13-15
  * are the extra stages evaluated only for dense output. */
-static const double {{ P }}_DOP853_A[16][{{ P }}_MAX_STAGES] = {
+static const double LAGCLI_ODE_DOP853_A[16][LAGCLI_ODE_MAX_STAGES] = {
     /*  0 */ {0.0},
     /*  1 */ {5.26001519587677318785587544488e-2},
     /*  2 */ {1.97250569845378994544595329183e-2, 5.91751709536136983633785987549e-2},
@@ -162,14 +106,14 @@ static const double {{ P }}_DOP853_A[16][{{ P }}_MAX_STAGES] = {
               0.0, -1.39902416515901462129418009734e-3, 2.9475147891527723389556272149,
               -9.15095847217987001081870187138}};
 /* Error weights over K[0..12]: the 5th-order estimate ... */
-static const double {{ P }}_DOP853_E5[13] = {
+static const double LAGCLI_ODE_DOP853_E5[13] = {
     0.1312004499419488073250102996e-1, 0.0, 0.0, 0.0, 0.0, -0.1225156446376204440720569753e+1,
     -0.4957589496572501915214079952, 0.1664377182454986536961530415e+1,
     -0.3503288487499736816886487290, 0.3341791187130174790297318841,
     0.8192320648511571246570742613e-1, -0.2235530786388629525884427845e-1, 0.0
 };
 /* ... and the 3rd-order one, E3 = b - bhh (bhh from Hairer's dop853.f). */
-static const double {{ P }}_DOP853_E3[13] = {
+static const double LAGCLI_ODE_DOP853_E3[13] = {
     5.42937341165687622380535766363e-2 - 0.244094488188976377952755905512,
     0.0,
     0.0,
@@ -185,7 +129,7 @@ static const double {{ P }}_DOP853_E3[13] = {
     0.0
 };
 /* Rows 3..6 of the 7-term dense-output polynomial, as combinations of K[0..15]. */
-static const double {{ P }}_DOP853_D[4][16] = {
+static const double LAGCLI_ODE_DOP853_D[4][16] = {
     {-0.84289382761090128651353491142e+1, 0.0, 0.0, 0.0, 0.0, 0.56671495351937776962531783590,
      -0.30689499459498916912797304727e+1, 0.23846676565120698287728149680e+1,
      0.21170345824450282767155149946e+1, -0.87139158377797299206789907490,
@@ -216,24 +160,24 @@ static const double {{ P }}_DOP853_D[4][16] = {
 /* One embedded pair: its Butcher tableau and how to use it. */
 typedef struct {
     const char *name;  /* scipy's method name */
-    int kind;          /* {{ P }}_KIND_*: selects the error norm and dense output */
+    int kind;          /* LAGCLI_ODE_KIND_*: selects the error norm and dense output */
     int n_stages;      /* stages per step, not counting the FSAL f(t + h, y_new) */
     int n_k;           /* rows of K: stages, FSAL, extra dense-output stages */
     int n_dense;       /* rows of the dense-output coefficients */
     int error_order;   /* error ~ h^(error_order + 1) */
-    const double (*a)[{{ P }}_MAX_STAGES];
+    const double (*a)[LAGCLI_ODE_MAX_STAGES];
     const double *b;
     const double *c;
-} {{ p }}_tableau;
+} lagcli_ode_tableau;
 
-static const {{ p }}_tableau {{ P }}_TABLEAUS[] = {
-    {"RK45", {{ P }}_KIND_RK45, 6, 7, 4, 4, {{ P }}_RK45_A, {{ P }}_RK45_B, {{ P }}_RK45_C},
-    {"DOP853", {{ P }}_KIND_DOP853, 12, 16, 7, 7, {{ P }}_DOP853_A, {{ P }}_DOP853_A[12], {{ P }}_DOP853_C}};
+static const lagcli_ode_tableau LAGCLI_ODE_TABLEAUS[] = {
+    {"RK45", LAGCLI_ODE_KIND_RK45, 6, 7, 4, 4, LAGCLI_ODE_RK45_A, LAGCLI_ODE_RK45_B, LAGCLI_ODE_RK45_C},
+    {"DOP853", LAGCLI_ODE_KIND_DOP853, 12, 16, 7, 7, LAGCLI_ODE_DOP853_A, LAGCLI_ODE_DOP853_A[12], LAGCLI_ODE_DOP853_C}};
 
 /* Integrator state; all arrays point into one malloc'ed block. */
 typedef struct {
-    const {{ p }}_tableau *tab;
-    {{ p }}_rhs_fn rhs;
+    const lagcli_ode_tableau *tab;
+    lagcli_ode_rhs_fn rhs;
     void *ctx;
     int n;
     double rtol, atol, max_step;
@@ -251,31 +195,31 @@ typedef struct {
     double *F;             /* n_dense rows of n: dense-output coefficients */
     long nfev, n_accepted, n_rejected;
     int nonfinite;         /* the last step attempt produced inf or nan */
-} {{ p }}_solver;
+} lagcli_ode_solver;
 
-static const char *{{ p }}_message(int code)
+const char *lagcli_ode_message(int code)
 {
     switch (code) {
-    case {{ P }}_OK: return "the solver successfully reached the end of the integration interval";
-    case {{ P }}_ERR_STEP_TOO_SMALL: return "required step size is less than spacing between numbers";
-    case {{ P }}_ERR_RHS: return "the right-hand side reported a failure";
-    case {{ P }}_ERR_NONFINITE: return "the solution became non-finite (inf or nan)";
-    case {{ P }}_INTERRUPTED: return "integration stopped by the output callback";
-    case {{ P }}_ERR_ARGS: return "invalid arguments (method, tolerances, max_step or output times)";
-    case {{ P }}_ERR_NOMEM: return "out of memory";
+    case LAGCLI_ODE_OK: return "the solver successfully reached the end of the integration interval";
+    case LAGCLI_ODE_ERR_STEP_TOO_SMALL: return "required step size is less than spacing between numbers";
+    case LAGCLI_ODE_ERR_RHS: return "the right-hand side reported a failure";
+    case LAGCLI_ODE_ERR_NONFINITE: return "the solution became non-finite (inf or nan)";
+    case LAGCLI_ODE_INTERRUPTED: return "integration stopped by the output callback";
+    case LAGCLI_ODE_ERR_ARGS: return "invalid arguments (method, tolerances, max_step or output times)";
+    case LAGCLI_ODE_ERR_NOMEM: return "out of memory";
     default: return "unknown error";
     }
 }
 
 /* Python's min(a, b) and max(a, b), including how they treat nan, so the
  * control below makes exactly scipy's decisions. */
-static double {{ p }}_pymin(double a, double b) { return b < a ? b : a; }
-static double {{ p }}_pymax(double a, double b) { return b > a ? b : a; }
+static double lagcli_ode_pymin(double a, double b) { return b < a ? b : a; }
+static double lagcli_ode_pymax(double a, double b) { return b > a ? b : a; }
 
 /* numpy.maximum: nan if either argument is nan. */
-static double {{ p }}_npmax(double a, double b) { return (a > b || a != a) ? a : b; }
+static double lagcli_ode_npmax(double a, double b) { return (a > b || a != a) ? a : b; }
 
-static int {{ p }}_all_finite(int n, const double *v)
+static int lagcli_ode_all_finite(int n, const double *v)
 {
     int i;
     for (i = 0; i < n; ++i)
@@ -284,16 +228,16 @@ static int {{ p }}_all_finite(int n, const double *v)
     return 1;
 }
 
-static double *{{ p }}_krow(const {{ p }}_solver *s, int row) { return s->K + (size_t)row * s->n; }
+static double *lagcli_ode_krow(const lagcli_ode_solver *s, int row) { return s->K + (size_t)row * s->n; }
 
-static int {{ p }}_eval({{ p }}_solver *s, double t, const double *y, double *dydt)
+static int lagcli_ode_eval(lagcli_ode_solver *s, double t, const double *y, double *dydt)
 {
     s->nfev++;
-    return s->rhs(t, y, dydt, s->ctx) ? {{ P }}_ERR_RHS : {{ P }}_OK;
+    return s->rhs(t, y, dydt, s->ctx) ? LAGCLI_ODE_ERR_RHS : LAGCLI_ODE_OK;
 }
 
 /* K[st] = f(t + c[st] h, y + h sum_{j<st} a[st][j] K[j]), as scipy's rk_step. */
-static int {{ p }}_stage({{ p }}_solver *s, int st, double t, const double *y, double h)
+static int lagcli_ode_stage(lagcli_ode_solver *s, int st, double t, const double *y, double h)
 {
     const double *a = s->tab->a[st];
     int i, j;
@@ -303,17 +247,17 @@ static int {{ p }}_stage({{ p }}_solver *s, int st, double t, const double *y, d
             dy += s->K[(size_t)j * s->n + i] * a[j];
         s->y_stage[i] = y[i] + dy * h;
     }
-    return {{ p }}_eval(s, t + s->tab->c[st] * h, s->y_stage, {{ p }}_krow(s, st));
+    return lagcli_ode_eval(s, t + s->tab->c[st] * h, s->y_stage, lagcli_ode_krow(s, st));
 }
 
 /* One trial step from (t, y) with K[0] = f(t, y): fills K[1..n_stages - 1],
  * y_new, and the FSAL row K[n_stages] = f(t + h, y_new). */
-static int {{ p }}_rk_step({{ p }}_solver *s, double h)
+static int lagcli_ode_rk_step(lagcli_ode_solver *s, double h)
 {
     const int ns = s->tab->n_stages;
     int i, j, st, rc;
     for (st = 1; st < ns; ++st)
-        if ((rc = {{ p }}_stage(s, st, s->t, s->y, h)) != {{ P }}_OK)
+        if ((rc = lagcli_ode_stage(s, st, s->t, s->y, h)) != LAGCLI_ODE_OK)
             return rc;
     for (i = 0; i < s->n; ++i) {
         double acc = 0.0;
@@ -321,11 +265,11 @@ static int {{ p }}_rk_step({{ p }}_solver *s, double h)
             acc += s->K[(size_t)j * s->n + i] * s->tab->b[j];
         s->y_new[i] = s->y[i] + h * acc;
     }
-    return {{ p }}_eval(s, s->t + h, s->y_new, {{ p }}_krow(s, ns));
+    return lagcli_ode_eval(s, s->t + h, s->y_new, lagcli_ode_krow(s, ns));
 }
 
 /* sum_j K[j][i] w[j] over the first `rows` rows of K. */
-static double {{ p }}_kdot(const {{ p }}_solver *s, int i, const double *w, int rows)
+static double lagcli_ode_kdot(const lagcli_ode_solver *s, int i, const double *w, int rows)
 {
     double acc = 0.0;
     int j;
@@ -338,24 +282,24 @@ static double {{ p }}_kdot(const {{ p }}_solver *s, int i, const double *w, int 
  * RK45:   || h K^T E / scale ||_rms
  * DOP853: scipy's DOP853._estimate_error_norm, err5 damped by err3;
  * with scale = atol + max(|y|, |y_new|) rtol. */
-static double {{ p }}_error_norm(const {{ p }}_solver *s, double h)
+static double lagcli_ode_error_norm(const lagcli_ode_solver *s, double h)
 {
     const int rows = s->tab->n_stages + 1;
     double sum5 = 0.0, sum3 = 0.0, norm5_2, norm3_2;
     int i;
     for (i = 0; i < s->n; ++i) {
-        double scale = s->atol + {{ p }}_npmax(fabs(s->y[i]), fabs(s->y_new[i])) * s->rtol;
-        if (s->tab->kind == {{ P }}_KIND_RK45) {
-            double e = {{ p }}_kdot(s, i, {{ P }}_RK45_E, rows) * h / scale;
+        double scale = s->atol + lagcli_ode_npmax(fabs(s->y[i]), fabs(s->y_new[i])) * s->rtol;
+        if (s->tab->kind == LAGCLI_ODE_KIND_RK45) {
+            double e = lagcli_ode_kdot(s, i, LAGCLI_ODE_RK45_E, rows) * h / scale;
             sum5 += e * e;
         } else {
-            double e5 = {{ p }}_kdot(s, i, {{ P }}_DOP853_E5, rows) / scale;
-            double e3 = {{ p }}_kdot(s, i, {{ P }}_DOP853_E3, rows) / scale;
+            double e5 = lagcli_ode_kdot(s, i, LAGCLI_ODE_DOP853_E5, rows) / scale;
+            double e3 = lagcli_ode_kdot(s, i, LAGCLI_ODE_DOP853_E3, rows) / scale;
             sum5 += e5 * e5;
             sum3 += e3 * e3;
         }
     }
-    if (s->tab->kind == {{ P }}_KIND_RK45)
+    if (s->tab->kind == LAGCLI_ODE_KIND_RK45)
         return sqrt(sum5) / sqrt((double)s->n);
     /* scipy squares np.linalg.norm, i.e. sqrt(sum) ** 2: keep that rounding. */
     norm5_2 = sqrt(sum5) * sqrt(sum5);
@@ -367,11 +311,11 @@ static double {{ p }}_error_norm(const {{ p }}_solver *s, double h)
 
 /* scipy's select_initial_step (Hairer, Norsett & Wanner, Sec. II.4), with
  * K[0] = f(t0, y0); uses K[1] as scratch for f(t0 + h0, y1). */
-static int {{ p }}_initial_step({{ p }}_solver *s, double *h_abs)
+static int lagcli_ode_initial_step(lagcli_ode_solver *s, double *h_abs)
 {
     const double interval = fabs(s->t_end - s->t);
     const double *f0 = s->K;
-    double *f1 = {{ p }}_krow(s, 1);
+    double *f1 = lagcli_ode_krow(s, 1);
     double d0 = 0.0, d1 = 0.0, d2 = 0.0, h0, h1;
     int i, rc;
 
@@ -383,11 +327,11 @@ static int {{ p }}_initial_step({{ p }}_solver *s, double *h_abs)
     d0 = sqrt(d0) / sqrt((double)s->n);
     d1 = sqrt(d1) / sqrt((double)s->n);
     h0 = (d0 < 1e-5 || d1 < 1e-5) ? 1e-6 : 0.01 * d0 / d1;
-    h0 = {{ p }}_pymin(h0, interval);
+    h0 = lagcli_ode_pymin(h0, interval);
 
     for (i = 0; i < s->n; ++i)
         s->y_stage[i] = s->y[i] + h0 * s->direction * f0[i];
-    if ((rc = {{ p }}_eval(s, s->t + h0 * s->direction, s->y_stage, f1)) != {{ P }}_OK)
+    if ((rc = lagcli_ode_eval(s, s->t + h0 * s->direction, s->y_stage, f1)) != LAGCLI_ODE_OK)
         return rc;
     for (i = 0; i < s->n; ++i) {
         double scale = s->atol + fabs(s->y[i]) * s->rtol;
@@ -397,15 +341,15 @@ static int {{ p }}_initial_step({{ p }}_solver *s, double *h_abs)
     d2 = sqrt(d2) / sqrt((double)s->n) / h0;
 
     if (d1 <= 1e-15 && d2 <= 1e-15)
-        h1 = {{ p }}_pymax(1e-6, h0 * 1e-3);
+        h1 = lagcli_ode_pymax(1e-6, h0 * 1e-3);
     else
-        h1 = pow(0.01 / {{ p }}_pymax(d1, d2), 1.0 / (s->tab->error_order + 1));
-    *h_abs = {{ p }}_pymin({{ p }}_pymin({{ p }}_pymin(100 * h0, h1), interval), s->max_step);
-    return {{ P }}_OK;
+        h1 = pow(0.01 / lagcli_ode_pymax(d1, d2), 1.0 / (s->tab->error_order + 1));
+    *h_abs = lagcli_ode_pymin(lagcli_ode_pymin(lagcli_ode_pymin(100 * h0, h1), interval), s->max_step);
+    return LAGCLI_ODE_OK;
 }
 
 /* One accepted step with scipy's RungeKutta._step_impl control. */
-static int {{ p }}_step({{ p }}_solver *s)
+static int lagcli_ode_step(lagcli_ode_solver *s)
 {
     const double t = s->t;
     /* Steps below 10 ulp(t) cannot advance t meaningfully. */
@@ -421,7 +365,7 @@ static int {{ p }}_step({{ p }}_solver *s)
     for (;;) {
         double err, factor;
         if (!(h_abs >= min_step)) /* also stops on a nan step size */
-            return s->nonfinite ? {{ P }}_ERR_NONFINITE : {{ P }}_ERR_STEP_TOO_SMALL;
+            return s->nonfinite ? LAGCLI_ODE_ERR_NONFINITE : LAGCLI_ODE_ERR_STEP_TOO_SMALL;
         h = h_abs * s->direction;
         t_new = t + h;
         if (s->direction * (t_new - s->t_end) > 0)
@@ -429,28 +373,28 @@ static int {{ p }}_step({{ p }}_solver *s)
         h = t_new - t;
         h_abs = fabs(h);
 
-        if ((rc = {{ p }}_rk_step(s, h)) != {{ P }}_OK)
+        if ((rc = lagcli_ode_rk_step(s, h)) != LAGCLI_ODE_OK)
             return rc;
-        err = {{ p }}_error_norm(s, h);
+        err = lagcli_ode_error_norm(s, h);
         s->nonfinite = !isfinite(err);
         if (err < 1.0) {
-            factor = err == 0.0 ? {{ P }}_MAX_FACTOR
-                                : {{ p }}_pymin({{ P }}_MAX_FACTOR,
-                                            {{ P }}_SAFETY * pow(err, s->error_exponent));
+            factor = err == 0.0 ? LAGCLI_ODE_MAX_FACTOR
+                                : lagcli_ode_pymin(LAGCLI_ODE_MAX_FACTOR,
+                                            LAGCLI_ODE_SAFETY * pow(err, s->error_exponent));
             if (rejected) /* do not grow right after a rejection */
-                factor = {{ p }}_pymin(1.0, factor);
+                factor = lagcli_ode_pymin(1.0, factor);
             h_abs *= factor;
             break;
         }
-        h_abs *= {{ p }}_pymax({{ P }}_MIN_FACTOR, {{ P }}_SAFETY * pow(err, s->error_exponent));
+        h_abs *= lagcli_ode_pymax(LAGCLI_ODE_MIN_FACTOR, LAGCLI_ODE_SAFETY * pow(err, s->error_exponent));
         rejected = 1;
         s->n_rejected++;
     }
 
     /* An error norm below 1 cannot normally come with inf/nan, but a
      * non-finite state must never be accepted. */
-    if (!{{ p }}_all_finite(s->n, s->y_new) || !{{ p }}_all_finite(s->n, {{ p }}_krow(s, s->tab->n_stages)))
-        return {{ P }}_ERR_NONFINITE;
+    if (!lagcli_ode_all_finite(s->n, s->y_new) || !lagcli_ode_all_finite(s->n, lagcli_ode_krow(s, s->tab->n_stages)))
+        return LAGCLI_ODE_ERR_NONFINITE;
 
     /* Accept: y_new becomes y, the old y is kept for dense output. */
     swap = s->y_old;
@@ -462,33 +406,33 @@ static int {{ p }}_step({{ p }}_solver *s)
     s->h_prev = h;
     s->h_abs = h_abs;
     s->n_accepted++;
-    return {{ P }}_OK;
+    return LAGCLI_ODE_OK;
 }
 
 /* Coefficients of the interpolant over the last accepted step (scipy's
  * _dense_output_impl).  DOP853 spends 3 more rhs evaluations here, which is
  * why this runs only for steps that contain an output time, as in scipy. */
-static int {{ p }}_dense_prepare({{ p }}_solver *s)
+static int lagcli_ode_dense_prepare(lagcli_ode_solver *s)
 {
     const int n = s->n;
     const double h = s->h_prev;
     int i, k, st, rc;
 
-    if (s->tab->kind == {{ P }}_KIND_RK45) {
+    if (s->tab->kind == LAGCLI_ODE_KIND_RK45) {
         /* F[k] = K^T P[:, k], scipy's Q = K.T @ P */
         for (k = 0; k < s->tab->n_dense; ++k)
             for (i = 0; i < n; ++i) {
                 double acc = 0.0;
                 int j;
                 for (j = 0; j < s->tab->n_k; ++j)
-                    acc += s->K[(size_t)j * n + i] * {{ P }}_RK45_P[j][k];
+                    acc += s->K[(size_t)j * n + i] * LAGCLI_ODE_RK45_P[j][k];
                 s->F[(size_t)k * n + i] = acc;
             }
-        return {{ P }}_OK;
+        return LAGCLI_ODE_OK;
     }
 
     for (st = s->tab->n_stages + 1; st < s->tab->n_k; ++st)
-        if ((rc = {{ p }}_stage(s, st, s->t_old, s->y_old, h)) != {{ P }}_OK)
+        if ((rc = lagcli_ode_stage(s, st, s->t_old, s->y_old, h)) != LAGCLI_ODE_OK)
             return rc;
     for (i = 0; i < n; ++i) {
         const double f_old = s->K[i];
@@ -498,13 +442,13 @@ static int {{ p }}_dense_prepare({{ p }}_solver *s)
         s->F[(size_t)n + i] = h * f_old - dy;
         s->F[(size_t)2 * n + i] = 2 * dy - h * (f_new + f_old);
         for (k = 0; k < 4; ++k)
-            s->F[(size_t)(3 + k) * n + i] = h * {{ p }}_kdot(s, i, {{ P }}_DOP853_D[k], s->tab->n_k);
+            s->F[(size_t)(3 + k) * n + i] = h * lagcli_ode_kdot(s, i, LAGCLI_ODE_DOP853_D[k], s->tab->n_k);
     }
-    return {{ P }}_OK;
+    return LAGCLI_ODE_OK;
 }
 
 /* y_out = interpolant at t, with t inside the last accepted step. */
-static void {{ p }}_dense_eval({{ p }}_solver *s, double t)
+static void lagcli_ode_dense_eval(lagcli_ode_solver *s, double t)
 {
     const int n = s->n;
     const double h = s->t - s->t_old;
@@ -513,7 +457,7 @@ static void {{ p }}_dense_eval({{ p }}_solver *s, double t)
 
     for (i = 0; i < n; ++i) {
         double acc = 0.0;
-        if (s->tab->kind == {{ P }}_KIND_RK45) {
+        if (s->tab->kind == LAGCLI_ODE_KIND_RK45) {
             /* y_old + h sum_k F[k] x^(k+1) */
             double xp = x;
             for (r = 0; r < 4; ++r) {
@@ -532,18 +476,18 @@ static void {{ p }}_dense_eval({{ p }}_solver *s, double t)
     }
 }
 
-static const {{ p }}_tableau *{{ p }}_find_method(const char *name)
+static const lagcli_ode_tableau *lagcli_ode_find_method(const char *name)
 {
     size_t m;
-    for (m = 0; name && m < sizeof {{ P }}_TABLEAUS / sizeof {{ P }}_TABLEAUS[0]; ++m)
-        if (strcmp(name, {{ P }}_TABLEAUS[m].name) == 0)
-            return &{{ P }}_TABLEAUS[m];
+    for (m = 0; name && m < sizeof LAGCLI_ODE_TABLEAUS / sizeof LAGCLI_ODE_TABLEAUS[0]; ++m)
+        if (strcmp(name, LAGCLI_ODE_TABLEAUS[m].name) == 0)
+            return &LAGCLI_ODE_TABLEAUS[m];
     return NULL;
 }
 
 /* Output times must lie in the integration interval and move strictly
  * towards t_end, as solve_ivp requires of t_eval. */
-static int {{ p }}_check_times(double t0, double t_end, const double *t_out, size_t n_out)
+static int lagcli_ode_check_times(double t0, double t_end, const double *t_out, size_t n_out)
 {
     const double lo = t0 < t_end ? t0 : t_end, hi = t0 < t_end ? t_end : t0;
     size_t i;
@@ -561,75 +505,75 @@ static int {{ p }}_check_times(double t0, double t_end, const double *t_out, siz
 }
 
 /* Integrate from the state already in s->y; emit every output time. */
-static int {{ p }}_run({{ p }}_solver *s, {{ p }}_out_fn out, const double *t_out, size_t n_out,
+static int lagcli_ode_run(lagcli_ode_solver *s, lagcli_ode_out_fn out, const double *t_out, size_t n_out,
                    void *ctx)
 {
     size_t next = 0;
     int rc;
 
-    if ((rc = {{ p }}_eval(s, s->t, s->y, s->K)) != {{ P }}_OK)
+    if ((rc = lagcli_ode_eval(s, s->t, s->y, s->K)) != LAGCLI_ODE_OK)
         return rc;
-    if (!{{ p }}_all_finite(s->n, s->K))
-        return {{ P }}_ERR_NONFINITE;
+    if (!lagcli_ode_all_finite(s->n, s->K))
+        return LAGCLI_ODE_ERR_NONFINITE;
     if (s->t == s->t_end) { /* empty interval: every output time is t0 */
         for (; next < n_out; ++next)
             if (out(t_out[next], s->y, ctx))
-                return {{ P }}_INTERRUPTED;
-        return {{ P }}_OK;
+                return LAGCLI_ODE_INTERRUPTED;
+        return LAGCLI_ODE_OK;
     }
-    if ((rc = {{ p }}_initial_step(s, &s->h_abs)) != {{ P }}_OK)
+    if ((rc = lagcli_ode_initial_step(s, &s->h_abs)) != LAGCLI_ODE_OK)
         return rc;
 
     for (;;) {
         int dense_ready = 0;
-        if ((rc = {{ p }}_step(s)) != {{ P }}_OK)
+        if ((rc = lagcli_ode_step(s)) != LAGCLI_ODE_OK)
             return rc;
         /* Output times up to and including t come from this step's interpolant. */
         while (next < n_out && s->direction * (t_out[next] - s->t) <= 0) {
             if (!dense_ready) {
-                if ((rc = {{ p }}_dense_prepare(s)) != {{ P }}_OK)
+                if ((rc = lagcli_ode_dense_prepare(s)) != LAGCLI_ODE_OK)
                     return rc;
                 dense_ready = 1;
             }
-            {{ p }}_dense_eval(s, t_out[next]);
+            lagcli_ode_dense_eval(s, t_out[next]);
             if (out(t_out[next], s->y_out, ctx))
-                return {{ P }}_INTERRUPTED;
+                return LAGCLI_ODE_INTERRUPTED;
             ++next;
         }
         if (s->direction * (s->t - s->t_end) >= 0)
-            return {{ P }}_OK;
+            return LAGCLI_ODE_OK;
         /* First same as last: f(t, y) of the next step is this step's FSAL row. */
-        memcpy(s->K, {{ p }}_krow(s, s->tab->n_stages), (size_t)s->n * sizeof *s->K);
+        memcpy(s->K, lagcli_ode_krow(s, s->tab->n_stages), (size_t)s->n * sizeof *s->K);
     }
 }
 
-static int {{ p }}_integrate(const char *method, {{ p }}_rhs_fn rhs, {{ p }}_out_fn out, void *ctx,
+int lagcli_ode_integrate(const char *method, lagcli_ode_rhs_fn rhs, lagcli_ode_out_fn out, void *ctx,
                          int n, double t0, const double *y0, double t_end,
                          const double *t_out, size_t n_out, double rtol, double atol,
-                         double max_step, {{ p }}_stats *stats)
+                         double max_step, lagcli_ode_stats *stats)
 {
-    {{ p }}_stats ignored;
-    {{ p }}_solver s;
+    lagcli_ode_stats ignored;
+    lagcli_ode_solver s;
     double *work;
     size_t rows;
-    int rc = {{ P }}_OK;
+    int rc = LAGCLI_ODE_OK;
 
     if (!stats)
         stats = &ignored;
     memset(&s, 0, sizeof s);
-    s.tab = {{ p }}_find_method(method);
+    s.tab = lagcli_ode_find_method(method);
     s.t = t0;
 
     if (!s.tab || !rhs || (n_out > 0 && !out) || n < 1 || !y0 || !isfinite(t0)
         || !isfinite(t_end) || isnan(rtol) || !(atol >= 0) || !(max_step > 0)
-        || !{{ p }}_check_times(t0, t_end, t_out, n_out))
-        rc = {{ P }}_ERR_ARGS;
-    else if (!{{ p }}_all_finite(n, y0))
-        rc = {{ P }}_ERR_NONFINITE;
-    if (rc != {{ P }}_OK) {
+        || !lagcli_ode_check_times(t0, t_end, t_out, n_out))
+        rc = LAGCLI_ODE_ERR_ARGS;
+    else if (!lagcli_ode_all_finite(n, y0))
+        rc = LAGCLI_ODE_ERR_NONFINITE;
+    if (rc != LAGCLI_ODE_OK) {
         stats->t = t0;
         stats->nfev = stats->n_accepted = stats->n_rejected = 0;
-        stats->message = {{ p }}_message(rc);
+        stats->message = lagcli_ode_message(rc);
         return rc;
     }
 
@@ -637,7 +581,7 @@ static int {{ p }}_integrate(const char *method, {{ p }}_rhs_fn rhs, {{ p }}_out
     rows = 5 + (size_t)s.tab->n_k + (size_t)s.tab->n_dense;
     work = (double *)malloc(rows * (size_t)n * sizeof *work);
     if (!work) {
-        rc = {{ P }}_ERR_NOMEM;
+        rc = LAGCLI_ODE_ERR_NOMEM;
     } else {
         s.rhs = rhs;
         s.ctx = ctx;
@@ -657,13 +601,13 @@ static int {{ p }}_integrate(const char *method, {{ p }}_rhs_fn rhs, {{ p }}_out
         s.K = work + 5 * (size_t)n;
         s.F = s.K + (size_t)s.tab->n_k * n;
         memcpy(s.y, y0, (size_t)n * sizeof *s.y);
-        rc = {{ p }}_run(&s, out, t_out, n_out, ctx);
+        rc = lagcli_ode_run(&s, out, t_out, n_out, ctx);
         free(work);
     }
     stats->t = s.t;
     stats->nfev = s.nfev;
     stats->n_accepted = s.n_accepted;
     stats->n_rejected = s.n_rejected;
-    stats->message = {{ p }}_message(rc);
+    stats->message = lagcli_ode_message(rc);
     return rc;
 }

@@ -1,22 +1,19 @@
-{#
-  Test driver for templates/c/integrator.c.jinja, rendered and compiled by
-  tests/test_c_integrator.py.  It includes the fragment exactly as a
-  generated <name>_main.c does.
-
-    harness coeffs
-        print every coefficient table, one number per line (%.17g)
-    harness run SYSTEM METHOD RTOL ATOL T0 T_END MAX_STEP STOP_AFTER < times
-        stdin: the number of output times, then the times; stdout: one row
-        "t y..." per output time, then "# rc nfev n_accepted n_rejected t"
-        STOP_AFTER > 0 makes the output callback stop after that many rows.
-#}
-{% set p = integrator_prefix | default("ode") %}
-{% set P = p | upper %}
+/* Test driver for lagcli/runtime/c/lagcli_ode.c, compiled by tests/test_c_integrator.py.
+ * It includes the integrator's source (not just its header) to reach the static
+ * coefficient tables.
+ *
+ *   harness coeffs
+ *       print every coefficient table, one number per line (%.17g)
+ *   harness run SYSTEM METHOD RTOL ATOL T0 T_END MAX_STEP STOP_AFTER < times
+ *       stdin: the number of output times, then the times; stdout: one row
+ *       "t y..." per output time, then "# rc nfev n_accepted n_rejected t"
+ *       STOP_AFTER > 0 makes the output callback stop after that many rows.
+ */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-{% include "c/integrator.c.jinja" %}
+#include "lagcli_ode.c"
 
 typedef struct {
     const char *name;
@@ -125,16 +122,16 @@ static void print_table(const char *name, const double *v, size_t count)
 
 static int print_coefficients(void)
 {
-    MATRIX({{ P }}_RK45_A);
-    TABLE({{ P }}_RK45_B);
-    TABLE({{ P }}_RK45_C);
-    TABLE({{ P }}_RK45_E);
-    MATRIX({{ P }}_RK45_P);
-    MATRIX({{ P }}_DOP853_A);
-    TABLE({{ P }}_DOP853_C);
-    TABLE({{ P }}_DOP853_E3);
-    TABLE({{ P }}_DOP853_E5);
-    MATRIX({{ P }}_DOP853_D);
+    MATRIX(LAGCLI_ODE_RK45_A);
+    TABLE(LAGCLI_ODE_RK45_B);
+    TABLE(LAGCLI_ODE_RK45_C);
+    TABLE(LAGCLI_ODE_RK45_E);
+    MATRIX(LAGCLI_ODE_RK45_P);
+    MATRIX(LAGCLI_ODE_DOP853_A);
+    TABLE(LAGCLI_ODE_DOP853_C);
+    TABLE(LAGCLI_ODE_DOP853_E3);
+    TABLE(LAGCLI_ODE_DOP853_E5);
+    MATRIX(LAGCLI_ODE_DOP853_D);
     return 0;
 }
 
@@ -142,7 +139,7 @@ static int run(char **argv)
 {
     const system_def *sys = NULL;
     run_ctx ctx = {0, 0, 0};
-    {{ p }}_stats stats;
+    lagcli_ode_stats stats;
     double *t_out;
     long n_out, i;
     size_t k;
@@ -162,7 +159,7 @@ static int run(char **argv)
     ctx.n = sys->n;
     ctx.stop_after = strtol(argv[9], NULL, 10);
 
-    rc = {{ p }}_integrate(argv[3], sys->rhs, print_row, &ctx, sys->n, strtod(argv[6], NULL),
+    rc = lagcli_ode_integrate(argv[3], sys->rhs, print_row, &ctx, sys->n, strtod(argv[6], NULL),
                        sys->y0, strtod(argv[7], NULL), t_out, (size_t)n_out,
                        strtod(argv[4], NULL), strtod(argv[5], NULL), strtod(argv[8], NULL),
                        &stats);

@@ -1,0 +1,379 @@
+/* The command-line driver of a generated lagcli model: options, output times, the CSV
+ * of `lagcli simulate`. Shipped with lagcli (lagcli/runtime/c/) and copied next to every
+ * generated C model; C99 + libm. The model is a lagcli_model (lagcli_model.h).
+ *
+ *   ./<name> [--t-end T] [--dt DT] [--method RK45|DOP853] [--rtol R] [--atol A]
+ *       [--set NAME=VALUE]... [--init NAME=VALUE]... [--baumgarte ALPHA BETA]
+ *
+ * Defaults: the model's (the spec's simulate: and initial: blocks), Baumgarte
+ * alpha = beta = LAGCLI_BAUMGARTE. Integrates from t = 0 and prints a header (t, state,
+ * multipliers, invariants), then one row (%.17g) per output time t_k = k dt,
+ * k = 0 .. floor(t_end/dt + LAGCLI_OUTPUT_SLACK), and t_end if not reached; each row is
+ * flushed. On failure: "error: at t = ...: reason" on stderr, exit status 1, the rows
+ * so far kept. Bad options: exit status 2.
+ * Constrained models: the step is capped at 1/|lambda| of the Baumgarte-damped
+ * constraint error (max_step), and an initial state that violates the constraints by
+ * more than LAGCLI_CONSTRAINT_TOLERANCE is integrated as given, with a warning on stderr.
+ *
+ * The numbers below are the C side of lagcli/numerics.py (tests/test_c_runtime.py
+ * checks that both say the same).
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "lagcli_driver.h"
+#include "lagcli_ode.h"
+
+#define LAGCLI_OUTPUT_SLACK 1e-9          /* t_end/dt this close below an integer reaches it */
+#define LAGCLI_END_TOLERANCE 1e-12        /* relative: a last t_k this close to t_end is t_end */
+#define LAGCLI_CONSTRAINT_TOLERANCE 1e-08 /* largest |constraint| of a consistent initial state */
+#define LAGCLI_CONSTRAINT_TOLERANCE_TEXT "1e-08"
+#define LAGCLI_BAUMGARTE 10.0             /* default alpha = beta of the constraint stabilisation */
+#define LAGCLI_METHODS "RK45|DOP853"      /* the explicit methods lagcli_ode implements */
+
+typedef struct {
+    const lagcli_model *model;
+    double *p, *dydt, *lambda, *inv;   /* nparam, nstate, nlambda, ninv values */
+    double alpha, beta;
+    int code;      /* nonzero return of the model function that failed */
+    double when;   /* and the time it failed at */
+} run_state;
+
+typedef struct {
+    double t_end, dt, rtol, atol;
+    const char *method;
+    long bench;    /* --bench-integration N: time N silent integrations instead of printing */
+} run_settings;
+
+static const char *reason(int code)
+{
+    return code == 1 ? "singular mass matrix or constraint matrix"
+                     : "the accelerations are not finite (inf/nan)";
+}
+
+static int rhs(double t, const double *y, double *dydt, void *ctx)
+{
+    run_state *run = (run_state *)ctx;
+    int rc = run->model->rhs_stabilized(t, y, run->p, run->alpha, run->beta, dydt, NULL);
+    if (rc != 0) {
+        run->code = rc;
+        run->when = t;
+    }
+    return rc;
+}
+
+/* One CSV row: t, y, the multipliers of the stabilised system, the invariants. */
+static int row(double t, const double *y, void *ctx)
+{
+    run_state *run = (run_state *)ctx;
+    const lagcli_model *m = run->model;
+    int i, rc = m->rhs_stabilized(t, y, run->p, run->alpha, run->beta, run->dydt, run->lambda);
+    if (rc != 0) {
+        run->code = rc;
+        run->when = t;
+        return 1;
+    }
+    (void)m->invariants(t, y, run->p, run->inv);   /* non-finite values are printed as such */
+    printf("%.17g", t);
+    for (i = 0; i < m->nstate; ++i)
+        printf(",%.17g", y[i]);
+    for (i = 0; i < m->nlambda; ++i)
+        printf(",%.17g", run->lambda[i]);
+    for (i = 0; i < m->ninv; ++i)
+        printf(",%.17g", run->inv[i]);
+    printf("\n");
+    fflush(stdout);
+    return 0;
+}
+
+static void header(const lagcli_model *m)
+{
+    const char *const *lists[3];
+    int k, i;
+    lists[0] = m->state_names;
+    lists[1] = m->multiplier_names;
+    lists[2] = m->invariant_names;
+    printf("t");
+    for (k = 0; k < 3; ++k)
+        for (i = 0; lists[k][i] != NULL; ++i)
+            printf(",%s", lists[k][i]);
+    printf("\n");
+    fflush(stdout);
+}
+
+static int usage(const char *program, const char *problem)
+{
+    if (problem != NULL)
+        fprintf(stderr, "error: %s\n", problem);
+    fprintf(problem != NULL ? stderr : stdout,
+            "usage: %s [--t-end T] [--dt DT] [--method " LAGCLI_METHODS "] [--rtol R] [--atol A]\n"
+            "       [--set NAME=VALUE]... [--init NAME=VALUE]... [--baumgarte ALPHA BETA]\n",
+            program);
+    return problem != NULL ? 2 : 0;
+}
+
+/* A finite number, the whole of `text`. */
+static int number(const char *text, double *value)
+{
+    char *end;
+    if (text == NULL || *text == '\0')
+        return 0;
+    *value = strtod(text, &end);
+    return *end == '\0' && isfinite(*value);
+}
+
+/* NAME=VALUE into values[index of NAME in names]; on failure a message (exit status 2). */
+static int assign(const char *option, const char *item, const char *const *names, const char *what,
+                  double *values, char *message)
+{
+    const char *eq = strchr(item, '=');
+    int i;
+    if (eq == NULL || eq == item) {
+        sprintf(message, "%s %.200s: expected NAME=VALUE", option, item);
+        return 0;
+    }
+    for (i = 0; names[i] != NULL; ++i)
+        if (strlen(names[i]) == (size_t)(eq - item) && strncmp(names[i], item, (size_t)(eq - item)) == 0) {
+            if (number(eq + 1, &values[i]))
+                return 1;
+            sprintf(message, "%s %.200s: '%.200s' is not a number", option, item, eq + 1);
+            return 0;
+        }
+    sprintf(message, "%s %.200s: unknown %s '%.*s'", option, item, what, (int)(eq - item < 200 ? eq - item : 200),
+            item);
+    return 0;
+}
+
+/* The value of option argv[*i] (`--opt VALUE` or `--opt=VALUE`), or NULL if it is not `option`. */
+static const char *option(int argc, char **argv, int *i, const char *name, int *missing)
+{
+    size_t len = strlen(name);
+    if (strncmp(argv[*i], name, len) != 0)
+        return NULL;
+    if (argv[*i][len] == '=')
+        return argv[*i] + len + 1;
+    if (argv[*i][len] != '\0')
+        return NULL;
+    if (*i + 1 >= argc) {
+        *missing = 1;
+        return NULL;
+    }
+    return argv[++*i];
+}
+
+static int parse(int argc, char **argv, run_settings *s, run_state *run, double *y0)
+{
+    int i, missing = 0;
+    const char *v;
+    char message[720];
+    for (i = 1; i < argc; ++i) {
+        const char *arg = argv[i];
+        if (strcmp(arg, "-h") == 0 || strcmp(arg, "--help") == 0)
+            exit(usage(argv[0], NULL));
+        if ((v = option(argc, argv, &i, "--t-end", &missing)) != NULL) {
+            if (!number(v, &s->t_end) || s->t_end < 0)
+                return usage(argv[0], "--t-end: expected a non-negative number");
+        } else if ((v = option(argc, argv, &i, "--dt", &missing)) != NULL) {
+            if (!number(v, &s->dt) || !(s->dt > 0))
+                return usage(argv[0], "--dt: expected a positive number");
+        } else if ((v = option(argc, argv, &i, "--rtol", &missing)) != NULL) {
+            if (!number(v, &s->rtol) || !(s->rtol > 0))
+                return usage(argv[0], "--rtol: expected a positive number");
+        } else if ((v = option(argc, argv, &i, "--atol", &missing)) != NULL) {
+            if (!number(v, &s->atol) || !(s->atol > 0))
+                return usage(argv[0], "--atol: expected a positive number");
+        } else if ((v = option(argc, argv, &i, "--method", &missing)) != NULL) {
+            if (strcmp(v, "RK45") != 0 && strcmp(v, "DOP853") != 0)
+                return usage(argv[0], "--method: the C driver implements RK45 and DOP853");
+            s->method = v;
+        } else if ((v = option(argc, argv, &i, "--set", &missing)) != NULL) {
+            if (!assign("--set", v, run->model->parameter_names, "parameter", run->p, message))
+                return usage(argv[0], message);
+        } else if ((v = option(argc, argv, &i, "--init", &missing)) != NULL) {
+            if (!assign("--init", v, run->model->state_names, "coordinate or velocity", y0, message))
+                return usage(argv[0], message);
+        } else if ((v = option(argc, argv, &i, "--bench-integration", &missing)) != NULL) {
+            double count;
+            if (!number(v, &count) || count < 1 || count > 1e6 || count != floor(count))
+                return usage(argv[0], "--bench-integration: expected a count from 1 to 1000000");
+            s->bench = (long)count;
+        } else if (strcmp(arg, "--baumgarte") == 0) {
+            if (i + 2 >= argc || !number(argv[i + 1], &run->alpha) || !number(argv[i + 2], &run->beta))
+                return usage(argv[0], "--baumgarte: expected two numbers ALPHA BETA");
+            i += 2;
+        } else {
+            sprintf(message, "%.200s: %s", arg, missing ? "missing value" : "unknown option");
+            return usage(argv[0], message);
+        }
+    }
+    return 0;
+}
+
+/* Largest step on a constrained system: h |lambda| <= 1 for the eigenvalues lambda =
+ * -alpha +- sqrt(alpha^2 - beta^2) of the Baumgarte-damped constraint error, so that the
+ * step controller never runs that mode at the edge of the stability region. */
+static double max_step(const lagcli_model *m, double alpha, double beta)
+{
+    double a = fabs(alpha), b = fabs(beta), d = a * a - b * b, rate;
+    if (m->nlambda == 0)
+        return HUGE_VAL;
+    rate = a + sqrt(d > 0.0 ? d : 0.0);
+    if (b > rate)
+        rate = b;
+    return rate > 0.0 ? 1.0 / rate : HUGE_VAL;
+}
+
+/* A warning (the run goes on) when the initial state violates the constraints by more
+ * than the tolerance: `lagcli simulate` solves for dependent coordinates and velocities,
+ * this driver integrates the state exactly as given. */
+static void check_initial(const double *y0, run_state *run)
+{
+    double residual;
+    if (run->model->residual_column < 0)
+        return;
+    (void)run->model->invariants(0.0, y0, run->p, run->inv);    /* a non-finite residual warns too */
+    residual = run->inv[run->model->residual_column];
+    if (!(residual <= LAGCLI_CONSTRAINT_TOLERANCE))
+        fprintf(stderr, "warning: the initial state violates the constraints: constraint_residual = %.3g "
+                "(more than " LAGCLI_CONSTRAINT_TOLERANCE_TEXT "); integrating it as given\n", residual);
+}
+
+static int no_row(double t, const double *y, void *ctx)
+{
+    (void)t;
+    (void)y;
+    (void)ctx;
+    return 0;
+}
+
+/* --bench-integration N (for bench/simulate.py; not in the usage text): integrate N times
+ * with the same steps and dense output but no rows (no invariants, no printf), timing each
+ * run with clock() (processor time: no process start-up, no output), and report on stderr. */
+static int bench(const run_settings *s, run_state *run, const double *y0, const double *times,
+                 size_t n_times)
+{
+    lagcli_ode_stats stats;
+    double best = HUGE_VAL, total = 0.0, seconds;
+    clock_t start;
+    long k;
+    int rc;
+    for (k = 0; k < s->bench; ++k) {
+        start = clock();
+        rc = lagcli_ode_integrate(s->method, rhs, no_row, run, run->model->nstate, 0.0, y0, s->t_end,
+                                  times + 1, n_times - 1, s->rtol, s->atol,
+                                  max_step(run->model, run->alpha, run->beta), &stats);
+        seconds = (double)(clock() - start) / CLOCKS_PER_SEC;
+        if (rc != LAGCLI_ODE_OK) {
+            fprintf(stderr, "error: at t = %.10g: %s\n", stats.t, stats.message);
+            return 1;
+        }
+        total += seconds;
+        if (seconds < best)
+            best = seconds;
+    }
+    fprintf(stderr, "integration: method %s, runs %ld, mean_s %.9g, min_s %.9g, steps %ld, rejected %ld, nfev %ld\n",
+            s->method, s->bench, total / (double)s->bench, best, stats.n_accepted, stats.n_rejected, stats.nfev);
+    return 0;
+}
+
+/* Output times t_k = k dt, k = 0 .. floor(t_end/dt + LAGCLI_OUTPUT_SLACK), then t_end if not reached. */
+static double *output_times(double t_end, double dt, size_t *count)
+{
+    double last;
+    size_t k, n = (size_t)floor(t_end / dt + LAGCLI_OUTPUT_SLACK) + 1;
+    double *times = (double *)malloc((n + 1) * sizeof *times);
+    if (times == NULL)
+        return NULL;
+    for (k = 0; k < n; ++k)
+        times[k] = (double)k * dt;
+    last = times[n - 1];
+    if (last < t_end - LAGCLI_END_TOLERANCE * (t_end > 1.0 ? t_end : 1.0))
+        times[n++] = t_end;
+    *count = n;
+    return times;
+}
+
+/* Integrate from y0 and print the rows; the exit status. */
+static int integrate(const run_settings *s, run_state *run, const double *y0)
+{
+    lagcli_ode_stats stats;
+    size_t n_times;
+    int rc;
+    double *times = output_times(s->t_end, s->dt, &n_times);
+    if (times == NULL) {
+        fprintf(stderr, "error: at t = 0: out of memory\n");
+        return 1;
+    }
+    if (s->bench > 0) {
+        rc = bench(s, run, y0, times, n_times);
+        free(times);
+        return rc;
+    }
+    header(run->model);
+    if (row(0.0, y0, run) != 0) {
+        fprintf(stderr, "error: at t = %.10g: %s\n", run->when, reason(run->code));
+        free(times);
+        return 1;
+    }
+    rc = LAGCLI_ODE_OK;
+    if (n_times > 1)
+        rc = lagcli_ode_integrate(s->method, rhs, row, run, run->model->nstate, 0.0, y0, s->t_end,
+                                  times + 1, n_times - 1, s->rtol, s->atol,
+                                  max_step(run->model, run->alpha, run->beta), &stats);
+    free(times);
+    if (rc == LAGCLI_ODE_OK)
+        return 0;
+    if (rc == LAGCLI_ODE_ERR_RHS || rc == LAGCLI_ODE_INTERRUPTED)
+        fprintf(stderr, "error: at t = %.10g: %s\n", run->when, reason(run->code));
+    else if (rc == LAGCLI_ODE_ERR_NONFINITE)
+        fprintf(stderr, "error: at t = %.10g: the state is no longer finite (inf/nan): the solution blows up\n",
+                stats.t);
+    else
+        fprintf(stderr, "error: at t = %.10g: the %s integrator failed: %s\n", stats.t, s->method, stats.message);
+    return 1;
+}
+
+int lagcli_driver_main(const lagcli_model *model, int argc, char **argv)
+{
+    run_settings s;
+    run_state run;
+    double *work, *y0;
+    size_t size = (size_t)(model->nparam + 2 * model->nstate + model->nlambda + model->ninv) + 1;
+    int rc;
+
+    work = (double *)calloc(size, sizeof *work);
+    if (work == NULL) {
+        fprintf(stderr, "error: at t = 0: out of memory\n");
+        return 1;
+    }
+    run.model = model;
+    run.p = work;
+    y0 = run.p + model->nparam;
+    run.dydt = y0 + model->nstate;
+    run.lambda = run.dydt + model->nstate;
+    run.inv = run.lambda + model->nlambda;
+    memcpy(run.p, model->parameter_defaults, (size_t)model->nparam * sizeof *run.p);
+    memcpy(y0, model->initial_state, (size_t)model->nstate * sizeof *y0);
+    run.alpha = run.beta = LAGCLI_BAUMGARTE;
+    run.code = 0;
+    run.when = 0.0;
+    s.t_end = model->t_end;
+    s.dt = model->dt;
+    s.method = model->method;
+    s.rtol = model->rtol;
+    s.atol = model->atol;
+    s.bench = 0;
+    if ((rc = parse(argc, argv, &s, &run, y0)) == 0) {
+        if (s.t_end / s.dt > 1e8) {
+            rc = usage(argv[0], "--dt: more than 1e8 output rows");
+        } else {
+            check_initial(y0, &run);
+            rc = integrate(&s, &run, y0);
+        }
+    }
+    free(work);
+    return rc;
+}

@@ -1,0 +1,37 @@
+/* What a generated lagcli model tells a driver about itself: sizes, names, defaults and
+ * its functions (lagcli_model). Shipped with lagcli (lagcli/runtime/c/) and copied next to
+ * every generated C model, whose header declares `extern const lagcli_model <name>_model;`.
+ * C99; usable from C++. Documented in docs/codegen.md. */
+#ifndef LAGCLI_MODEL_H
+#define LAGCLI_MODEL_H
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* The model functions return 0 on success, 1 for a singular matrix, 2 for a non-finite result. */
+typedef int (*lagcli_rhs_stabilized_fn)(double t, const double *y, const double *p, double alpha,
+                                        double beta, double *dydt, double *lambda);
+typedef int (*lagcli_invariants_fn)(double t, const double *y, const double *p, double *out);
+
+typedef struct {
+    const char *name;                       /* the spec's name */
+    int nq, nstate, nparam, nlambda, ninv;  /* sizes; nstate = 2 nq */
+    const char *const *state_names;         /* NULL-terminated, nstate names */
+    const char *const *parameter_names;     /* NULL-terminated, nparam names */
+    const double *parameter_defaults;       /* nparam values */
+    const char *const *multiplier_names;    /* NULL-terminated, nlambda names */
+    const char *const *invariant_names;     /* NULL-terminated, ninv names (CSV order) */
+    int residual_column;                    /* index of constraint_residual in the invariants, or -1 */
+    const double *initial_state;            /* nstate values: the spec's initial: block */
+    double t_end, dt, rtol, atol;           /* the spec's simulate: block (with lagcli's defaults) */
+    const char *method;                     /* an explicit method the C integrator implements */
+    lagcli_rhs_stabilized_fn rhs_stabilized;
+    lagcli_invariants_fn invariants;
+} lagcli_model;
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* LAGCLI_MODEL_H */
