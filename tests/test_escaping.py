@@ -322,8 +322,9 @@ def test_hostile_spec_c(tmp_path, run):
     spec = hostile_spec(tmp_path)
     result = run("generate", spec, "--lang", "c", "-o", tmp_path / "out")
     assert result.exit_code == 0, result.output
+    sources = sorted(p.name for p in (tmp_path / "out").glob("*.c"))   # model, driver, runtime
     subprocess.run(["cc", "-std=c99", "-O2", "-Wall", "-Wextra", "-Werror", "-pedantic",
-                    "hostile.c", "hostile_main.c", "-o", "hostile", "-lm"],
+                    *sources, "-o", "hostile", "-lm"],
                    cwd=tmp_path / "out", check=True, capture_output=True)
     subprocess.run(["./hostile"], cwd=tmp_path / "out", check=True, capture_output=True)
     result = run("simulate", spec, "--backend", "c")
