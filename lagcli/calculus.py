@@ -134,13 +134,16 @@ class DependenceProbe:
 
 
 def almost_everywhere(value):
-    """Derivatives of abs/sign/min/max taken almost everywhere: DiracDelta -> 0 and
+    """Derivatives of abs/sign/min/max taken almost everywhere: DiracDelta -> 0, d sign -> 0 and
     Heaviside(x) -> (1 + sign(x))/2, so every result prints in the spec language and in C."""
     if isinstance(value, sp.MatrixBase):
         return sp.ImmutableMatrix(value.shape[0], value.shape[1], [almost_everywhere(e) for e in value])
     value = sp.sympify(value)
-    if not value.has(sp.DiracDelta, sp.Heaviside):
+    if not value.has(sp.DiracDelta, sp.Heaviside, sp.Derivative):
         return value
+    # sympy leaves d/dx sign(u) unevaluated when it cannot prove u real (u = 1/x): it is 0 too
+    value = value.replace(lambda e: isinstance(e, sp.Derivative) and isinstance(e.expr, sp.sign),
+                          lambda e: sp.S.Zero)
     value = value.replace(sp.DiracDelta, lambda *args: sp.S.Zero)
     return value.replace(sp.Heaviside, lambda x, *rest: (1 + sp.sign(x)) / 2)
 

@@ -23,6 +23,7 @@ from collections.abc import Callable, Mapping
 
 import sympy as sp
 
+from lagcli.constants import ConstantError, constant_value
 from lagcli.errors import Loc, Problem, SpecError
 
 MAX_TEXT = 20_000        # characters in one expression
@@ -119,13 +120,10 @@ def parse_constant(text: str, loc: Loc, extra: Mapping[str, sp.Expr] | None = No
     if value.free_symbols:
         names_used = ", ".join(sorted(str(s) for s in value.free_symbols))
         _fail(loc, f"{_short(text)!r} must be a constant, but uses {names_used}")
-    try:  # floats, not mpmath: exp(exp(exp(100))) must overflow at once, not grind
-        number = complex(sp.lambdify((), value, modules="math")())
-    except (OverflowError, ValueError, ZeroDivisionError, TypeError):
-        number = complex("nan")
-    if number.imag != 0 or not math.isfinite(number.real):
-        _fail(loc, f"{_short(text)!r} is not a finite real number")
-    return number.real
+    try:
+        return constant_value(value)
+    except ConstantError as exc:
+        _fail(loc, f"{_short(text)!r} {exc}", "a value must be a finite real number")
 
 
 def _tree_size_exceeds(expr: sp.Expr, limit: int) -> bool:
@@ -153,6 +151,8 @@ class _Builder:
 
     def __init__(self, scope: Scope, loc: Loc, text: str):
         self.scope, self.loc, self.text = scope, loc, text
+        self.values: dict[sp.Expr, float] = {}      # constant -> its value
+        self.constant: dict[sp.Expr, bool] = {}     # expression -> has no free symbols
 
     def fail(self, message: str, hint: str = "") -> None:
         raise SpecError(Problem(self.loc, f"in {_short(self.text)!r}: {message}", hint))
@@ -165,7 +165,35 @@ class _Builder:
                       else f"{what} is not allowed in expressions",
                       "expressions use numbers, names, + - * / ** ^, parentheses and functions "
                       + ", ".join(sorted(FUNCTIONS)))
-        return handler(node)
+        return self.guarded(handler(node))
+
+    def guarded(self, value: sp.Expr) -> sp.Expr:
+        """`value`, once each constant in its top node is known to be a finite real double.
+
+        Checking every node as it is built means sympy never receives an argument
+        that is complex, infinite or astronomically large: `Min(x, acos(2))` would
+        raise inside sympy, `tan(cosh(10**6))` would grind through argument reduction.
+        sympy merges numbers as it builds (x*1e300*1e300 -> 1e600*x), hence the
+        check of the top node's constant arguments as well."""
+        for part in (value,) if self.is_constant(value) else value.args:
+            if self.is_constant(part):
+                try:
+                    constant_value(part, self.values)
+                except ConstantError as exc:
+                    self.fail(f"the constant {_short(str(part))} {exc}",
+                              "constants must be finite real numbers within the double range")
+        return value
+
+    def is_zero(self, value: sp.Expr) -> bool:
+        """Exactly zero, or a constant whose double value is 0 (a 0.0 parameter value)."""
+        return value.is_zero is True or (self.is_constant(value) and constant_value(value, self.values) == 0)
+
+    def is_constant(self, value: sp.Expr) -> bool:
+        found = self.constant.get(value)
+        if found is None:
+            found = not value.is_Symbol and all(self.is_constant(arg) for arg in value.args)
+            self.constant[value] = found
+        return found
 
     def _Constant(self, node: ast.Constant) -> sp.Expr:
         value = node.value
@@ -213,7 +241,7 @@ class _Builder:
         op = _BINARY.get(type(node.op))
         if op is None:
             self.fail(f"operator '{type(node.op).__name__}' is not allowed")
-        if isinstance(node.op, ast.Div) and right == 0:
+        if isinstance(node.op, ast.Div) and self.is_zero(right):
             self.fail("division by zero")
         return op(left, right)
 
@@ -221,10 +249,10 @@ class _Builder:
         if exponent.is_Number:
             if abs(exponent) > MAX_EXPONENT:
                 self.fail(f"exponent {_short(str(exponent))} is too large (at most {MAX_EXPONENT})")
-            if base.is_Number and base != 0 and \
-                    float(abs(exponent)) * abs(math.log10(float(abs(base)))) > 300:
-                self.fail("numeric power is too large")
-            if base == 0 and exponent.is_negative:
+            size = abs(constant_value(base, self.values)) if self.is_constant(base) else 0.0
+            if size != 0 and abs(float(exponent) * math.log10(size)) > 300:
+                self.fail("numeric power is too large or too small for double precision")
+            if self.is_zero(base) and exponent.is_negative:
                 self.fail("division by zero (0 to a negative power)")
         result = base ** exponent
         # sympy merges (x**a)**b into x**(a*b): bound the merged exponent too
@@ -253,7 +281,11 @@ class _Builder:
             self.fail(f"{name}() takes {count} argument(s), got {len(node.args)}")
         if name == "diff":
             return self._diff(node)
-        return constructor(*(self.build(arg) for arg in node.args))
+        args = [self.build(arg) for arg in node.args]
+        try:
+            return constructor(*args)
+        except (ValueError, TypeError, ArithmeticError) as exc:  # e.g. Min of incomparable arguments
+            self.fail(f"cannot apply {name}() to these arguments ({exc})")
 
     def _diff(self, node: ast.Call) -> sp.Expr:
         variable = node.args[1]

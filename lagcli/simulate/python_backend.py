@@ -28,6 +28,7 @@ from scipy import integrate
 
 from lagcli.numerics import max_step, output_times
 from lagcli.simulate.cache import cache_key, cache_root
+from lagcli.spec.reader import read_spec_bytes
 from lagcli.simulate.options import RunSettings
 from lagcli.simulate.trajectory import Trajectory, format_row
 
@@ -51,7 +52,7 @@ def load_module(derivation, spec_start=None) -> types.ModuleType:
 def cached_module(derivation, spec_path: str, spec_start=None) -> types.ModuleType:
     """`load_module`, with the source read from the cache when this spec's module is
     there, and stored there when it is not."""
-    path = cache_root() / cache_key(spec_path, Path(spec_path).read_bytes(), MODULE_VARIANT) / MODULE
+    path = cache_root() / cache_key(spec_path, read_spec_bytes(spec_path), MODULE_VARIANT) / MODULE
     try:
         return _execute(derivation.model.name, path.read_text())
     except (OSError, SyntaxError, ValueError):

@@ -12,7 +12,9 @@ non-string keys and duplicate keys.
 from __future__ import annotations
 
 import math
+import os
 import re
+import stat
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -89,14 +91,46 @@ def read_document(path: str | Path) -> RawDoc:
     return _read_toml(name, text) if suffix == ".toml" else _read_yaml(name, text)
 
 
-def _read_text(name: str) -> str:
+def read_spec_bytes(path: str | Path) -> bytes:
+    """The bytes of the spec at `path`, read safely; every reader of a spec uses this.
+
+    Only a regular file of at most `MAX_BYTES` is read: a FIFO, a device such as
+    /dev/zero or a directory is refused before reading (the file is opened
+    non-blocking, so a FIFO without a writer cannot stall the open, and the opened
+    descriptor is checked, so a file swapped after the first look is caught too).
+    Raises `SpecError`. Imports nothing heavy: the warm C path calls it.
+    """
+    name = str(path)
     try:
-        with open(name, "rb") as stream:
+        _require_regular(name, os.stat(name).st_mode)
+        fd = os.open(name, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_NOCTTY", 0))
+    except OSError as exc:
+        raise SpecError(Problem(Loc(name), f"cannot read the spec: {exc.strerror or exc}")) from None
+    try:
+        _require_regular(name, os.fstat(fd).st_mode)
+        with os.fdopen(fd, "rb", closefd=False) as stream:
             data = stream.read(MAX_BYTES + 1)
     except OSError as exc:
         raise SpecError(Problem(Loc(name), f"cannot read the spec: {exc.strerror or exc}")) from None
+    finally:
+        os.close(fd)
     if len(data) > MAX_BYTES:
         raise SpecError(Problem(Loc(name), "spec file is too large (the limit is 1 MiB)"))
+    return data
+
+
+def _require_regular(name: str, mode: int) -> None:
+    if stat.S_ISREG(mode):
+        return
+    kind = ("a directory" if stat.S_ISDIR(mode) else "a named pipe (FIFO)" if stat.S_ISFIFO(mode)
+            else "a device" if stat.S_ISCHR(mode) or stat.S_ISBLK(mode) else "a socket"
+            if stat.S_ISSOCK(mode) else "not a regular file")
+    raise SpecError(Problem(Loc(name), f"cannot read the spec: it is {kind}",
+                            "a spec is a regular .yaml, .yml or .toml file"))
+
+
+def _read_text(name: str) -> str:
+    data = read_spec_bytes(name)
     try:
         return data.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
@@ -165,8 +199,9 @@ class _YamlWalker:
         self.key_marks: dict[KeyPath, tuple[int, int]] = {}
         self._constructor = yaml.SafeLoader("")  # only for its scalar constructors
 
-    def fail(self, node: yaml.Node, message: str, hint: str = "") -> None:
-        self.problems.append(Problem(_mark_loc(self.name, node.start_mark), message, hint))
+    def fail(self, node: yaml.Node, message: str, hint: str = "", path: KeyPath = ()) -> None:
+        loc = _mark_loc(self.name, node.start_mark)
+        self.problems.append(Problem(Loc(loc.file, loc.line, loc.column, format_path(path)), message, hint))
 
     def walk(self, node: yaml.Node, path: KeyPath) -> Any:
         self.marks[path] = (node.start_mark.line + 1, node.start_mark.column + 1)
@@ -205,18 +240,25 @@ class _YamlWalker:
 
     def _scalar(self, node: yaml.ScalarNode, path: KeyPath) -> Any:
         if not isinstance(node, yaml.ScalarNode) or node.tag not in _SCALAR_TAGS:
-            self.fail(node, f"YAML tag '{node.tag}' is not allowed")
+            self.fail(node, f"YAML tag '{node.tag}' is not allowed", path=path)
             return None
         if node.tag == _TAG + "timestamp":  # e.g. 2001-12-14: keep it as text
             value: Any = node.value
         else:
             try:
                 value = self._constructor.construct_object(node)
-            except ValueError:  # e.g. an integer over Python's 4300-digit limit
-                self.fail(node, f"cannot read the number {node.value[:20]}...: it is too long")
+            except (ValueError, IndexError, KeyError, TypeError):  # PyYAML on e.g. `!!float ''`
+                kind = node.tag.rsplit(":", 1)[-1]
+                self.fail(node, f"cannot read {_clip(node.value)!r} as a YAML {kind}"
+                          + (": it is too long" if len(node.value) > 4000 else ""),
+                          "remove the !!tag, or write a plain number", path)
                 return None
         self.texts[path] = _number_text(value, node.value)
         return value
+
+
+def _clip(text: str, width: int = 40) -> str:
+    return text if len(text) <= width else text[:width] + "..."
 
 
 def _number_text(value: Any, source: str) -> str:
