@@ -23,21 +23,24 @@ class TimeDerivative:
                  qdd: Sequence[sp.Symbol]):
         self.t = t
         self.chain = list(zip(q, qd)) + list(zip(qd, qdd))
+        self.position_chain = self.chain[:len(q)]
         self.accelerations = frozenset(qdd)
 
-    def __call__(self, expr: sp.Expr) -> sp.Expr:
+    def __call__(self, expr: sp.Expr, accelerations: bool = True) -> sp.Expr:
+        """D expr; with `accelerations=False`, D expr at q'' = 0 (the q'' terms are never
+        formed, which is much cheaper than substituting 0 for them afterwards)."""
         expr = sp.sympify(expr)
         if expr.free_symbols & self.accelerations:
             raise ValueError("cannot differentiate an expression containing accelerations")
         free = expr.free_symbols
         result = expr.diff(self.t) if self.t in free else sp.S.Zero
-        for var, rate in self.chain:
+        for var, rate in self.chain if accelerations else self.position_chain:
             if var in free:
                 result += expr.diff(var) * rate
         return result
 
-    def matrix(self, m: sp.MatrixBase) -> sp.ImmutableMatrix:
-        return sp.ImmutableMatrix(m.shape[0], m.shape[1], [self(e) for e in m])
+    def matrix(self, m: sp.MatrixBase, accelerations: bool = True) -> sp.ImmutableMatrix:
+        return sp.ImmutableMatrix(m.shape[0], m.shape[1], [self(e, accelerations) for e in m])
 
 
 def depends_on(expr: sp.Expr, symbols: Iterable[sp.Symbol]) -> bool:
