@@ -1,4 +1,4 @@
-"""Conserved quantities (docs/derive.md, "Conserved quantities").
+"""Conserved quantities (docs/constraints.md, "Conservation with constraints").
 
 - q_s is ignorable when dL/dq_s = 0, Q'_s = 0 and column s of the constraint
   matrix is identically zero (a row may still contain q_s itself, as sin(phi) in
