@@ -151,6 +151,7 @@ class _Builder:
 
     def __init__(self, scope: Scope, loc: Loc, text: str):
         self.scope, self.loc, self.text = scope, loc, text
+        self.source = text.replace("^", "**").strip()  # what `ast` parsed: node positions refer to it
         self.values: dict[sp.Expr, float] = {}      # constant -> its value
         self.constant: dict[sp.Expr, bool] = {}     # expression -> has no free symbols
 
@@ -165,9 +166,9 @@ class _Builder:
                       else f"{what} is not allowed in expressions",
                       "expressions use numbers, names, + - * / ** ^, parentheses and functions "
                       + ", ".join(sorted(FUNCTIONS)))
-        return self.guarded(handler(node))
+        return self.guarded(handler(node), node)
 
-    def guarded(self, value: sp.Expr) -> sp.Expr:
+    def guarded(self, value: sp.Expr, node: ast.AST) -> sp.Expr:
         """`value`, once each constant in its top node is known to be a finite real double.
 
         Checking every node as it is built means sympy never receives an argument
@@ -180,7 +181,8 @@ class _Builder:
                 try:
                     constant_value(part, self.values)
                 except ConstantError as exc:
-                    self.fail(f"the constant {_short(str(part))} {exc}",
+                    written = ast.get_source_segment(self.source, node) if part is value else None
+                    self.fail(f"the constant {_short(written or str(part))} {exc}",
                               "constants must be finite real numbers within the double range")
         return value
 
@@ -200,7 +202,7 @@ class _Builder:
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             kind = "strings" if isinstance(value, (str, bytes)) else f"{type(value).__name__} literals"
             self.fail(f"{kind} are not allowed in expressions")
-        literal = ast.get_source_segment(self.text.replace("^", "**").strip(), node) or repr(value)
+        literal = ast.get_source_segment(self.source, node) or repr(value)
         if sum(c.isdigit() for c in literal) > MAX_LITERAL_DIGITS:
             self.fail(f"numeric literal {literal[:20]}... is too large")
         if isinstance(value, int):
