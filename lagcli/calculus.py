@@ -112,8 +112,8 @@ class DependenceProbe:
             self._compiled = sp.lambdify(self.symbols, self.exprs, modules=["math", "mpmath"])
         try:
             values = [complex(v) for v in self._compiled(*(point[s] for s in self.symbols))]
-        except (ValueError, ZeroDivisionError, OverflowError, TypeError, ArithmeticError):
-            return None
+        except (ValueError, ZeroDivisionError, OverflowError, TypeError, ArithmeticError, NameError):
+            return None  # NameError: a function math lacks (re, im of a complex argument)
         if any(abs(v.imag) > 1e-12 * (1 + abs(v.real)) or v.real != v.real for v in values):
             return None
         return [v.real for v in values]

@@ -32,6 +32,7 @@ MAX_DEPTH = 60           # nesting depth
 MAX_EXPONENT = 1_000     # |n| in x**n with a numeric n
 MAX_LITERAL_DIGITS = 40  # digits in one numeric literal
 MAX_RESULT_NODES = 20_000  # tree size of one expression after definitions are substituted
+MAX_RESULT_DEPTH = 100     # its nesting depth (sympy recurses, and slows, with depth)
 
 
 def _atan2(y, x):
@@ -154,6 +155,7 @@ class _Builder:
         self.source = text.replace("^", "**").strip()  # what `ast` parsed: node positions refer to it
         self.values: dict[sp.Expr, float] = {}      # constant -> its value
         self.constant: dict[sp.Expr, bool] = {}     # expression -> has no free symbols
+        self.depths: dict[sp.Expr, int] = {}        # expression -> nesting depth
 
     def fail(self, message: str, hint: str = "") -> None:
         raise SpecError(Problem(self.loc, f"in {_short(self.text)!r}: {message}", hint))
@@ -175,7 +177,10 @@ class _Builder:
         that is complex, infinite or astronomically large: `Min(x, acos(2))` would
         raise inside sympy, `tan(cosh(10**6))` would grind through argument reduction.
         sympy merges numbers as it builds (x*1e300*1e300 -> 1e600*x), hence the
-        check of the top node's constant arguments as well."""
+        check of the top node's constant arguments as well. Definitions nest, so the
+        depth of the result is bounded here too, not only that of the text."""
+        if self.depth(value) > MAX_RESULT_DEPTH:
+            self.too_deep()
         for part in (value,) if self.is_constant(value) else value.args:
             if self.is_constant(part):
                 try:
@@ -185,6 +190,17 @@ class _Builder:
                     self.fail(f"the constant {_short(written or str(part))} {exc}",
                               "constants must be finite real numbers within the double range")
         return value
+
+    def depth(self, value: sp.Expr) -> int:
+        found = self.depths.get(value)
+        if found is None:
+            found = 1 + max((self.depth(arg) for arg in value.args), default=0)
+            self.depths[value] = found
+        return found
+
+    def too_deep(self) -> None:
+        self.fail(f"expression is nested too deeply once names are substituted (more than "
+                  f"{MAX_RESULT_DEPTH} levels)", "split the chain of definitions, or simplify it")
 
     def is_zero(self, value: sp.Expr) -> bool:
         """Exactly zero, or a constant whose double value is 0 (a 0.0 parameter value)."""
@@ -284,6 +300,8 @@ class _Builder:
         if name == "diff":
             return self._diff(node)
         args = [self.build(arg) for arg in node.args]
+        if max(self.depth(arg) for arg in args) >= MAX_RESULT_DEPTH:
+            self.too_deep()  # before sympy evaluates the call: sin(sin(...(1/2))) grows costly
         try:
             return constructor(*args)
         except (ValueError, TypeError, ArithmeticError) as exc:  # e.g. Min of incomparable arguments

@@ -53,6 +53,21 @@ def usually(strategy):
 
 vectors = st.lists(expressions, min_size=2, max_size=3)
 particle = st.fixed_dictionaries({"mass": usually(expressions), "position": usually(vectors)})
+body = st.fixed_dictionaries(
+    {"mass": usually(expressions), "inertia": usually(st.one_of(expressions, st.lists(expressions, min_size=3,
+                                                                                        max_size=3))),
+     "position": usually(vectors)},
+    optional={"angle": usually(expressions),
+              "orientation": usually(st.lists(st.tuples(st.sampled_from(["x", "y", "z", "w"]), expressions)
+                                              .map(list), min_size=1, max_size=3))})
+force = st.one_of(
+    st.fixed_dictionaries({"at": st.sampled_from(["P", "Q", "B", "nope"]), "force": usually(vectors)}),
+    st.fixed_dictionaries({"point": usually(vectors), "force": usually(vectors)}),
+    st.fixed_dictionaries({"body": st.sampled_from(["B", "P"]),
+                           "torque": usually(st.one_of(expressions, vectors))}))
+spring = st.fixed_dictionaries(
+    {"between": usually(st.one_of(st.just(["P", "Q"]), st.just(["P", [0, 0]]), st.just(["B", "nope"]))),
+     "stiffness": usually(expressions)}, optional={"rest_length": usually(expressions)})
 simulate_block = st.dictionaries(st.sampled_from(["t_end", "dt", "method", "rtol", "atol"]),
                                  usually(st.one_of(expressions, st.sampled_from(["RK45", "Radau", "nope"]))))
 
@@ -64,6 +79,9 @@ spec_data = st.fixed_dictionaries({
     "known": usually(st.dictionaries(st.just("f"), usually(expressions), max_size=1)),
     "definitions": usually(st.dictionaries(st.sampled_from(["d1", "d2"]), usually(expressions), max_size=2)),
     "particles": usually(st.dictionaries(st.sampled_from(["P", "Q"]), usually(particle), max_size=2)),
+    "bodies": usually(st.dictionaries(st.just("B"), usually(body), max_size=1)),
+    "forces": usually(st.lists(usually(force), max_size=2)),
+    "springs": usually(st.lists(usually(spring), max_size=2)),
     "gravity": usually(vectors),
     "potential": usually(expressions),
     "kinetic": usually(expressions),
