@@ -5,9 +5,11 @@ None), the source text of every scalar (an expression's `Src.text`) and, for
 YAML, the 1-based line/column of every key and value. TOML (`tomllib`) gives no
 positions, so its locations carry the key path only.
 
-A spec is untrusted input: the reader refuses files over 1 MiB, YAML anchors and
-aliases (alias bombs), deep nesting, huge node counts, custom YAML tags,
-non-string keys and duplicate keys.
+A spec is untrusted input: the reader refuses anything but a regular file
+(a FIFO or /dev/zero would block or never end), files over 1 MiB, YAML anchors
+and aliases (alias bombs), deep nesting, huge node counts, custom YAML tags,
+non-string keys and duplicate keys. `read_spec_bytes` is the one way a spec file
+is read, here and on the warm C path of `simulate` (it needs neither sympy nor numpy).
 """
 from __future__ import annotations
 
