@@ -15,7 +15,7 @@ from lagcli.calculus import DependenceProbe, numerically_zero
 from lagcli.cli import cli
 from lagcli.derive import derive
 from lagcli.errors import SpecError
-from lagcli.spec.reader import read_spec_bytes
+from lagcli.spec.files import read_spec_bytes
 from lagcli.spec_printer import parse_output
 
 import sympy as sp
@@ -137,7 +137,7 @@ def test_format_and_expression_problems_are_reported_together(tmp_path):
         assert expected in result.stderr
 
 
-# --- hostile files: refused before anything is read (lagcli.spec.reader.read_spec_bytes) ---
+# --- hostile files: refused before anything is read (lagcli.spec.files.read_spec_bytes) ---
 
 @pytest.mark.parametrize("command", [["check"], ["derive"], ["simulate", "--t-end", "0.1"]])
 def test_a_fifo_spec_is_refused_without_blocking(tmp_path, monkeypatch, command):
@@ -175,7 +175,7 @@ def test_a_directory_spec_is_refused(tmp_path):
 
 def test_read_spec_bytes_does_not_import_sympy_or_numpy():
     # the warm C path of `simulate` reads the spec with it and must stay light
-    code = ("import sys; from lagcli.spec.reader import read_spec_bytes; "
+    code = ("import sys; from lagcli.spec.files import read_spec_bytes; "
             "print(sorted(m for m in ('sympy', 'numpy') if m in sys.modules))")
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert done.stdout.strip() == "[]"

@@ -28,7 +28,7 @@ from scipy import integrate
 
 from lagcli.numerics import max_step, output_times
 from lagcli.simulate.cache import cache_key, cache_root
-from lagcli.spec.reader import read_spec_bytes
+from lagcli.spec.files import read_spec_bytes
 from lagcli.simulate.options import RunSettings
 from lagcli.simulate.trajectory import Trajectory, format_row
 

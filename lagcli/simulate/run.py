@@ -22,7 +22,7 @@ from lagcli.simulate import c_backend
 from lagcli.numerics import CONSTRAINT_TOLERANCE, EXPLICIT_METHODS
 from lagcli.simulate.options import Request, RunSettings, parse_assignments, resolve_settings
 from lagcli.simulate.trajectory import Trajectory
-from lagcli.spec.reader import read_spec_bytes
+from lagcli.spec.files import read_spec_bytes
 
 
 class Interrupted(SimulationError):

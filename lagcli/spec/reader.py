@@ -8,15 +8,13 @@ positions, so its locations carry the key path only.
 A spec is untrusted input: the reader refuses anything but a regular file
 (a FIFO or /dev/zero would block or never end), files over 1 MiB, YAML anchors
 and aliases (alias bombs), deep nesting, huge node counts, custom YAML tags,
-non-string keys and duplicate keys. `read_spec_bytes` is the one way a spec file
-is read, here and on the warm C path of `simulate` (it needs neither sympy nor numpy).
+non-string keys and duplicate keys. The bytes come from `files.read_spec_bytes`,
+the one way a spec file is read (here and on the warm C path of `simulate`).
 """
 from __future__ import annotations
 
 import math
-import os
 import re
-import stat
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -25,8 +23,8 @@ from typing import Any
 import yaml
 
 from lagcli.errors import Loc, Problem, SpecError
+from lagcli.spec.files import read_spec_bytes
 
-MAX_BYTES = 1 << 20
 MAX_NODES = 100_000
 MAX_DEPTH = 32
 
@@ -91,44 +89,6 @@ def read_document(path: str | Path) -> RawDoc:
                                 "a spec file ends in .yaml, .yml or .toml"))
     text = _read_text(name)
     return _read_toml(name, text) if suffix == ".toml" else _read_yaml(name, text)
-
-
-def read_spec_bytes(path: str | Path) -> bytes:
-    """The bytes of the spec at `path`, read safely; every reader of a spec uses this.
-
-    Only a regular file of at most `MAX_BYTES` is read: a FIFO, a device such as
-    /dev/zero or a directory is refused before reading (the file is opened
-    non-blocking, so a FIFO without a writer cannot stall the open, and the opened
-    descriptor is checked, so a file swapped after the first look is caught too).
-    Raises `SpecError`. Imports nothing heavy: the warm C path calls it.
-    """
-    name = str(path)
-    try:
-        _require_regular(name, os.stat(name).st_mode)
-        fd = os.open(name, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_NOCTTY", 0))
-    except OSError as exc:
-        raise SpecError(Problem(Loc(name), f"cannot read the spec: {exc.strerror or exc}")) from None
-    try:
-        _require_regular(name, os.fstat(fd).st_mode)
-        with os.fdopen(fd, "rb", closefd=False) as stream:
-            data = stream.read(MAX_BYTES + 1)
-    except OSError as exc:
-        raise SpecError(Problem(Loc(name), f"cannot read the spec: {exc.strerror or exc}")) from None
-    finally:
-        os.close(fd)
-    if len(data) > MAX_BYTES:
-        raise SpecError(Problem(Loc(name), "spec file is too large (the limit is 1 MiB)"))
-    return data
-
-
-def _require_regular(name: str, mode: int) -> None:
-    if stat.S_ISREG(mode):
-        return
-    kind = ("a directory" if stat.S_ISDIR(mode) else "a named pipe (FIFO)" if stat.S_ISFIFO(mode)
-            else "a device" if stat.S_ISCHR(mode) or stat.S_ISBLK(mode) else "a socket"
-            if stat.S_ISSOCK(mode) else "not a regular file")
-    raise SpecError(Problem(Loc(name), f"cannot read the spec: it is {kind}",
-                            "a spec is a regular .yaml, .yml or .toml file"))
 
 
 def _read_text(name: str) -> str:
