@@ -15,6 +15,8 @@ from collections.abc import Iterable, Iterator, Sequence
 
 import sympy as sp
 
+from lagcli.constants import ConstantError, value_at
+
 
 class TimeDerivative:
     """The total time derivative along the coordinates' motion."""
@@ -66,7 +68,7 @@ def numerically_zero(exprs: Iterable[sp.Expr], trials: int = 3, seed: int = 2026
     done = attempts = 0
     while done < trials and attempts < 10 * trials:
         attempts += 1
-        point = {s: sp.Float(rng.uniform(0.3, 1.3), 20) for s in sorted(names, key=str)}
+        point = {s: rng.uniform(0.3, 1.3) for s in sorted(names, key=str)}
         values = [_evaluate(e, point) for e in exprs]
         if any(v is None for v in values):
             continue
@@ -77,18 +79,20 @@ def numerically_zero(exprs: Iterable[sp.Expr], trials: int = 3, seed: int = 2026
 
 
 def _evaluate(expr: sp.Expr, point: dict) -> tuple[float, float] | None:
-    """(value, scale) of expr at point, scale = sum of |terms| for a relative tolerance."""
+    """(value, scale) of expr at point, scale = sum of |terms| for a relative tolerance.
+
+    Evaluated in double precision node by node (`constants.value_at`), never by
+    substituting Floats and `evalf`: sympy would evaluate sin(exp(exp(exp(exp(x)))))
+    at a point with mpmath to millions of digits."""
     terms = expr.args if expr.is_Add else (expr,)
-    total, scale = 0.0, 0.0
+    total, scale, memo = 0.0, 0.0, {}
     for term in terms:
         try:
-            number = complex(term.xreplace(point).evalf(20))
-        except (TypeError, ValueError, ZeroDivisionError):
+            number = value_at(term, point, memo)
+        except ConstantError:
             return None
-        if not (abs(number) < float("inf")) or abs(number.imag) > 1e-9 * (1 + abs(number.real)):
-            return None
-        total += number.real
-        scale += abs(number.real)
+        total += number
+        scale += abs(number)
     return total, scale
 
 

@@ -11,7 +11,10 @@ a finite real double of magnitude at most `LARGEST` and, unless zero, at least
 constant outside that range would be inf or 0 there).
 
 `constant_value(expr)` returns the float or raises `ConstantError` saying what
-went wrong in words a spec author understands.
+went wrong in words a spec author understands. `value_at(expr, point)` evaluates
+an expression at numeric values of its symbols the same way (for the numeric
+identity tests of `lagcli.calculus`: sympy's `evalf` at a random point can grind
+on `sin(exp(exp(exp(exp(x)))))` or run out of memory on a taller exp tower).
 """
 from __future__ import annotations
 
@@ -38,7 +41,16 @@ _FUNCTIONS: dict[type, Callable[..., float]] = {
     sp.sinh: math.sinh, sp.cosh: math.cosh, sp.tanh: math.tanh,
     sp.exp: math.exp, sp.log: math.log, sp.Abs: abs, sp.sign: _sign,
     sp.Min: min, sp.Max: max,
+    # in derivatives: of real values (all values here are real), and almost everywhere
+    sp.re: lambda x: x, sp.im: lambda x: 0.0,
+    sp.Heaviside: lambda x, *half: 0.5 + _sign(x) / 2, sp.DiracDelta: lambda x, *order: _not_at_zero(x),
 }
+
+
+def _not_at_zero(x: float) -> float:
+    if x == 0:
+        raise ZeroDivisionError
+    return 0.0
 
 
 def constant_value(expr: sp.Expr, memo: dict | None = None) -> float:
@@ -46,15 +58,24 @@ def constant_value(expr: sp.Expr, memo: dict | None = None) -> float:
 
     `memo` (expression -> value) lets a caller that evaluates growing expressions
     reuse the values of their parts."""
-    memo = {} if memo is None else memo
+    return _value(expr, {} if memo is None else memo, None)
+
+
+def value_at(expr: sp.Expr, point: dict, memo: dict | None = None) -> float:
+    """The value of `expr` with each symbol replaced by its float in `point`: a finite
+    real, without the range limits of constants (an underflow to 0 is fine here)."""
+    return _value(expr, {} if memo is None else memo, point)
+
+
+def _value(expr: sp.Expr, memo: dict, point: dict | None) -> float:
     found = memo.get(expr)
     if found is None:
-        found = _checked(expr, _node_value(expr, memo))
+        found = _checked(_node_value(expr, memo, point), strict=point is None)
         memo[expr] = found
     return found
 
 
-def _node_value(expr: sp.Expr, memo: dict) -> float:
+def _node_value(expr: sp.Expr, memo: dict, point: dict | None) -> float:
     if expr is sp.nan:
         raise ConstantError("is undefined (NaN)")
     if expr in (sp.zoo, sp.oo, sp.S.NegativeInfinity):
@@ -66,8 +87,10 @@ def _node_value(expr: sp.Expr, memo: dict) -> float:
     if expr.is_Float or expr.is_NumberSymbol:
         return float(expr)
     if expr.is_Symbol:
+        if point is not None and expr in point:
+            return float(point[expr])
         raise ConstantError(f"is not a constant (uses {expr})")
-    args = [constant_value(arg, memo) for arg in expr.args]
+    args = [_value(arg, memo, point) for arg in expr.args]
     try:
         if expr.is_Add:
             return math.fsum(args)
@@ -106,11 +129,11 @@ def _power(base: float, exponent: float) -> float:
     return value
 
 
-def _checked(expr: sp.Expr, value: float) -> float:
+def _checked(value: float, strict: bool) -> float:
     if isinstance(value, complex) or math.isnan(value):
         raise ConstantError("is not a real number")
-    if not math.isfinite(value) or abs(value) > LARGEST:
+    if not math.isfinite(value) or (strict and abs(value) > LARGEST):
         raise ConstantError(f"is too large (beyond {LARGEST:g})")
-    if value != 0 and abs(value) < SMALLEST:
+    if strict and value != 0 and abs(value) < SMALLEST:
         raise ConstantError(f"is too small (below {SMALLEST:g}; it would be 0 in double precision)")
     return value
