@@ -49,9 +49,10 @@ def test_random_specs_work_or_are_refused(workdir, text):
 
 @pytest.mark.timeout(600)
 @settings(FUZZ, max_examples=300)
-@given(potential=expressions, value=expressions)
-def test_random_expressions_work_or_are_refused(workdir, potential, value):
-    # a fixed, valid frame around two random expressions: deeper into the engine more often
+@given(potential=expressions, value=expressions, row=expressions, force=expressions)
+def test_random_expressions_work_or_are_refused(workdir, potential, value, row, force):
+    # a fixed, valid frame around random expressions: deeper into the engine more often
     check_text("coordinates: [x, y]\nparameters: {m: 1.0, k: 2.0, g: " + repr(value) + "}\n"
                "particles:\n  P: {mass: m, position: [x, y]}\n"
-               f"potential: {potential!r}\n", workdir)
+               f"potential: {potential!r}\ngeneralized_forces: {{y: {force!r}}}\n"
+               f"constraints: [{row!r}]\n", workdir)
