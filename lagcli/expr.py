@@ -33,6 +33,7 @@ MAX_EXPONENT = 1_000     # |n| in x**n with a numeric n
 MAX_LITERAL_DIGITS = 40  # digits in one numeric literal
 MAX_RESULT_NODES = 20_000  # tree size of one expression after definitions are substituted
 MAX_RESULT_DEPTH = 100     # its nesting depth (sympy recurses, and slows, with depth)
+MAX_EXACT_DIGITS = 20      # digits of a number kept exact under a fractional power
 
 
 def _atan2(y, x):
@@ -272,6 +273,11 @@ class _Builder:
                 self.fail("numeric power is too large or too small for double precision")
             if self.is_zero(base) and exponent.is_negative:
                 self.fail("division by zero (0 to a negative power)")
+            if base.is_Rational and not exponent.is_Integer and \
+                    max(len(str(abs(base.p))), len(str(base.q))) > MAX_EXACT_DIGITS:
+                # sympy factors the integers of an exact root (to pull out perfect powers):
+                # unbounded work for big numbers, so those roots are taken in floating point
+                base = sp.Float(base, 17)
         result = base ** exponent
         # sympy merges (x**a)**b into x**(a*b): bound the merged exponent too
         if result.is_Pow and result.exp.is_Number and abs(result.exp) > MAX_EXPONENT:
@@ -299,6 +305,8 @@ class _Builder:
             self.fail(f"{name}() takes {count} argument(s), got {len(node.args)}")
         if name == "diff":
             return self._diff(node)
+        if name == "sqrt":  # sqrt(a) is a ** (1/2): the same checks
+            return self._power(self.build(node.args[0]), sp.S.Half)
         args = [self.build(arg) for arg in node.args]
         if max(self.depth(arg) for arg in args) >= MAX_RESULT_DEPTH:
             self.too_deep()  # before sympy evaluates the call: sin(sin(...(1/2))) grows costly
