@@ -5,7 +5,23 @@ escaping is a bug.
 """
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
+
+MAX_ECHO = 200  # characters of user text (a key, an expression) repeated in a message
+_QUOTED = re.compile("'[^'\\n]{%d,}'|\"[^\"\\n]{%d,}\"" % (MAX_ECHO + 3, MAX_ECHO + 3))
+
+
+def clip(text: str, width: int = MAX_ECHO) -> str:
+    """`text`, or its first `width` characters and its length when longer."""
+    return text if len(text) <= width else f"{text[:width]}... ({len(text)} characters)"
+
+
+def clip_message(text: str) -> str:
+    """A message with each long quoted piece of user text cut to `MAX_ECHO` characters,
+    and the whole cut to a few lines' worth: a 50 KB expression is not echoed back."""
+    text = _QUOTED.sub(lambda found: found[0][0] + clip(found[0][1:-1]) + found[0][-1], text)
+    return clip(text, 4 * MAX_ECHO)
 
 
 @dataclass(frozen=True)
@@ -28,7 +44,7 @@ class Loc:
             where += f":{self.line}"
             if self.column is not None:
                 where += f":{self.column}"
-        return f"{where}: {self.path}" if self.path else where
+        return f"{where}: {clip(self.path)}" if self.path else where
 
 
 @dataclass(frozen=True)
@@ -40,8 +56,8 @@ class Problem:
     hint: str = ""
 
     def __str__(self) -> str:
-        text = f"{self.loc}: {self.message}"
-        return text + (f"\n  hint: {self.hint}" if self.hint else "")
+        text = f"{self.loc}: {clip_message(self.message)}"
+        return text + (f"\n  hint: {clip_message(self.hint)}" if self.hint else "")
 
 
 class LagcliError(Exception):
@@ -51,7 +67,7 @@ class LagcliError(Exception):
 
     def render(self) -> str:
         """The message for stderr: `error: ...` (located problems override this)."""
-        return f"error: {self}"
+        return f"error: {clip_message(str(self))}"
 
 
 class SpecError(LagcliError):

@@ -23,6 +23,7 @@ from collections.abc import Callable, Mapping
 
 import sympy as sp
 
+from lagcli.constants import ConstantError, constant_value
 from lagcli.errors import Loc, Problem, SpecError
 
 MAX_TEXT = 20_000        # characters in one expression
@@ -31,6 +32,8 @@ MAX_DEPTH = 60           # nesting depth
 MAX_EXPONENT = 1_000     # |n| in x**n with a numeric n
 MAX_LITERAL_DIGITS = 40  # digits in one numeric literal
 MAX_RESULT_NODES = 20_000  # tree size of one expression after definitions are substituted
+MAX_RESULT_DEPTH = 100     # its nesting depth (sympy recurses, and slows, with depth)
+MAX_EXACT_DIGITS = 20      # digits of a number kept exact under a fractional power
 
 
 def _atan2(y, x):
@@ -119,13 +122,10 @@ def parse_constant(text: str, loc: Loc, extra: Mapping[str, sp.Expr] | None = No
     if value.free_symbols:
         names_used = ", ".join(sorted(str(s) for s in value.free_symbols))
         _fail(loc, f"{_short(text)!r} must be a constant, but uses {names_used}")
-    try:  # floats, not mpmath: exp(exp(exp(100))) must overflow at once, not grind
-        number = complex(sp.lambdify((), value, modules="math")())
-    except (OverflowError, ValueError, ZeroDivisionError, TypeError):
-        number = complex("nan")
-    if number.imag != 0 or not math.isfinite(number.real):
-        _fail(loc, f"{_short(text)!r} is not a finite real number")
-    return number.real
+    try:
+        return constant_value(value)
+    except ConstantError as exc:
+        _fail(loc, f"{_short(text)!r} {exc}", "a value must be a finite real number")
 
 
 def _tree_size_exceeds(expr: sp.Expr, limit: int) -> bool:
@@ -153,6 +153,10 @@ class _Builder:
 
     def __init__(self, scope: Scope, loc: Loc, text: str):
         self.scope, self.loc, self.text = scope, loc, text
+        self.source = text.replace("^", "**").strip()  # what `ast` parsed: node positions refer to it
+        self.values: dict[sp.Expr, float] = {}      # constant -> its value
+        self.constant: dict[sp.Expr, bool] = {}     # expression -> has no free symbols
+        self.depths: dict[sp.Expr, int] = {}        # expression -> nesting depth
 
     def fail(self, message: str, hint: str = "") -> None:
         raise SpecError(Problem(self.loc, f"in {_short(self.text)!r}: {message}", hint))
@@ -165,14 +169,57 @@ class _Builder:
                       else f"{what} is not allowed in expressions",
                       "expressions use numbers, names, + - * / ** ^, parentheses and functions "
                       + ", ".join(sorted(FUNCTIONS)))
-        return handler(node)
+        return self.guarded(handler(node), node)
+
+    def guarded(self, value: sp.Expr, node: ast.AST) -> sp.Expr:
+        """`value`, once each constant in its top node is known to be a finite real double.
+
+        Checking every node as it is built means sympy never receives an argument
+        that is complex, infinite or astronomically large: `Min(x, acos(2))` would
+        raise inside sympy, `tan(cosh(10**6))` would grind through argument reduction.
+        sympy merges numbers as it builds (x*1e300*1e300 -> 1e600*x), hence the
+        check of the top node's constant arguments as well. Definitions nest, so the
+        depth of the result is bounded here too, not only that of the text."""
+        if self.depth(value) > MAX_RESULT_DEPTH:
+            self.too_deep()
+        for part in (value,) if self.is_constant(value) else value.args:
+            if self.is_constant(part):
+                try:
+                    constant_value(part, self.values)
+                except ConstantError as exc:
+                    written = ast.get_source_segment(self.source, node) if part is value else None
+                    self.fail(f"the constant {_short(written or str(part))} {exc}",
+                              "constants must be finite real numbers within the double range")
+        return value
+
+    def depth(self, value: sp.Expr) -> int:
+        found = self.depths.get(value)
+        if found is None:
+            found = 1 + max((self.depth(arg) for arg in value.args), default=0)
+            self.depths[value] = found
+        return found
+
+    def too_deep(self) -> None:
+        self.fail(f"expression is nested too deeply once names are substituted (more than "
+                  f"{MAX_RESULT_DEPTH} levels)", "split the chain of definitions, or simplify it")
+
+    def is_zero(self, value: sp.Expr) -> bool:
+        """Exactly zero, or a constant whose double value is 0 (a 0.0 parameter value)."""
+        return value.is_zero is True or (self.is_constant(value) and constant_value(value, self.values) == 0)
+
+    def is_constant(self, value: sp.Expr) -> bool:
+        found = self.constant.get(value)
+        if found is None:
+            found = not value.is_Symbol and all(self.is_constant(arg) for arg in value.args)
+            self.constant[value] = found
+        return found
 
     def _Constant(self, node: ast.Constant) -> sp.Expr:
         value = node.value
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             kind = "strings" if isinstance(value, (str, bytes)) else f"{type(value).__name__} literals"
             self.fail(f"{kind} are not allowed in expressions")
-        literal = ast.get_source_segment(self.text.replace("^", "**").strip(), node) or repr(value)
+        literal = ast.get_source_segment(self.source, node) or repr(value)
         if sum(c.isdigit() for c in literal) > MAX_LITERAL_DIGITS:
             self.fail(f"numeric literal {literal[:20]}... is too large")
         if isinstance(value, int):
@@ -213,7 +260,7 @@ class _Builder:
         op = _BINARY.get(type(node.op))
         if op is None:
             self.fail(f"operator '{type(node.op).__name__}' is not allowed")
-        if isinstance(node.op, ast.Div) and right == 0:
+        if isinstance(node.op, ast.Div) and self.is_zero(right):
             self.fail("division by zero")
         return op(left, right)
 
@@ -221,11 +268,16 @@ class _Builder:
         if exponent.is_Number:
             if abs(exponent) > MAX_EXPONENT:
                 self.fail(f"exponent {_short(str(exponent))} is too large (at most {MAX_EXPONENT})")
-            if base.is_Number and base != 0 and \
-                    float(abs(exponent)) * abs(math.log10(float(abs(base)))) > 300:
-                self.fail("numeric power is too large")
-            if base == 0 and exponent.is_negative:
+            size = abs(constant_value(base, self.values)) if self.is_constant(base) else 0.0
+            if size != 0 and abs(float(exponent) * math.log10(size)) > 300:
+                self.fail("numeric power is too large or too small for double precision")
+            if self.is_zero(base) and exponent.is_negative:
                 self.fail("division by zero (0 to a negative power)")
+            if base.is_Rational and not exponent.is_Integer and \
+                    max(len(str(abs(base.p))), len(str(base.q))) > MAX_EXACT_DIGITS:
+                # sympy factors the integers of an exact root (to pull out perfect powers):
+                # unbounded work for big numbers, so those roots are taken in floating point
+                base = sp.Float(base, 17)
         result = base ** exponent
         # sympy merges (x**a)**b into x**(a*b): bound the merged exponent too
         if result.is_Pow and result.exp.is_Number and abs(result.exp) > MAX_EXPONENT:
@@ -253,7 +305,15 @@ class _Builder:
             self.fail(f"{name}() takes {count} argument(s), got {len(node.args)}")
         if name == "diff":
             return self._diff(node)
-        return constructor(*(self.build(arg) for arg in node.args))
+        if name == "sqrt":  # sqrt(a) is a ** (1/2): the same checks
+            return self._power(self.build(node.args[0]), sp.S.Half)
+        args = [self.build(arg) for arg in node.args]
+        if max(self.depth(arg) for arg in args) >= MAX_RESULT_DEPTH:
+            self.too_deep()  # before sympy evaluates the call: sin(sin(...(1/2))) grows costly
+        try:
+            return constructor(*args)
+        except (ValueError, TypeError, ArithmeticError) as exc:  # e.g. Min of incomparable arguments
+            self.fail(f"cannot apply {name}() to these arguments ({exc})")
 
     def _diff(self, node: ast.Call) -> sp.Expr:
         variable = node.args[1]

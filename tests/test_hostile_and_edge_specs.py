@@ -1,6 +1,10 @@
 """Specs that once fooled or stalled the engine: each must give the right answer or a
 located error (exit 2) within seconds, never a traceback or a hang."""
 import json
+import math
+import os
+import subprocess
+import sys
 import time
 
 import pytest
@@ -10,6 +14,8 @@ from lagcli.api import load_model
 from lagcli.calculus import DependenceProbe, numerically_zero
 from lagcli.cli import cli
 from lagcli.derive import derive
+from lagcli.errors import SpecError
+from lagcli.spec.files import read_spec_bytes
 from lagcli.spec_printer import parse_output
 
 import sympy as sp
@@ -129,3 +135,133 @@ def test_format_and_expression_problems_are_reported_together(tmp_path):
                      "multi.yaml:4:30: particles.P.position[1]: in 'zz': unknown name 'zz'",
                      "multi.yaml:5:12: potential: in 'qq*x': unknown name 'qq'"):
         assert expected in result.stderr
+
+
+# --- hostile files: refused before anything is read (lagcli.spec.files.read_spec_bytes) ---
+
+@pytest.mark.parametrize("command", [["check"], ["derive"], ["simulate", "--t-end", "0.1"]])
+def test_a_fifo_spec_is_refused_without_blocking(tmp_path, monkeypatch, command):
+    # nobody ever writes to the pipe: opening it for reading would block forever
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    fifo = tmp_path / "pipe.yaml"
+    os.mkfifo(fifo)
+    result = invoke(*command, fifo)
+    assert result.exit_code == 2, result.output
+    assert f"{fifo}: cannot read the spec: it is a named pipe (FIFO)" in result.stderr
+
+
+@pytest.mark.parametrize("command", [["check"], ["simulate", "--t-end", "0.1"]])
+def test_an_endless_device_is_refused_without_reading_it(tmp_path, monkeypatch, command):
+    # /dev/zero never ends: simulate's warm path (the driver cache lookup) reads the spec
+    # bytes before anything else, so it too must refuse the device before reading
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    link = tmp_path / "zero.yaml"
+    link.symlink_to("/dev/zero")
+    for path in (link, "/dev/zero"):
+        result = invoke(*command, path)
+        assert result.exit_code == 2, result.output
+        assert "Traceback" not in result.output
+    assert f"{link}: cannot read the spec: it is a device" in invoke(*command, link).stderr
+
+
+def test_a_directory_spec_is_refused(tmp_path):
+    folder = tmp_path / "folder.yaml"
+    folder.mkdir()
+    result = invoke("check", folder)  # click refuses it first
+    assert result.exit_code == 2 and "is a directory" in result.stderr
+    with pytest.raises(SpecError, match="cannot read the spec: it is a directory"):
+        read_spec_bytes(folder)
+
+
+def test_read_spec_bytes_does_not_import_sympy_or_numpy():
+    # the warm C path of `simulate` reads the spec with it and must stay light
+    code = ("import sys; from lagcli.spec.files import read_spec_bytes; "
+            "print(sorted(m for m in ('sympy', 'numpy') if m in sys.modules))")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert done.stdout.strip() == "[]"
+
+
+# --- constants and long text ---
+
+def test_long_user_text_is_clipped_in_messages(tmp_path):
+    key = "k" * 50_000  # an explicit key (?): YAML limits plain keys to 1024 characters
+    path = tmp_path / "long.yaml"
+    path.write_text(f"coordinates: [x]\n? {key}\n: 1\npotential: x + {'y' * 15_000}\n")
+    result = invoke("check", path)
+    assert result.exit_code == 2
+    assert "unknown key 'kkkk" in result.stderr and "(50000 characters)" in result.stderr
+    assert "unknown name 'yyyy" in result.stderr and "(15000 characters)" in result.stderr
+    assert len(result.stderr) < 3000
+
+
+@pytest.mark.parametrize("value, expected", [
+    ("1e-300", 1e-300), ("-1e300", -1e300), ("exp(690)", math.exp(690)), ("acos(1/2)*3", math.pi),
+    ("atan2(0, -1)", math.pi), ("min(2, sqrt(3))", math.sqrt(3)), ("sign(-1e-300)", -1.0),
+])
+def test_constants_in_range_are_accepted(tmp_path, value, expected):
+    path = tmp_path / "c.yaml"
+    path.write_text(f"coordinates: [x]\nparameters:\n  m: '{value}'\nparticles:\n  P: {{mass: 1, position: [x, 0]}}\n")
+    (parameter,) = load_model(path).parameters
+    assert parameter.value == pytest.approx(expected, rel=1e-14)
+
+
+@pytest.mark.parametrize("potential, problem", [
+    ("x*1e300*1e300", "too large"),                 # sympy merges the numbers into 1e600*x
+    ("x/(1e-200*1e-200)", "too small"),
+    ("x**(sqrt(-2)**2)", "complex"),
+    ("x**acos(2)", "the constant acos(2) is not a real number"),
+    ("log(0)*x", "the constant log(0) is infinite"),
+    ("x*exp(1e6)", "the constant exp(1e6) is too large"),
+    ("x/(sin(pi))", "division by zero"),
+])
+def test_bad_constants_inside_expressions_are_located(tmp_path, potential, problem):
+    result = invoke("check", write(tmp_path, f"potential: {potential}\n"))
+    assert result.exit_code == 2, result.output
+    assert "s.yaml:5:12: potential:" in result.stderr and problem in result.stderr
+
+
+def test_sign_of_a_reciprocal_in_a_position_derives(tmp_path):
+    # sympy leaves d/dx sign(1/x) unevaluated (it cannot prove 1/x real); it is 0
+    path = tmp_path / "sign.yaml"
+    path.write_text("coordinates: [x]\nparameters: {m: 1.0}\nparticles:\n"
+                    "  P: {mass: m, position: [x, sign(1/x)]}\n")
+    d = derive(load_model(path))
+    x_dot, m = d.model.qd[0], d.model.symbol("m")
+    assert sp.simplify(d.T - m * x_dot**2 / 2) == 0
+
+
+def test_many_ignorable_coordinates(tmp_path):
+    # 12 free particles on a line chain of springs in y: every x_i is ignorable, no y_i is;
+    # deciding this is one pass per coordinate (no work repeated per ignorable coordinate)
+    n = 12
+    path = tmp_path / "free.yaml"
+    path.write_text(
+        f"coordinates: [{', '.join(f'x{i}' for i in range(n))}, {', '.join(f'y{i}' for i in range(n))}]\n"
+        "parameters: {m: 1.0, k: 2.0}\nparticles:\n"
+        + "".join(f"  P{i}: {{mass: m, position: [x{i}, y{i}]}}\n" for i in range(n))
+        + "potential: '" + " + ".join(f"k*(y{i} - y{i + 1})**2/2" for i in range(n - 1)) + "'\n")
+    d = derive(load_model(path))
+    assert [q.name for q in d.ignorable] == [f"x{i}" for i in range(n)]
+    momenta = {c.name: c.expr for c in d.conserved if c.kind == "momentum"}
+    m = d.model.symbol("m")
+    assert all(sp.simplify(momenta[f"p_x{i}"] - m * d.model.qd[i]) == 0 for i in range(n))
+
+
+@pytest.mark.parametrize("tower", ["sin(exp(exp(exp(exp(x)))))", "exp(exp(exp(exp(exp(exp(x))))))"])
+def test_towers_in_numeric_identity_tests_do_not_stall(tmp_path, tower):
+    # "is Q'_y zero?", "is the row integrable?" are decided at random points: there the
+    # towers overflow double precision, which makes a point unusable instead of making
+    # mpmath compute pi to millions of digits (sin) or run out of memory (exp)
+    result = invoke("check", write(tmp_path, f"generalized_forces: {{y: '{tower}'}}\n"
+                                             f"constraints: ['x_dot - {tower}*y_dot']\n"))
+    assert result.exit_code == 0, result.output
+    assert "Jacobi      : does not exist" in result.stdout
+
+
+def test_roots_of_big_numbers_are_taken_in_floating_point(tmp_path):
+    # sympy would factor the 40-digit integer to pull perfect powers out of the exact root
+    big = "1234567890123456789012345678901234567891"
+    d = derive(load_model(write(tmp_path, f"potential: ({big})^(1/3)*x + sqrt(2)*y\n")))
+    x, y = d.model.q
+    assert float(d.V.coeff(x)) == pytest.approx(int(big) ** (1 / 3), rel=1e-14)
+    assert d.V.coeff(y) == sp.sqrt(2)  # small numbers stay exact

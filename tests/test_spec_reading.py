@@ -259,7 +259,7 @@ def test_c_keywords_and_soft_keywords_are_allowed_names(tmp_path):
     ("coordinates: [x]\non: 2\n", "key 'on' is read by YAML as a bool, not a name\n  hint: quote it: 'on'"),
     ("coordinates: [x]\n? [a]\n: 2\n", "spec.yaml:2:3: a mapping key must be a plain name"),
     ("coordinates: [x]\n<<: {kinetic: 0}\n", "spec.yaml:2:1: YAML merge keys ('<<') are not allowed"),
-    ("coordinates: !!python/object/apply:os.system [echo]\n", "spec.yaml:1:14: YAML tag"),
+    ("coordinates: !!python/object/apply:os.system [echo]\n", "spec.yaml:1:14: coordinates: YAML tag"),
     ("coordinates: !!set {x}\n", "YAML tag 'tag:yaml.org,2002:set' is not allowed"),
     ("", "spec.yaml:1:1: spec is empty"),
     ("coordinates: [x\x00]\n", "spec.yaml: invalid YAML: unacceptable character #x0000"),
@@ -271,7 +271,7 @@ def test_yaml_reader_refusals(tmp_path, text, expected):
 
 
 @pytest.mark.parametrize("name, text, expected", [
-    ("spec.yaml", "coordinates: [x]\nkinetic: " + "1" * 5000 + "\n", "spec.yaml:2:10: cannot read the number"),
+    ("spec.yaml", "coordinates: [x]\nkinetic: " + "1" * 5000 + "\n", "spec.yaml:2:10: kinetic: cannot read"),
     ("spec.toml", "coordinates = ['x']\nkinetic = " + "1" * 5000 + "\n", "spec.toml: invalid TOML: a number is too long"),
 ])
 def test_overlong_integer(tmp_path, name, text, expected):

@@ -96,12 +96,41 @@ def test_closed_form_numerically(derived, augmented):
         assert lam[0] == pytest.approx(-2 * mass * v0 * w, rel=1e-10)
 
 
-def test_no_ignorable_coordinates_but_energy_conserved(derived, assert_zero):
-    # x, y and phi are all absent from L, but each appears in the constraint
-    # (x_dot, y_dot, phi), so none is ignorable (CONTRACT: conserved quantities).
+def test_phi_is_ignorable_and_energy_conserved(derived, assert_zero):
+    # x, y and phi are all absent from L. x_dot and y_dot have coefficients in the
+    # constraint x_dot sin(phi) - y_dot cos(phi) = 0, so x and y are not ignorable;
+    # phi appears there only through sin/cos, its column of A is 0, so phi is:
+    # its equation (m l^2/2) phi'' = 0 has no multiplier term (docs/derive.md).
     d = derived(SPEC)
-    assert d.ignorable == ()
-    assert not [c for c in d.conserved if c.kind == "momentum"]
+    x, y, ph, xd, yd, phd, xdd, ydd, phdd, m, l = _syms(d)
+    assert d.ignorable == (ph,)
+    (momentum,) = [c for c in d.conserved if c.kind == "momentum"]
+    assert momentum.name == "p_phi"
+    assert_zero(momentum.expr - m * l**2 * phd / 2, "p_phi = dT/dphi_dot (hand-derived T)")
     assert d.jacobi_integral is not None
     assert d.energy_is_jacobi is True
     assert_zero(d.jacobi_integral - d.energy, "h - E")
+
+
+def test_p_phi_column_is_constant_along_a_simulation(tmp_path, monkeypatch):
+    # independent of the derivation: the CSV's p_phi must equal m l^2 phi_dot / 2 from the
+    # hand-derived T at every row, and stay at its initial value along a curved path
+    from click.testing import CliRunner
+
+    from conftest import spec_path
+    from lagcli.cli import cli
+    from lagcli.simulate.trajectory import parse_csv
+
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+    v, heading = 1.0, 0.4
+    result = CliRunner().invoke(cli, [
+        "simulate", str(spec_path(SPEC)), "--backend", "python", "--t-end", "3", "--dt", "0.1",
+        "--init", f"phi={heading}", "--init", "phi_dot=1.5",
+        "--init", f"x_dot={v * np.cos(heading)}", "--init", f"y_dot={v * np.sin(heading)}"])
+    assert result.exit_code == 0, result.output
+    header, rows = parse_csv(result.stdout)
+    columns = {name: np.array([row[i] for row in rows]) for i, name in enumerate(header)}
+    m, l = 1.0, 0.5  # the spec's parameter values
+    assert np.allclose(columns["p_phi"], m * l**2 * columns["phi_dot"] / 2, rtol=1e-12, atol=0)
+    assert np.max(np.abs(columns["p_phi"] - m * l**2 * 1.5 / 2)) < 1e-10
+    assert np.ptp(columns["x"]) > 0.1 and np.ptp(columns["y"]) > 0.1  # the wheels did move

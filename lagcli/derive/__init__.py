@@ -14,7 +14,7 @@ from lagcli.derive.energy import energies
 from lagcli.derive.forcing import forcing
 from lagcli.derive.forces import applied_generalized_forces
 from lagcli.derive.invariants import (LagrangianProbe, conserved_quantities, ignorable_coordinates,
-                                      jacobi_integral)
+                                      jacobi_integral, momenta)
 from lagcli.derive.result import Derivation, Equation
 from lagcli.model_types import Model
 
@@ -43,7 +43,6 @@ def derive(model: Model) -> Derivation:
 
     probe = LagrangianProbe(M, a, e.T0, e.V)
     ignorable = ignorable_coordinates(model, probe, Q_applied, rows)
-    momenta = [(M * qd + a)[model.q.index(s)] for s in ignorable]
     h = jacobi_integral(model, probe, T2, e.T0, e.V, Q_applied, rows)
     energy = T + e.V
     energy_is_jacobi = h is not None and numerically_zero([T1 + 2 * e.T0])
@@ -58,7 +57,8 @@ def derive(model: Model) -> Derivation:
         generalized_constraint_forces=sp.ImmutableMatrix(constraint_force),
         particle_constraint_forces=_particle_constraint_forces(model, D) if rows else {},
         energy=energy, ignorable=ignorable,
-        conserved=conserved_quantities(model, ignorable, momenta, h, energy_is_jacobi),
+        conserved=conserved_quantities(model, ignorable, momenta(M, a, model.qd, ignorable, model.q), h,
+                                       energy_is_jacobi),
         jacobi_integral=h, energy_is_jacobi=energy_is_jacobi,
         scleronomic=_is_scleronomic(model),
     )

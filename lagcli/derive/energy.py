@@ -66,8 +66,10 @@ def kinetic_parts(model: Model, D: TimeDerivative) -> tuple[sp.Matrix, sp.Matrix
 def _split_extra_kinetic(model: Model):
     """The `kinetic:` term, split by degree in q' (the model checked it is at most quadratic)."""
     K, qd = model.kinetic, sp.Matrix(model.qd)
+    if K == 0:  # the usual case: skip n^2 substitutions into zeros
+        return sp.zeros(len(qd), len(qd)), sp.zeros(len(qd), 1), sp.S.Zero
     zero = {v: 0 for v in model.qd}
-    M = sp.hessian(K, qd) if K != 0 else sp.zeros(len(qd), len(qd))
+    M = sp.hessian(K, qd)
     a = sp.Matrix([K.diff(v).subs(zero) for v in qd])
     return M.subs(zero), a, K.subs(zero)
 

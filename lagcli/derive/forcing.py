@@ -25,17 +25,16 @@ from lagcli.model_types import Model
 
 def forcing(model: Model, D: TimeDerivative, Q_applied: sp.ImmutableMatrix, V: sp.Expr) -> sp.ImmutableMatrix:
     q, qd = sp.Matrix(model.q), sp.Matrix(model.qd)
-    no_acc = {a: 0 for a in model.qdd}
     F = sp.Matrix(Q_applied) - sp.Matrix([V.diff(qi) for qi in model.q])
     for mass, r in model.mass_points:
-        acceleration = D.matrix(D.matrix(r)).subs(no_acc)
+        acceleration = D.matrix(D.matrix(r), accelerations=False)
         F -= mass * (r.jacobian(q).T * acceleration)
     for body in model.bodies:
         omega = body_angular_velocity(body, D)
-        spin = D.matrix(omega).subs(no_acc)
+        spin = D.matrix(omega, accelerations=False)
         inertia_torque = body.inertia * spin + omega.cross(body.inertia * omega)
         F -= omega.jacobian(qd).T * inertia_torque
     if model.kinetic != 0:
         K = model.kinetic
-        F -= sp.Matrix([D(K.diff(v)).subs(no_acc) - K.diff(qi) for qi, v in zip(model.q, model.qd)])
+        F -= sp.Matrix([D(K.diff(v), accelerations=False) - K.diff(qi) for qi, v in zip(model.q, model.qd)])
     return sp.ImmutableMatrix(F)

@@ -1,7 +1,10 @@
-"""Conserved quantities (CONTRACT §1 "Conserved quantities").
+"""Conserved quantities (docs/constraints.md, "Conservation with constraints").
 
-- q_s is ignorable when dL/dq_s = 0, Q'_s = 0 and no constraint row involves
-  q_s or q_s'; then p_s = dL/dq_s' = (M q' + a)_s is conserved.
+- q_s is ignorable when dL/dq_s = 0, Q'_s = 0 and column s of the constraint
+  matrix is identically zero (a row may still contain q_s itself, as sin(phi) in
+  the lecture notes' Ex. 6-9); then Lagrange's equation for q_s reads
+  d/dt(dL/dq_s') = Q'_s + sum_j lambda_j a_js = 0, so p_s = dL/dq_s' = (M q' + a)_s
+  is conserved.
 - The Jacobi integral h = T2 - T0 + V exists when dL/dt = 0, Q' = 0 and every
   constraint row has a independent of t and d = 0.
 
@@ -11,6 +14,9 @@ probe those, smallest first. They are numeric (`DependenceProbe`) because a
 prescribed rotation W t often cancels out of L only after trigonometric
 simplification (bead on a spinning hoop). When L has no explicit t, h = T2 - T0 + V
 has none either, so it is reported with t set to 0.
+
+Cost: the free symbols of each group are collected once, so deciding all n
+coordinates is one pass over L plus a probe per coordinate that L mentions.
 """
 from __future__ import annotations
 
@@ -26,11 +32,12 @@ class LagrangianProbe:
     def __init__(self, M, a, T0, V):
         n = M.rows
         self.groups = [[T0 - V], list(a), [M[i, j] for i in range(n) for j in range(i, n)]]
+        self.names = [set().union(*(sp.sympify(e).free_symbols for e in g)) for g in self.groups]
         self.probes: list[DependenceProbe | None] = [None] * len(self.groups)
 
     def depends_on(self, symbol: sp.Symbol) -> bool:
         for k, group in enumerate(self.groups):
-            if not any(depends_on(e, (symbol,)) for e in group):
+            if symbol not in self.names[k]:
                 continue
             if self.probes[k] is None:
                 self.probes[k] = DependenceProbe(group)
@@ -40,13 +47,24 @@ class LagrangianProbe:
 
 
 def ignorable_coordinates(model, probe: LagrangianProbe, Q_applied, rows) -> tuple[sp.Symbol, ...]:
-    result = []
-    for s, qs in enumerate(model.q):
-        if not numerically_zero([Q_applied[s]]) or any(depends_on(r.expr, (qs, model.qd[s])) for r in rows):
-            continue
-        if not probe.depends_on(qs):
-            result.append(qs)
-    return tuple(result)
+    """The q_s with dL/dq_s = 0, Q'_s = 0 and a zero column s in the constraint matrix."""
+    return tuple(qs for s, qs in enumerate(model.q)
+                 if _zero([Q_applied[s]]) and _zero([row.a[s] for row in rows])
+                 and not probe.depends_on(qs))
+
+
+def momenta(M, a, qd, ignorable, q) -> list[sp.Expr]:
+    """p_s = dL/dq_s' = (M q' + a)_s of each ignorable q_s (M q' + a formed once)."""
+    if not ignorable:
+        return []
+    p = M * sp.Matrix(qd) + a
+    return [p[q.index(s)] for s in ignorable]
+
+
+def _zero(exprs) -> bool:
+    """Identically zero: structurally, else numerically."""
+    exprs = [e for e in exprs if e != 0]
+    return not exprs or numerically_zero(exprs)
 
 
 def jacobi_integral(model, probe: LagrangianProbe, T2, T0, V, Q_applied, rows) -> sp.Expr | None:

@@ -27,6 +27,7 @@ from scipy import integrate
 
 from lagcli.numerics import max_step, output_times
 from lagcli.simulate import cache
+from lagcli.spec.files import read_spec_bytes
 from lagcli.simulate.options import RunSettings
 from lagcli.simulate.trajectory import Trajectory, format_row
 
@@ -50,8 +51,7 @@ def load_module(derivation, spec_start=None) -> types.ModuleType:
 def cached_module(derivation, spec_path: str, spec_start=None) -> types.ModuleType:
     """`load_module`, with the source taken from the cache when this spec's module is
     there (and intact), and stored there when it is not."""
-    # TODO: read_spec_bytes (spec/reader.py, size-limited) once it exists, instead of read_bytes
-    key = cache.cache_key(spec_path, Path(spec_path).read_bytes(), MODULE_VARIANT)
+    key = cache.cache_key(spec_path, read_spec_bytes(spec_path), MODULE_VARIANT)
     entry = cache.load(key)
     if entry is not None and MODULE in entry.contents:
         return _execute(derivation.model.name, entry.contents[MODULE].decode())

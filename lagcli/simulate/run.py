@@ -16,13 +16,13 @@ from __future__ import annotations
 
 import contextlib
 from dataclasses import dataclass
-from pathlib import Path
 
 from lagcli.errors import SimulationError, UsageError
 from lagcli.simulate import c_backend
 from lagcli.numerics import CONSTRAINT_TOLERANCE, EXPLICIT_METHODS
 from lagcli.simulate.options import Request, RunSettings, parse_assignments, resolve_settings
 from lagcli.simulate.trajectory import Trajectory
+from lagcli.spec.files import read_spec_bytes
 
 
 class Interrupted(SimulationError):
@@ -67,10 +67,7 @@ def _no_progress(total):
 
 
 def _warm(request: Request, compiler: str, note, progress) -> Outcome | None:
-    try:
-        spec_bytes = Path(request.spec).read_bytes()
-    except OSError:
-        return None                           # the cold path reports it properly
+    spec_bytes = read_spec_bytes(request.spec)  # size-limited; refuses a FIFO or a device
     cached = c_backend.lookup(c_backend.cache_key(request.spec, spec_bytes, compiler))
     if cached is None:
         return None
@@ -157,7 +154,7 @@ def _python(d, spec: str, spec_start, params: dict, y0, settings: RunSettings, p
 def _cached_driver(d, spec: str, compiler: str, spec_start=None) -> c_backend.Cached:
     """The compiled driver of `d` from the cache, building it (and meta.json) if needed.
     `spec_start`: `initial.spec_initial_state(d)` when the caller has it already."""
-    key = c_backend.cache_key(spec, Path(spec).read_bytes(), compiler)
+    key = c_backend.cache_key(spec, read_spec_bytes(spec), compiler)
     cached = c_backend.lookup(key)
     if cached is not None:
         return cached

@@ -5,9 +5,11 @@ None), the source text of every scalar (an expression's `Src.text`) and, for
 YAML, the 1-based line/column of every key and value. TOML (`tomllib`) gives no
 positions, so its locations carry the key path only.
 
-A spec is untrusted input: the reader refuses files over 1 MiB, YAML anchors and
-aliases (alias bombs), deep nesting, huge node counts, custom YAML tags,
-non-string keys and duplicate keys.
+A spec is untrusted input: the reader refuses anything but a regular file
+(a FIFO or /dev/zero would block or never end), files over 1 MiB, YAML anchors
+and aliases (alias bombs), deep nesting, huge node counts, custom YAML tags,
+non-string keys and duplicate keys. The bytes come from `files.read_spec_bytes`,
+the one way a spec file is read (here and on the warm C path of `simulate`).
 """
 from __future__ import annotations
 
@@ -21,8 +23,8 @@ from typing import Any
 import yaml
 
 from lagcli.errors import Loc, Problem, SpecError
+from lagcli.spec.files import read_spec_bytes
 
-MAX_BYTES = 1 << 20
 MAX_NODES = 100_000
 MAX_DEPTH = 32
 
@@ -90,13 +92,7 @@ def read_document(path: str | Path) -> RawDoc:
 
 
 def _read_text(name: str) -> str:
-    try:
-        with open(name, "rb") as stream:
-            data = stream.read(MAX_BYTES + 1)
-    except OSError as exc:
-        raise SpecError(Problem(Loc(name), f"cannot read the spec: {exc.strerror or exc}")) from None
-    if len(data) > MAX_BYTES:
-        raise SpecError(Problem(Loc(name), "spec file is too large (the limit is 1 MiB)"))
+    data = read_spec_bytes(name)
     try:
         return data.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
@@ -165,8 +161,9 @@ class _YamlWalker:
         self.key_marks: dict[KeyPath, tuple[int, int]] = {}
         self._constructor = yaml.SafeLoader("")  # only for its scalar constructors
 
-    def fail(self, node: yaml.Node, message: str, hint: str = "") -> None:
-        self.problems.append(Problem(_mark_loc(self.name, node.start_mark), message, hint))
+    def fail(self, node: yaml.Node, message: str, hint: str = "", path: KeyPath = ()) -> None:
+        loc = _mark_loc(self.name, node.start_mark)
+        self.problems.append(Problem(Loc(loc.file, loc.line, loc.column, format_path(path)), message, hint))
 
     def walk(self, node: yaml.Node, path: KeyPath) -> Any:
         self.marks[path] = (node.start_mark.line + 1, node.start_mark.column + 1)
@@ -205,18 +202,25 @@ class _YamlWalker:
 
     def _scalar(self, node: yaml.ScalarNode, path: KeyPath) -> Any:
         if not isinstance(node, yaml.ScalarNode) or node.tag not in _SCALAR_TAGS:
-            self.fail(node, f"YAML tag '{node.tag}' is not allowed")
+            self.fail(node, f"YAML tag '{node.tag}' is not allowed", path=path)
             return None
         if node.tag == _TAG + "timestamp":  # e.g. 2001-12-14: keep it as text
             value: Any = node.value
         else:
             try:
                 value = self._constructor.construct_object(node)
-            except ValueError:  # e.g. an integer over Python's 4300-digit limit
-                self.fail(node, f"cannot read the number {node.value[:20]}...: it is too long")
+            except (ValueError, IndexError, KeyError, TypeError):  # PyYAML on e.g. `!!float ''`
+                kind = node.tag.rsplit(":", 1)[-1]
+                self.fail(node, f"cannot read {_clip(node.value)!r} as a YAML {kind}"
+                          + (": it is too long" if len(node.value) > 4000 else ""),
+                          "remove the !!tag, or write a plain number", path)
                 return None
         self.texts[path] = _number_text(value, node.value)
         return value
+
+
+def _clip(text: str, width: int = 40) -> str:
+    return text if len(text) <= width else text[:width] + "..."
 
 
 def _number_text(value: Any, source: str) -> str:

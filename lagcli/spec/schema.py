@@ -93,7 +93,7 @@ class _SpecChecker(Checker):
         """Parse the whole list first, so `<q>_dot` names are known when declaring."""
         path: KeyPath = ("coordinates",)
         if not isinstance(value, list) or not value:
-            if value is not None:
+            if value is not None or path in self.raw.texts:  # given, even if empty (`coordinates:`)
                 self.fail(path, f"expected a non-empty list of coordinate names; got {describe(value)}")
             return ()
         entries = [(i, self.coordinate(path + (i,), item)) for i, item in enumerate(value)]

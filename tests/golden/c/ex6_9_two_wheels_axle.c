@@ -35,6 +35,7 @@ const char *const ex6_9_two_wheels_axle_multiplier_names[] = {
 const char *const ex6_9_two_wheels_axle_invariant_names[] = {
     "energy",
     "jacobi",
+    "p_phi",
     "constraint_residual",
     NULL};
 const double ex6_9_two_wheels_axle_initial_state[] = {
@@ -110,30 +111,31 @@ int ex6_9_two_wheels_axle_rhs_stabilized(double t, const double *y, const double
     (void)p;
     const double x0 = 2*p[0];
     const double x1 = (p[1]*p[1]);
-    const double x2 = sin(y[2]);
-    const double x3 = cos(y[2]);
+    const double x2 = (1.0/2.0)*x1*p[0];
+    const double x3 = sin(y[2]);
+    const double x4 = cos(y[2]);
     K[0] = x0;
     K[1] = 0;
     K[2] = 0;
-    K[3] = -x2;
+    K[3] = -x3;
     K[4] = 0;
     K[5] = x0;
     K[6] = 0;
-    K[7] = x3;
+    K[7] = x4;
     K[8] = 0;
     K[9] = 0;
-    K[10] = (1.0/2.0)*x1*p[0];
+    K[10] = x2;
     K[11] = 0;
-    K[12] = x2;
-    K[13] = -x3;
+    K[12] = x3;
+    K[13] = -x4;
     K[14] = 0;
     K[15] = 0;
     r[0] = 0;
     r[1] = 0;
     r[2] = 0;
-    r[3] = -y[5]*(x2*y[4] + x3*y[3]);
+    r[3] = -y[5]*(x3*y[4] + x4*y[3]);
     if (alpha != 0.0 || beta != 0.0) {
-        r[3] -= 2.0*alpha*(x2*y[3] - x3*y[4]);
+        r[3] -= 2.0*alpha*(x3*y[3] - x4*y[4]);
     }
     rc = ex6_9_two_wheels_axle_solve(K, r);
     if (rc != 0)
@@ -159,22 +161,24 @@ int ex6_9_two_wheels_axle_invariants(double t, const double *y, const double *p,
     (void)y;
     (void)p;
     const double x1 = (p[1]*p[1]);
-    const double x2 = sin(y[2]);
-    const double x3 = cos(y[2]);
-    const double x4 = p[0]*((1.0/4.0)*x1*(y[5]*y[5]) + (y[3]*y[3]) + (y[4]*y[4]));
-    out[0] = x4;
-    out[1] = x4;
+    const double x2 = (1.0/2.0)*x1*p[0];
+    const double x3 = sin(y[2]);
+    const double x4 = cos(y[2]);
+    const double x5 = p[0]*((1.0/4.0)*x1*(y[5]*y[5]) + (y[3]*y[3]) + (y[4]*y[4]));
+    out[0] = x5;
+    out[1] = x5;
+    out[2] = x2*y[5];
     {
         /* constraint_residual: max |phi_j| (holonomic rows) and max |a_j . q' + d_j| */
         const double values[1] = {
-            x2*y[3] - x3*y[4],
+            x3*y[3] - x4*y[4],
         };
         double worst = 0.0;
         int i;
         for (i = 0; i < 1; ++i)
             if (!(fabs(values[i]) <= worst))
                 worst = fabs(values[i]);
-        out[2] = worst;
+        out[3] = worst;
     }
     return ex6_9_two_wheels_axle_all_finite(EX6_9_TWO_WHEELS_AXLE_NINV, out) ? 0 : 2;
 }
@@ -186,6 +190,7 @@ int ex6_9_two_wheels_axle_mass_matrix(double t, const double *y, const double *p
     (void)p;
     const double x0 = 2*p[0];
     const double x1 = (p[1]*p[1]);
+    const double x2 = (1.0/2.0)*x1*p[0];
     M[0] = x0;
     M[1] = 0;
     M[2] = 0;
@@ -194,7 +199,7 @@ int ex6_9_two_wheels_axle_mass_matrix(double t, const double *y, const double *p
     M[5] = 0;
     M[6] = 0;
     M[7] = 0;
-    M[8] = (1.0/2.0)*x1*p[0];
+    M[8] = x2;
     return ex6_9_two_wheels_axle_all_finite(EX6_9_TWO_WHEELS_AXLE_NQ * EX6_9_TWO_WHEELS_AXLE_NQ, M) ? 0 : 2;
 }
 

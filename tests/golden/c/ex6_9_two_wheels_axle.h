@@ -7,7 +7,7 @@
  * State y[EX6_9_TWO_WHEELS_AXLE_NSTATE]:      x, y, phi, x_dot, y_dot, phi_dot
  * Parameters p[EX6_9_TWO_WHEELS_AXLE_NPARAM]: m, l
  * Multipliers (EX6_9_TWO_WHEELS_AXLE_NLAMBDA): lambda_1
- * Invariants (EX6_9_TWO_WHEELS_AXLE_NINV):    energy, jacobi, constraint_residual
+ * Invariants (EX6_9_TWO_WHEELS_AXLE_NINV):    energy, jacobi, p_phi, constraint_residual
  * Matrices are row-major: M is NQ x NQ.
  *
  * Every function returns 0 on success, 1 for a singular matrix, 2 for a non-finite result.
@@ -25,7 +25,7 @@ extern "C" {
 #define EX6_9_TWO_WHEELS_AXLE_NSTATE 6
 #define EX6_9_TWO_WHEELS_AXLE_NPARAM 2
 #define EX6_9_TWO_WHEELS_AXLE_NLAMBDA 1
-#define EX6_9_TWO_WHEELS_AXLE_NINV 3
+#define EX6_9_TWO_WHEELS_AXLE_NINV 4
 
 /* Slots: y[EX6_9_TWO_WHEELS_AXLE_Q_<q>] = q, y[EX6_9_TWO_WHEELS_AXLE_QD_<q>] = q', p[EX6_9_TWO_WHEELS_AXLE_P_<name>],
  * lambda[EX6_9_TWO_WHEELS_AXLE_L_<multiplier>], invariants out[EX6_9_TWO_WHEELS_AXLE_INV_<column>]. */
