@@ -20,7 +20,6 @@ with the step cap of `lagcli.numerics.max_step` (docs/simulate.md).
 from __future__ import annotations
 
 import types
-from pathlib import Path
 
 import numpy as np
 from scipy import integrate

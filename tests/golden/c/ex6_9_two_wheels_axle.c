@@ -219,10 +219,10 @@ int ex6_9_two_wheels_axle_constraint_matrix(double t, const double *y, const dou
     (void)t;
     (void)y;
     (void)p;
-    const double x2 = sin(y[2]);
-    const double x3 = cos(y[2]);
-    A[0] = x2;
-    A[1] = -x3;
+    const double x3 = sin(y[2]);
+    const double x4 = cos(y[2]);
+    A[0] = x3;
+    A[1] = -x4;
     A[2] = 0;
     return ex6_9_two_wheels_axle_all_finite(EX6_9_TWO_WHEELS_AXLE_NLAMBDA * EX6_9_TWO_WHEELS_AXLE_NQ, A) ? 0 : 2;
 }
@@ -232,9 +232,9 @@ int ex6_9_two_wheels_axle_constraint_bias(double t, const double *y, const doubl
     (void)t;
     (void)y;
     (void)p;
-    const double x2 = sin(y[2]);
-    const double x3 = cos(y[2]);
-    b[0] = -y[5]*(x2*y[4] + x3*y[3]);
+    const double x3 = sin(y[2]);
+    const double x4 = cos(y[2]);
+    b[0] = -y[5]*(x3*y[4] + x4*y[3]);
     return ex6_9_two_wheels_axle_all_finite(EX6_9_TWO_WHEELS_AXLE_NLAMBDA, b) ? 0 : 2;
 }
 
@@ -246,7 +246,7 @@ const lagcli_model ex6_9_two_wheels_axle_model = {
     ex6_9_two_wheels_axle_parameter_defaults,
     ex6_9_two_wheels_axle_multiplier_names,
     ex6_9_two_wheels_axle_invariant_names,
-    2,
+    3,
     ex6_9_two_wheels_axle_initial_state,
     10.0, 0.01, 1e-09, 1e-12,
     "DOP853",

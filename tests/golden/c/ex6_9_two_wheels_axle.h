@@ -40,7 +40,8 @@ extern "C" {
 #define EX6_9_TWO_WHEELS_AXLE_L_lambda_1 0
 #define EX6_9_TWO_WHEELS_AXLE_INV_energy 0
 #define EX6_9_TWO_WHEELS_AXLE_INV_jacobi 1
-#define EX6_9_TWO_WHEELS_AXLE_INV_constraint_residual 2
+#define EX6_9_TWO_WHEELS_AXLE_INV_p_phi 2
+#define EX6_9_TWO_WHEELS_AXLE_INV_constraint_residual 3
 
 /* NULL-terminated name lists; defaults and initial state in the same orders. */
 extern const char *const ex6_9_two_wheels_axle_state_names[];
