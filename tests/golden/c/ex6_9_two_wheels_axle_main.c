@@ -9,7 +9,10 @@
  * Integrates from t = 0 and prints the CSV of `lagcli simulate` on stdout: a header
  * (t, state, multipliers, invariants), then one row (%.17g) per output time
  * t_k = k dt, k = 0 .. floor(t_end/dt + 1e-9), and t_end if not reached; each row is
- * flushed. On failure: "error: at t = ...: reason" on stderr, exit status 1, the rows
+ * flushed. Memory does not grow with the number of rows: the output times are made
+ * CLI_WINDOW at a time, and the integrator restarts from the last row's state at the
+ * end of each window (a run of up to CLI_WINDOW rows is one integration).
+ * On failure: "error: at t = ...: reason" on stderr, exit status 1, the rows
  * so far kept. Bad options: exit status 2.
  * Constrained: the step is capped at 1/|lambda| of the Baumgarte-damped constraint error
  * (cli_max_step), and an --init state that violates the constraints by more than
@@ -686,12 +689,15 @@ static int lagcli_ode_integrate(const char *method, lagcli_ode_rhs_fn rhs, lagcl
 
 #define CLI_NPARAM (EX6_9_TWO_WHEELS_AXLE_NPARAM > 0 ? EX6_9_TWO_WHEELS_AXLE_NPARAM : 1)
 #define CLI_NLAMBDA (EX6_9_TWO_WHEELS_AXLE_NLAMBDA > 0 ? EX6_9_TWO_WHEELS_AXLE_NLAMBDA : 1)
+#define CLI_WINDOW 65536   /* output times per integration (see the top of this file) */
 
 typedef struct {
     double p[CLI_NPARAM];
     double alpha, beta;
     int code;      /* nonzero return of the model function that failed */
     double when;   /* and the time it failed at */
+    int silent;    /* --bench-integration: no rows */
+    double last[EX6_9_TWO_WHEELS_AXLE_NSTATE];   /* the state of the last output time */
 } cli_run;
 
 static const char *cli_reason(int code)
@@ -716,7 +722,11 @@ static int cli_row(double t, const double *y, void *ctx)
 {
     cli_run *run = (cli_run *)ctx;
     double dydt[EX6_9_TWO_WHEELS_AXLE_NSTATE], lambda[CLI_NLAMBDA], inv[EX6_9_TWO_WHEELS_AXLE_NINV];
-    int i, rc = ex6_9_two_wheels_axle_rhs_stabilized(t, y, run->p, run->alpha, run->beta, dydt, lambda);
+    int i, rc;
+    memcpy(run->last, y, sizeof run->last);
+    if (run->silent)
+        return 0;
+    rc = ex6_9_two_wheels_axle_rhs_stabilized(t, y, run->p, run->alpha, run->beta, dydt, lambda);
     if (rc != 0) {
         run->code = rc;
         run->when = t;
@@ -892,30 +902,71 @@ static void cli_check_initial(const double *y0, cli_run *run)
                 "(more than 1e-08); integrating it as given\n", residual);
 }
 
-static int cli_no_row(double t, const double *y, void *ctx)
+/* The output times t_k = k dt, k = 0 .. floor(t_end/dt + 1e-9), then t_end if not
+ * reached: `count` of them, made on demand by cli_time. */
+typedef struct {
+    double t_end, dt;
+    size_t regular, count;
+} cli_times;
+
+static cli_times cli_output_times(double t_end, double dt)
 {
-    (void)t;
-    (void)y;
-    (void)ctx;
-    return 0;
+    cli_times times;
+    times.t_end = t_end;
+    times.dt = dt;
+    times.regular = (size_t)floor(t_end / dt + 1e-9) + 1;
+    times.count = times.regular;
+    if ((double)(times.regular - 1) * dt < t_end - 1e-12 * (t_end > 1.0 ? t_end : 1.0))
+        ++times.count;
+    return times;
+}
+
+static double cli_time(const cli_times *times, size_t k)
+{
+    return k < times->regular ? (double)k * times->dt : times->t_end;
+}
+
+/* Integrate from the state y0 at t = 0, calling cli_row at every output time after 0:
+ * CLI_WINDOW output times per integration, each continuing from the last row's state. */
+static int cli_integrate(const cli_settings *s, cli_run *run, const double *y0, lagcli_ode_stats *stats)
+{
+    static double window[CLI_WINDOW];
+    cli_times times = cli_output_times(s->t_end, s->dt);
+    double t0 = 0.0, t_stop, y[EX6_9_TWO_WHEELS_AXLE_NSTATE];
+    size_t next = 1, n, i;
+    int rc = LAGCLI_ODE_OK;
+    memset(stats, 0, sizeof *stats);
+    memcpy(y, y0, sizeof y);
+    while (next < times.count && rc == LAGCLI_ODE_OK) {
+        n = times.count - next < CLI_WINDOW ? times.count - next : CLI_WINDOW;
+        for (i = 0; i < n; ++i)
+            window[i] = cli_time(&times, next + i);
+        t_stop = window[n - 1];
+        if (next + n == times.count && t_stop < s->t_end)
+            t_stop = s->t_end;                 /* the last window: integrate to t_end */
+        rc = lagcli_ode_integrate(s->method, cli_rhs, cli_row, run, EX6_9_TWO_WHEELS_AXLE_NSTATE, t0, y, t_stop,
+                             window, n, s->rtol, s->atol, cli_max_step(run->alpha, run->beta), stats);
+        memcpy(y, run->last, sizeof y);
+        t0 = window[n - 1];
+        next += n;
+    }
+    return rc;
 }
 
 /* --bench-integration N (for bench/simulate.py; not in the usage text): integrate N times
  * with the same steps and dense output but no rows (no invariants, no printf), timing each
  * run with clock() (processor time: no process start-up, no output), and report on stderr. */
-static int cli_bench(const cli_settings *s, cli_run *run, const double *y0, const double *times,
-                     size_t n_times)
+static int cli_bench(const cli_settings *s, cli_run *run, const double *y0)
 {
     lagcli_ode_stats stats;
     double best = HUGE_VAL, total = 0.0, seconds;
     clock_t start;
     long k;
     int rc;
+    run->silent = 1;
     for (k = 0; k < s->bench; ++k) {
         start = clock();
-        rc = lagcli_ode_integrate(s->method, cli_rhs, cli_no_row, run, EX6_9_TWO_WHEELS_AXLE_NSTATE, 0.0, y0, s->t_end,
-                             times + 1, n_times - 1, s->rtol, s->atol, cli_max_step(run->alpha, run->beta),
-                             &stats);
+        rc = cli_integrate(s, run, y0, &stats);
         seconds = (double)(clock() - start) / CLOCKS_PER_SEC;
         if (rc != LAGCLI_ODE_OK) {
             fprintf(stderr, "error: at t = %.10g: %s\n", stats.t, stats.message);
@@ -930,31 +981,12 @@ static int cli_bench(const cli_settings *s, cli_run *run, const double *y0, cons
     return 0;
 }
 
-/* Output times t_k = k dt, k = 0 .. floor(t_end/dt + 1e-9), then t_end if not reached. */
-static double *cli_times(double t_end, double dt, size_t *count)
-{
-    double last;
-    size_t k, n = (size_t)floor(t_end / dt + 1e-9) + 1;
-    double *times = (double *)malloc((n + 1) * sizeof *times);
-    if (times == NULL)
-        return NULL;
-    for (k = 0; k < n; ++k)
-        times[k] = (double)k * dt;
-    last = times[n - 1];
-    if (last < t_end - 1e-12 * (t_end > 1.0 ? t_end : 1.0))
-        times[n++] = t_end;
-    *count = n;
-    return times;
-}
-
 int main(int argc, char **argv)
 {
     cli_settings s;
     cli_run run;
     lagcli_ode_stats stats;
     double y0[EX6_9_TWO_WHEELS_AXLE_NSTATE];
-    double *times;
-    size_t n_times;
     int rc;
 
     s.t_end = 10.0;
@@ -969,32 +1001,20 @@ int main(int argc, char **argv)
     run.beta = 10.0;
     run.code = 0;
     run.when = 0.0;
+    run.silent = 0;
     if ((rc = cli_parse(argc, argv, &s, &run, y0)) != 0)
         return rc;
     if (s.t_end / s.dt > 1e8)
         return cli_usage(argv[0], "--dt: more than 1e8 output rows");
     cli_check_initial(y0, &run);
-    times = cli_times(s.t_end, s.dt, &n_times);
-    if (times == NULL) {
-        fprintf(stderr, "error: at t = 0: out of memory\n");
-        return 1;
-    }
-    if (s.bench > 0) {
-        rc = cli_bench(&s, &run, y0, times, n_times);
-        free(times);
-        return rc;
-    }
+    if (s.bench > 0)
+        return cli_bench(&s, &run, y0);
     cli_header();
     if (cli_row(0.0, y0, &run) != 0) {
         fprintf(stderr, "error: at t = %.10g: %s\n", run.when, cli_reason(run.code));
-        free(times);
         return 1;
     }
-    rc = LAGCLI_ODE_OK;
-    if (n_times > 1)
-        rc = lagcli_ode_integrate(s.method, cli_rhs, cli_row, &run, EX6_9_TWO_WHEELS_AXLE_NSTATE, 0.0, y0, s.t_end,
-                             times + 1, n_times - 1, s.rtol, s.atol, cli_max_step(run.alpha, run.beta), &stats);
-    free(times);
+    rc = cli_integrate(&s, &run, y0, &stats);
     if (rc == LAGCLI_ODE_OK)
         return 0;
     if (rc == LAGCLI_ODE_ERR_RHS || rc == LAGCLI_ODE_INTERRUPTED)
