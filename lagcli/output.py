@@ -6,9 +6,9 @@
                            until then; an existing file keeps its mode (and owner, where
                            the user may set it)
     a symlink              the file it points to is the one replaced (the link stays)
-    a FIFO, a device       opened and written as a stream (/dev/null stays a device);
-    (/dev/null), or        /dev/stdout, /dev/stderr, /dev/fd/N and /proc/<pid>/fd/N are
-    /dev/stdout            always streams, whatever they point to
+    a FIFO, a device       opened and written as a stream (/dev/null stays a device)
+    /dev/stdout, /dev/fd/N always a stream, written through this process's own descriptor
+    /proc/self/fd/N        (a duplicate: a file stdout is redirected to keeps its offset)
     a directory, a path    UsageError (exit status 2) naming the path, before any work
     in a missing or
     unwritable directory
@@ -38,7 +38,7 @@ from lagcli.errors import UsageError
 
 TEMP_SUFFIX = ".lagcli.tmp"
 STDOUT, FILE, STREAM = "stdout", "file", "stream"
-_DESCRIPTOR_ALIASES = re.compile(r"/dev/(stdout|stderr|fd/\d+)|/proc/(self|\d+)/fd/\d+")
+_DESCRIPTOR_ALIASES = re.compile(r"/dev/(stdout|stderr|fd/(?P<fd>\d+))|/proc/(?P<pid>self|\d+)/fd/(?P<n>\d+)")
 
 
 @dataclass(frozen=True)
@@ -102,23 +102,24 @@ class Output:
     file is removed; a stream keeps what it received)."""
 
     def __init__(self, target: Target, binary: bool = False):
-        self.target, self._temporary = target, None
+        self.target, self._temporary, self.stream = target, None, None
         try:
             self.stream = self._open(binary)
         except OSError as exc:
             raise _cannot_write(target.given, exc) from None
 
     def _open(self, binary: bool):
-        mode = "wb" if binary else "w"
         if self.target.kind == STDOUT:
             return sys.stdout.buffer if binary else sys.stdout
+        mode, encoding = ("wb", None) if binary else ("w", "utf-8")
         if self.target.kind == STREAM:
-            return open(self.target.path, mode)
+            descriptor = _own_descriptor(self.target.given)
+            return open(self.target.path if descriptor is None else descriptor, mode, encoding=encoding)
         path = self.target.path
         fd, self._temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=TEMP_SUFFIX, dir=path.parent)
         try:
             _copy_permissions(fd, self.target.existing)
-            return open(fd, mode)
+            return open(fd, mode, encoding=encoding)
         except BaseException:
             os.close(fd)
             self.discard()
@@ -138,7 +139,7 @@ class Output:
             raise _cannot_write(self.target.given, exc) from None
 
     def discard(self) -> None:
-        if self.target.kind != STDOUT:
+        if self.stream is not None and self.target.kind != STDOUT:
             with contextlib.suppress(OSError):
                 self.stream.close()
         if self._temporary is not None:
@@ -154,6 +155,20 @@ class Output:
             self.commit()
         else:
             self.discard()
+
+
+def _own_descriptor(given: str) -> int | None:
+    """A duplicate of this process's descriptor that `given` names (/dev/stdout, /dev/fd/3,
+    /proc/self/fd/3...), or None: writing through it shares the descriptor's file offset,
+    where opening the path anew would truncate a file that stdout is redirected to."""
+    match = _DESCRIPTOR_ALIASES.fullmatch(given)
+    if match is None or match["pid"] not in (None, "self", str(os.getpid())):
+        return None
+    number = {"/dev/stdout": 1, "/dev/stderr": 2}.get(given) or int(match["fd"] or match["n"])
+    for stream in (sys.stdout, sys.stderr):
+        with contextlib.suppress(AttributeError, OSError, ValueError):
+            stream.flush()                     # what this process wrote there comes first
+    return os.dup(number)
 
 
 def _copy_permissions(fd: int, existing: os.stat_result | None) -> None:
