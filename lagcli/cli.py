@@ -11,7 +11,8 @@ from lagcli import __version__, commands
 from lagcli.emit import LANGUAGES
 from lagcli.errors import LagcliError
 from lagcli.numerics import METHODS
-from lagcli.output import interrupt_on_termination, open_output
+from lagcli.interrupts import interrupt_on_termination
+from lagcli.output import open_output
 
 SPEC = click.Path(dir_okay=False, path_type=str)
 

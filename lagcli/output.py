@@ -16,25 +16,23 @@
 `open_output` resolves and opens the target (so a bad `-o` fails before deriving or
 integrating) and yields an `Output` whose `stream` is written as the work goes on.
 Leaving the `with` block normally commits (the rename); an exception discards the
-temporary file.  `interrupt_on_termination` makes SIGTERM and SIGHUP raise
-KeyboardInterrupt as SIGINT does, so every catchable signal goes through the same
-clean-up.  Only `kill -9` can leave a temporary file behind; it is recognisable by
-the `.lagcli.tmp` suffix (docs/simulate.md).
+temporary file, and lagcli.interrupts turns SIGTERM and SIGHUP into that exception
+too.  Only `kill -9` can leave a temporary file behind; it is recognisable by the
+`.lagcli.tmp` suffix (docs/simulate.md).
 """
 from __future__ import annotations
 
 import contextlib
 import os
 import re
-import signal
 import stat
 import sys
 import tempfile
-import threading
 from dataclasses import dataclass
 from pathlib import Path
 
 from lagcli.errors import UsageError
+from lagcli.interrupts import uninterruptible
 
 TEMP_SUFFIX = ".lagcli.tmp"
 STDOUT, FILE, STREAM = "stdout", "file", "stream"
@@ -116,7 +114,8 @@ class Output:
             descriptor = _own_descriptor(self.target.given)
             return open(self.target.path if descriptor is None else descriptor, mode, encoding=encoding)
         path = self.target.path
-        fd, self._temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=TEMP_SUFFIX, dir=path.parent)
+        with uninterruptible:                  # the temporary file is always known, to be removed
+            fd, self._temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=TEMP_SUFFIX, dir=path.parent)
         try:
             _copy_permissions(fd, self.target.existing)
             return open(fd, mode, encoding=encoding)
@@ -130,10 +129,11 @@ class Output:
             if self.target.kind == STDOUT:
                 self.stream.flush()
                 return
-            self.stream.close()
-            if self._temporary is not None:
-                os.replace(self._temporary, self.target.path)
-                self._temporary = None
+            with uninterruptible:
+                self.stream.close()
+                if self._temporary is not None:
+                    os.replace(self._temporary, self.target.path)
+                    self._temporary = None
         except OSError as exc:
             self.discard()
             raise _cannot_write(self.target.given, exc) from None
@@ -196,29 +196,6 @@ def write_output(path: str | os.PathLike | None, data: str | bytes) -> None:
     """Write `data` to `path` (see the module docstring); stdout for None or '-'."""
     with open_output(path, binary=isinstance(data, bytes)) as out:
         out.stream.write(data)
-
-
-@contextlib.contextmanager
-def interrupt_on_termination():
-    """While active, SIGTERM and SIGHUP raise KeyboardInterrupt, as SIGINT does, so an
-    interrupted run keeps its rows and leaves no temporary file.  A signal set to be
-    ignored (`nohup`) stays ignored; outside the main thread this does nothing."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    previous = {}
-    for number in (signal.SIGTERM, signal.SIGHUP):
-        if signal.getsignal(number) == signal.SIG_DFL:
-            previous[number] = signal.signal(number, _raise_interrupt)
-    try:
-        yield
-    finally:
-        for number, handler in previous.items():
-            signal.signal(number, handler)
-
-
-def _raise_interrupt(number, frame):
-    raise KeyboardInterrupt(signal.Signals(number).name)
 
 
 def _umask() -> int:

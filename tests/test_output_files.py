@@ -193,3 +193,35 @@ def test_dev_stdout_onto_a_file_appends_where_stdout_is(tmp_path):
         done = subprocess.run([sys.executable, "-c", code], stdout=stdout, env={**os.environ, "PYTHONPATH": str(ROOT)})
     assert done.returncode == 0
     assert target.read_text() == "before\nrows\nafter\n"
+
+
+def test_a_signal_inside_an_uninterruptible_block_waits_for_its_end():
+    """SIGTERM while a block of rows is written: raised once the block is whole."""
+    import signal
+
+    from lagcli.interrupts import interrupt_on_termination, uninterruptible
+
+    done = []
+    with interrupt_on_termination():
+        with pytest.raises(KeyboardInterrupt, match="SIGTERM"):
+            with uninterruptible:
+                os.kill(os.getpid(), signal.SIGTERM)
+                done.append("the rest of the block")
+        with pytest.raises(KeyboardInterrupt, match="SIGHUP"):
+            os.kill(os.getpid(), signal.SIGHUP)
+    assert done == ["the rest of the block"]
+    assert signal.getsignal(signal.SIGTERM) == signal.SIG_DFL
+
+
+def test_an_ignored_hangup_stays_ignored():
+    import signal
+
+    from lagcli.interrupts import interrupt_on_termination
+
+    previous = signal.signal(signal.SIGHUP, signal.SIG_IGN)        # as under nohup
+    try:
+        with interrupt_on_termination():
+            assert signal.getsignal(signal.SIGHUP) == signal.SIG_IGN
+            assert signal.getsignal(signal.SIGTERM) != signal.SIG_DFL
+    finally:
+        signal.signal(signal.SIGHUP, previous)

@@ -5,7 +5,7 @@
     initial.py         consistent initial states of constrained systems (sympy + numpy)
     python_backend.py  the generated Python module + scipy's integrators
     c_backend.py       the generated C driver: compile, cache, run
-    trajectory.py      Trajectory (CSV rows), the output-time rule
+    trajectory.py      the row sinks (CSV stream, in memory, the plot's copy), output times
     plot.py            --plot: coordinates and conserved-quantity drift (matplotlib)
 
 Importing this package (and options, run, c_backend, trajectory) imports neither

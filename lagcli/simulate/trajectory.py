@@ -5,7 +5,9 @@ backend: t, the state, the multipliers, the invariants) or `sink.add_csv(block)`
 (the C backend: complete CSV lines of its driver, passed through untouched) for
 each row or block of rows, and sets `sink.failure` ("at t = ...: reason") or
 `sink.interrupted` when the run ends early: the rows so far are already in the sink.
-Nothing in a backend grows with the number of rows.
+Nothing in a backend grows with the number of rows.  A block of rows is written
+and counted whole (`lagcli.interrupts.uninterruptible`), so the count reported
+after an interruption is the number of rows in the output.
 
     RowSink     the base: counts the rows and keeps the last time
     CsvSink     writes the CSV to a text stream (the CLI: a file, a FIFO, stdout)
@@ -20,6 +22,7 @@ This module is imported on the warm C path, so it needs neither numpy nor sympy.
 """
 from __future__ import annotations
 
+from lagcli.interrupts import uninterruptible
 from lagcli.numerics import output_time_windows, output_times  # noqa: F401  (re-exported)
 
 
@@ -44,11 +47,12 @@ class RowSink:
         """One or more complete CSV rows, each ending with a newline."""
         if not block:
             return
-        self._write(block)
-        self.rows += block.count("\n")
         end = len(block) - 1
         last = block[block.rfind("\n", 0, end) + 1:end]
-        self.last_time = float(last.split(",", 1)[0])
+        with uninterruptible:                  # written and counted whole, or not at all
+            self._write(block)
+            self.rows += block.count("\n")
+            self.last_time = float(last.split(",", 1)[0])
 
     def _begin(self, header: list[str]) -> None:
         pass
