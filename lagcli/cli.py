@@ -12,7 +12,8 @@ from lagcli.emit import LANGUAGES
 from lagcli.emit.escape import terminal_text
 from lagcli.errors import LagcliError
 from lagcli.numerics import METHODS
-from lagcli.output import write_output
+from lagcli.interrupts import interrupt_on_termination
+from lagcli.output import open_output, write_output
 
 SPEC = click.Path(dir_okay=False, path_type=str)
 
@@ -24,6 +25,7 @@ SPEC = click.Path(dir_okay=False, path_type=str)
 def cli(ctx: click.Context, show_traceback: bool) -> None:
     """Equations of motion from a spec file, by Lagrange's method."""
     ctx.obj = {"traceback": show_traceback}
+    ctx.with_resource(interrupt_on_termination())     # SIGTERM, SIGHUP: as Ctrl-C
 
 
 def _run(ctx: click.Context, action) -> None:
@@ -57,13 +59,14 @@ def derive(ctx, spec, as_text, as_latex, as_json, standalone, simplify, output):
         raise click.UsageError("--standalone goes with --latex")
 
     def action():
-        if fmt == "json":
-            text = commands.derive_json(spec, simplify)
-        elif fmt == "latex":
-            text = commands.derive_latex(spec, simplify, standalone)
-        else:
-            text = commands.derive_text(spec, simplify)
-        write_output(output, text)
+        with open_output(output) as out:      # a bad -o fails before deriving
+            if fmt == "json":
+                text = commands.derive_json(spec, simplify)
+            elif fmt == "latex":
+                text = commands.derive_latex(spec, simplify, standalone)
+            else:
+                text = commands.derive_text(spec, simplify)
+            out.stream.write(text)
     _run(ctx, action)
 
 

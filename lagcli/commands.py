@@ -41,32 +41,42 @@ def check_summary(path: str) -> str:
     return render("report/check.txt.jinja", c=check_content(_derive(path)))
 
 
+PLOT_ROWS = 20_000     # --plot draws at most 2 x this many rows (evenly thinned) plus the last
+
+
 def simulate(request, output: str | None = None, plot: str | None = None,
              note=lambda text: None, progress=None) -> None:
-    """`lagcli simulate`: run `request` (a lagcli.simulate.options.Request), write the CSV to
-    `output` (stdout for None or '-'), then the PNG to `plot`.  The CSV is written even
-    when the integration fails or is interrupted (the rows so far); the error is raised
-    after it.  `note` and `progress`: see lagcli.simulate.run.simulate."""
+    """`lagcli simulate`: run `request` (a lagcli.simulate.options.Request), writing the
+    CSV to `output` (stdout for None or '-') row by row as it is computed, then the PNG
+    to `plot`.  Both targets are checked, and `output` opened, before any work starts.
+    The CSV is kept even when the integration fails or is interrupted (the rows so
+    far); the error is raised after it.  `note` and `progress`: see
+    lagcli.simulate.run.simulate."""
     from lagcli.errors import SimulationError
-    from lagcli.output import write_output
+    from lagcli.output import open_output, resolve_target
     from lagcli.simulate.run import Interrupted, simulate as run
+    from lagcli.simulate.trajectory import CsvSink, Decimated, Tee
 
-    outcome = run(request, note, progress)
-    traj = outcome.trajectory
-    write_output(output, traj.csv_text())
+    if plot:
+        resolve_target(plot)
+    with open_output(output) as out:
+        csv = CsvSink(out.stream)
+        shown = Decimated(PLOT_ROWS) if plot else None        # the plot's bounded copy
+        outcome = run(request, note, progress, Tee(csv, shown) if shown else csv)
+    sink = outcome.trajectory
     plot_error = None
-    if plot and traj.lines:
+    if plot and sink.rows:
         from lagcli.simulate.plot import plot_png
         try:
-            plot_png(traj, outcome.coordinates, outcome.energy_conserved, plot, request.spec)
+            plot_png(shown.trajectory(), outcome.coordinates, outcome.energy_conserved, plot, request.spec)
         except SimulationError as exc:
             plot_error = exc
     where = "stdout" if output in (None, "-") else output
-    kept = (f"{len(traj.lines)} rows up to t = {traj.last_time:.10g} kept in {where}" if traj.lines
+    kept = (f"{sink.rows} rows up to t = {sink.last_time:.10g} kept in {where}" if sink.rows
             else f"no rows computed; the header was written to {where}")
-    if traj.failure:
-        raise SimulationError(f"{request.spec}: integration failed {traj.failure} ({kept})")
-    if traj.interrupted:
+    if sink.failure:
+        raise SimulationError(f"{request.spec}: integration failed {sink.failure} ({kept})")
+    if sink.interrupted:
         raise Interrupted(f"{request.spec}: interrupted ({kept})")
     if plot_error:
         raise plot_error
@@ -76,22 +86,23 @@ def generate(path: str, lang: str, output: str | None = None) -> None:
     """`lagcli generate`: code or a document for `path` in `lang` (see lagcli.emit.LANGUAGES).
 
     One-file languages write to `output` (stdout for None or '-'); C writes its files
-    into the directory `output` (required), each atomically, after all are made."""
+    into the directory `output` (required; created if only it is missing), each
+    atomically, after all are made.  The target is checked before deriving."""
     from lagcli.emit import LANGUAGES
     from lagcli.errors import UsageError
-    from lagcli.output import write_output
+    from lagcli.output import check_directory_output, open_output
     from lagcli.system import load
 
     language = LANGUAGES.get(lang)
-    if language is not None and language.directory and output in (None, "-"):
-        raise UsageError(f"--lang {lang} writes several files: give the directory with -o DIR")
     if language is not None and language.directory:
-        if Path(output).exists() and not Path(output).is_dir():
-            raise UsageError(f"-o {output}: not a directory")
+        if output in (None, "-"):
+            raise UsageError(f"--lang {lang} writes several files: give the directory with -o DIR")
+        check_directory_output(output)
         load(Path(path)).generate(lang, output)
         return
-    (text,) = load(Path(path)).generate(lang).values()
-    write_output(output, text)
+    with open_output(output) as out:
+        (text,) = load(Path(path)).generate(lang).values()
+        out.stream.write(text)
 
 
 # -- analysis: lagcli linearize / equilibria / hamiltonian / routh (lagcli/analysis/) --

@@ -11,7 +11,8 @@ generated Python module and of the generated C driver (docs/simulate.md).
     DEFAULT_BAUMGARTE       (alpha, beta) of the constraint stabilisation
     CONSTRAINT_TOLERANCE    largest |constraint| of a consistent initial state (CONTRACT §4)
     output_times            t_k = k dt, k = 0 .. floor(t_end/dt + OUTPUT_SLACK), then
-                            t_end when the last t_k < t_end - END_TOLERANCE max(1, t_end)
+                            t_end when the last t_k < t_end - END_TOLERANCE max(1, t_end);
+                            output_time_windows: the same times a window at a time
 """
 from __future__ import annotations
 
@@ -27,11 +28,18 @@ END_TOLERANCE = 1e-12        # relative: a last t_k this close to t_end is t_end
 
 def output_times(t_end: float, dt: float) -> list[float]:
     """The output times of a run from t = 0 (docs/design.md)."""
+    return [t for window in output_time_windows(t_end, dt) for t in window]
+
+
+def output_time_windows(t_end: float, dt: float, size: int = 4096):
+    """`output_times` as consecutive lists of at most `size` times, computed as they are
+    needed: a run of 1e8 rows never holds them all."""
     count = math.floor(t_end / dt + OUTPUT_SLACK)
-    times = [k * dt for k in range(count + 1)]
-    if times[-1] < t_end - END_TOLERANCE * max(1.0, t_end):
-        times.append(t_end)
-    return times
+    for start in range(0, count + 1, size):
+        window = [k * dt for k in range(start, min(start + size, count + 1))]
+        if start + size > count and window[-1] < t_end - END_TOLERANCE * max(1.0, t_end):
+            window.append(t_end)
+        yield window
 
 
 def max_step(method: str, alpha: float, beta: float, constrained: bool) -> float:

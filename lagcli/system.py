@@ -21,6 +21,7 @@ from lagcli.derive.result import Derivation
 from lagcli.errors import UsageError
 from lagcli.layout import Layout, layout_of
 from lagcli.model_types import Model
+from lagcli.output import check_directory_output, write_output
 
 SPEC_SUFFIXES = (".yaml", ".yml", ".toml")
 REPORT_FORMATS = ("text", "json", "dict", "latex", "latex-document")
@@ -79,9 +80,11 @@ class System:
         embedding the spec's initial state made consistent; written atomically into
         `path` when given (a directory for C, a file otherwise)."""
         from lagcli.emit import LANGUAGES, generate as emit
-        from lagcli.output import write_atomic
 
         language = LANGUAGES.get(target)
+        directory = None
+        if path is not None and language is not None and language.directory:
+            directory = check_directory_output(str(path))    # before any work
         initial, notes = None, ()
         if language is not None and language.embeds_initial:   # solved for once, here, not in emit
             from lagcli.simulate.initial import spec_initial_state
@@ -89,16 +92,13 @@ class System:
             start, _ = spec_initial_state(self.derivation)
             initial, notes = start.values, start.notes
         files = emit(self.derivation, target, initial, notes)
-        if path is not None:
-            path = Path(path)
-            if language.directory:
-                if path.exists() and not path.is_dir():
-                    raise UsageError(f"{path}: not a directory")
-                for name, text in files.items():
-                    write_atomic(path / name, text)
-            else:
-                (text,) = files.values()
-                write_atomic(path, text)
+        if directory is not None:
+            directory.mkdir(exist_ok=True)
+            for name, text in files.items():
+                write_output(directory / name, text)
+        elif path is not None:
+            (text,) = files.values()
+            write_output(path, text)
         return files
 
     # --- simulation ---------------------------------------------------------------------

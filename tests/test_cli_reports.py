@@ -77,6 +77,7 @@ def test_check_summarises(tmp_path):
 
 def test_output_file_is_written_and_stdout_is_empty(tmp_path):
     target = tmp_path / "out" / "eom.json"
+    target.parent.mkdir()                # a missing directory is an error (tests/test_output_files.py)
     result = run("derive", str(SPECS[0]), "--json", "-o", str(target))
     assert result.exit_code == 0
     assert result.stdout == ""

@@ -77,6 +77,7 @@ def test_columns_and_output_times_follow_the_contract():
 
 def test_writes_file_atomically_and_nothing_on_stdout(tmp_path):
     out = tmp_path / "sub" / "traj.csv"
+    out.parent.mkdir()                   # -o into a missing directory: tests/test_output_files.py
     result = invoke(spec_path("double_pendulum"), "--t-end", "0.1", "-o", out)
     assert result.exit_code == 0, result.stderr
     assert result.stdout == ""
@@ -361,3 +362,150 @@ def test_ctrl_c_keeps_the_rows_and_exits_1(tmp_path, backend):
     c = columns(out.read_text())
     assert len(c["t"]) >= 2 and np.all(np.diff(c["t"]) == pytest.approx(0.5))
     assert f"{len(c['t'])} rows up to t = {c['t'][-1]:.10g}" in stderr
+
+
+# Streaming: rows reach the output as they are computed, memory stays flat, and
+# SIGTERM/SIGHUP end a run like Ctrl-C (lagcli/output.py, lagcli/simulate/trajectory.py).
+
+BACKENDS = ["python", pytest.param("c", marks=pytest.mark.skipif(shutil.which("cc") is None,
+                                                                 reason="no C compiler (cc)"))]
+
+
+def _start_long_run(tmp_path, backend: str, *extra: str) -> tuple[subprocess.Popen, "os.PathLike"]:
+    """`lagcli simulate` of the double pendulum up to t = 1e6 (1e8 rows at dt 0.01) in a
+    subprocess, returned once its rows are streaming into the temporary output file."""
+    out = tmp_path / "traj.csv"
+    env = {**os.environ, "PYTHONPATH": str(ROOT), "XDG_CACHE_HOME": str(tmp_path.parent / "stream-cache")}
+    proc = subprocess.Popen([sys.executable, "-m", "lagcli", "simulate", str(spec_path("double_pendulum")),
+                             "--backend", backend, "--t-end", "1e6", "--dt", "0.01", "-o", str(out), *extra],
+                            stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, env=env)
+    deadline = time.monotonic() + 300
+    while proc.poll() is None and time.monotonic() < deadline:
+        if any(p.stat().st_size > 20_000 for p in tmp_path.glob(".traj.csv.*.lagcli.tmp")):
+            return proc, out
+        time.sleep(0.05)
+    proc.kill()
+    raise AssertionError(f"no rows streamed: {proc.communicate()[1].decode(errors='replace')}")
+
+
+def _stop(proc: subprocess.Popen, number: int) -> tuple[int, str]:
+    proc.send_signal(number)
+    try:
+        _, stderr = proc.communicate(timeout=120)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    return proc.returncode, stderr.decode(errors="replace")
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+@pytest.mark.parametrize("number", [signal.SIGTERM, signal.SIGHUP], ids=["SIGTERM", "SIGHUP"])
+def test_sigterm_and_sighup_keep_the_rows_like_ctrl_c(tmp_path, backend, number):
+    proc, out = _start_long_run(tmp_path, backend)
+    drivers = _descendants(proc.pid)
+    assert len(drivers) == (backend == "c")
+    code, stderr = _stop(proc, number)
+    assert code == 1, stderr
+    assert "interrupted (" in stderr and f"kept in {out}" in stderr and "Traceback" not in stderr
+    c = columns(out.read_text())
+    assert len(c["t"]) > 10 and np.all(np.diff(c["t"]) == pytest.approx(0.01))
+    assert f"{len(c['t'])} rows up to t = {c['t'][-1]:.10g}" in stderr
+    assert [p.name for p in tmp_path.iterdir()] == ["traj.csv"]          # no temporary file left
+    assert not [pid for pid in drivers if os.path.exists(f"/proc/{pid}")]   # the driver was stopped
+
+
+def _children(pid: int) -> list[int]:
+    found = []
+    for entry in os.listdir("/proc"):
+        if entry.isdigit():
+            try:
+                with open(f"/proc/{entry}/stat") as handle:
+                    fields = handle.read().rsplit(")", 1)[1].split()
+            except OSError:
+                continue
+            if int(fields[1]) == pid:
+                found.append(int(entry))
+    return found
+
+
+def _descendants(pid: int) -> list[int]:
+    children = _children(pid)
+    return children + [grandchild for child in children for grandchild in _descendants(child)]
+
+
+def _tree_rss_kb(pid: int) -> int:
+    """VmRSS of `pid` and its descendants (the C driver), in kB."""
+    total = 0
+    for member in [pid, *_descendants(pid)]:
+        try:
+            with open(f"/proc/{member}/status") as handle:
+                total += next(int(line.split()[1]) for line in handle if line.startswith("VmRSS:"))
+        except (OSError, StopIteration):
+            pass                               # exited meanwhile
+    return total
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_a_1e8_row_run_streams_in_flat_memory(tmp_path, backend):
+    """The issue's run: --t-end 1e6 --dt 0.01 (1e8 rows) under 200 MB for the whole process
+    tree while it streams (sampled for a few seconds, with --plot's bounded copy too),
+    then SIGTERM: the rows written so far are a valid CSV."""
+    proc, out = _start_long_run(tmp_path, backend, "--plot", str(tmp_path / "traj.png"))
+    samples, sizes = [], []
+    for _ in range(40):
+        samples.append(_tree_rss_kb(proc.pid))
+        sizes.append(sum(p.stat().st_size for p in tmp_path.glob(".traj.csv.*")))
+        time.sleep(0.1)
+    code, stderr = _stop(proc, signal.SIGTERM)
+    assert code == 1, stderr
+    assert max(samples) < 200 * 1024, samples
+    assert sizes[-1] > sizes[0] > 0                                      # written as computed
+    c = columns(out.read_text())
+    assert len(c["t"]) > 1000 and np.all(np.diff(c["t"]) > 0)
+
+
+def test_output_time_windows_do_not_change_the_python_backend_rows(derived, monkeypatch):
+    """Output times made 7 at a time give the very same rows as one window: the solver
+    runs on across windows (no restart)."""
+    import functools
+
+    from lagcli.numerics import output_time_windows
+    from lagcli.simulate import python_backend
+    from lagcli.simulate.options import RunSettings
+
+    d = derived("double_pendulum")
+    module = python_backend.load_module(d)
+    p = [prm.value for prm in d.model.parameters]
+    settings = RunSettings(0.55, 0.01, "DOP853", 1e-9, 1e-12, 10.0, 10.0)
+    whole = python_backend.integrate_module(module, p, [1.0, 0.5, 0.0, 0.0], settings)
+    monkeypatch.setattr(python_backend, "output_time_windows", functools.partial(output_time_windows, size=7))
+    windowed = python_backend.integrate_module(module, p, [1.0, 0.5, 0.0, 0.0], settings)
+    assert windowed.lines == whole.lines and len(whole.lines) == 56 and windowed.last_time == 0.55
+
+
+@pytest.mark.skipif(shutil.which("cc") is None, reason="no C compiler (cc)")
+def test_the_c_driver_runs_on_across_its_output_time_windows(tmp_path):
+    """The driver makes 65536 output times at a time, restarting from the last row's state:
+    a run over that boundary keeps every output time t_k = k dt and the energy."""
+    out = tmp_path / "long.csv"
+    result = invoke(spec_path("double_pendulum"), "--backend", "c", "--t-end", "700", "--dt", "0.01", "-o", out)
+    assert result.exit_code == 0, result.stderr
+    c = columns(out.read_text())
+    assert len(c["t"]) == 70001 and np.array_equal(c["t"], np.arange(70001) * 0.01)
+    energy = c["energy"]
+    assert np.max(np.abs(energy - energy[0])) < 1e-6
+    jumps = np.abs(np.diff(c["theta1"]))
+    assert jumps[65535] < 2 * max(jumps[65530:65535].max(), jumps[65536:65541].max())   # smooth at the seam
+
+
+def test_t_end_just_below_the_last_output_time_works_on_both_backends():
+    """--t-end 0.3 --dt 0.1: the last t_k is 3 * 0.1 = 0.30000000000000004 > 0.3."""
+    rows = {}
+    for backend in ("python", "c") if shutil.which("cc") else ("python",):
+        result = invoke(spec_path("double_pendulum"), "--t-end", "0.3", "--dt", "0.1", "--backend", backend)
+        assert result.exit_code == 0, result.stderr
+        rows[backend] = np.array(parse_csv(result.stdout)[1])
+    assert [r[0] for r in rows["python"]] == [0.0, 0.1, 0.2, 3 * 0.1]
+    if "c" in rows:
+        assert np.allclose(rows["c"], rows["python"], rtol=1e-9, atol=1e-12)

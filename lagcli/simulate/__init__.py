@@ -7,7 +7,7 @@
     c_backend.py       the generated C driver: compile, cache, run
     cache.py           the cache: key, private verified entries (only what lagcli built runs)
     cache_admin.py     lagcli cache info / clear
-    trajectory.py      Trajectory (CSV rows), the output-time rule
+    trajectory.py      the row sinks (CSV stream, in memory, the plot's copy), output times
     plot.py            --plot: coordinates and conserved-quantity drift (matplotlib)
 
 Importing this package (and options, run, c_backend, trajectory) imports neither

@@ -11,7 +11,9 @@ constrained, and the spec's initial state already made consistent (with the
 notes saying what was solved for).
 
 This module imports neither sympy nor numpy: a warm run goes spec bytes -> key
--> meta.json -> driver, and the driver's output lines are passed through as CSV.
+-> meta.json -> driver, and the driver's output lines are passed through as CSV,
+read from its pipe as they come and handed to a sink (lagcli.simulate.trajectory):
+never collected whole.
 """
 from __future__ import annotations
 
@@ -28,13 +30,14 @@ from pathlib import Path
 from lagcli.errors import SimulationError, UsageError
 from lagcli.simulate import cache
 from lagcli.simulate.options import RunSettings
-from lagcli.simulate.trajectory import Trajectory
+from lagcli.simulate.trajectory import RowSink, Trajectory
 
 CFLAGS = ("-std=c99", "-O2", "-Wall", "-Wextra", "-Werror", "-pedantic")
 BINARY, META = "sim", "meta.json"
 META_TYPES = {"name": str, "coordinates": list, "state": list, "parameters": dict, "initial": dict,
               "settings": dict, "constrained": bool, "energy_conserved": bool,
               "default_state": (list, type(None)), "default_notes": list}
+READ_SIZE = 1 << 16                   # bytes of driver output read at a time
 
 
 def find_compiler() -> str | None:
@@ -146,18 +149,19 @@ def _num(value: float) -> str:
     return format(float(value), ".17g")
 
 
-def run(cached: Cached, args: list[str], progress=None, max_first_residual: float | None = None
-        ) -> Trajectory | None:
-    """Run the driver, passing its CSV through. Returns None (and stops the driver) when
-    `max_first_residual` is given and the first row's constraint_residual exceeds it."""
-    reader = _Reader(progress, max_first_residual)
+def run(cached: Cached, args: list[str], progress=None, max_first_residual: float | None = None,
+        sink: RowSink | None = None) -> RowSink | None:
+    """Run the driver, passing its CSV through to `sink` (a new in-memory `Trajectory`
+    when None) as it comes, and return the sink.  Returns None (and stops the driver,
+    with nothing given to the sink) when `max_first_residual` is given and the first
+    row's constraint_residual exceeds it."""
+    sink = Trajectory() if sink is None else sink
     with tempfile.TemporaryFile("w+") as errors:
-        proc = subprocess.Popen([str(cached.binary), *args], stdout=subprocess.PIPE, stderr=errors,
-                                text=True, bufsize=1)
+        proc = subprocess.Popen([str(cached.binary), *args], stdout=subprocess.PIPE, stderr=errors)
         try:
-            reader.read(proc)
+            accepted = _pass_through(proc.stdout, sink, progress, max_first_residual)
         except KeyboardInterrupt:
-            reader.traj.interrupted = True
+            sink.interrupted, accepted = True, True
         finally:
             if proc.poll() is None:
                 proc.kill()
@@ -165,44 +169,43 @@ def run(cached: Cached, args: list[str], progress=None, max_first_residual: floa
             proc.stdout.close()
         errors.seek(0)
         message = errors.read().strip()
-    if reader.rejected or reader.traj.interrupted:
-        return None if reader.rejected else reader.traj
-    return _finish(reader.traj, proc.returncode, message)
+    if not accepted:
+        return None
+    return sink if sink.interrupted else _finish(sink, proc.returncode, message)
 
 
-class _Reader:
-    """Collects the driver's CSV lines as they come (so Ctrl-C keeps them)."""
+def _pass_through(stdout, sink: RowSink, progress, limit: float | None) -> bool:
+    """Give the driver's complete CSV lines to `sink` a pipe-full at a time (nothing is
+    held but the line being received); False when the first row is rejected."""
+    header = stdout.readline()
+    if not header.endswith(b"\n"):
+        return True                            # the driver died first: its status says why
+    names = header.decode().rstrip("\n").split(",")
+    pending = stdout.readline()
+    if limit is not None and "constraint_residual" in names and pending.endswith(b"\n"):
+        if not float(pending.split(b",")[names.index("constraint_residual")]) <= limit:
+            return False
+    sink.begin(names)
+    while True:
+        end = pending.rfind(b"\n") + 1
+        if end:
+            sink.add_csv(pending[:end].decode())
+            pending = pending[end:]
+            if progress is not None:
+                progress(sink.last_time)
+        chunk = stdout.read1(READ_SIZE)
+        if not chunk:
+            return True                        # a line cut off (the driver died mid-row) is dropped
+        pending += chunk
 
-    def __init__(self, progress, max_first_residual):
-        self.progress, self.limit = progress, max_first_residual
-        self.traj, self.rejected = Trajectory([]), False
 
-    def read(self, proc) -> None:
-        header = proc.stdout.readline()
-        if not header.endswith("\n"):
-            return
-        self.traj.header = header.rstrip("\n").split(",")
-        check = "constraint_residual" in self.traj.header and self.limit is not None
-        column = self.traj.header.index("constraint_residual") if check else None
-        for line in proc.stdout:
-            if not line.endswith("\n"):
-                return                         # cut off: the driver died mid-line
-            line = line.rstrip("\n")
-            if check and not self.traj.lines and not float(line.split(",")[column]) <= self.limit:
-                self.rejected = True
-                return
-            self.traj.lines.append(line)
-            if self.progress is not None:
-                self.progress(float(line.split(",", 1)[0]))
-
-
-def _finish(traj: Trajectory, code: int, message: str) -> Trajectory:
+def _finish(sink: RowSink, code: int, message: str) -> RowSink:
     if code == 0:
-        return traj
+        return sink
     reason = message.removeprefix("error: ").strip() or f"the driver exited with status {code}"
     if code == 2:
         raise UsageError(f"the compiled driver rejected its options: {reason}")
     if code < 0:
         reason = f"the driver was killed by signal {-code}"
-    traj.failure = reason
-    return traj
+    sink.failure = reason
+    return sink

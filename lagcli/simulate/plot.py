@@ -16,17 +16,22 @@ Drifts are drawn from the second row on (they are 0 at t = 0 by definition);
 values below 1e-17 are drawn at 1e-17 so that exact zeros stay on the log axis.
 When nothing is conserved the figure has the top panel only.
 
+The data: `lagcli simulate --plot` streams the CSV to its output and keeps a
+bounded copy for the figure (`trajectory.Decimated`: every k-th row and the last,
+at most 40 000 rows, k doubling as the run grows), rather than reading the CSV
+back, which a FIFO or stdout could not give.  Runs of up to 20 000 rows are drawn
+whole; longer ones evenly thinned, so a spike narrower than k rows may not show.
+
 matplotlib is optional (the `plot` extra); `build_figure` makes a pyplot-free
-`Figure` (drawn by the Agg renderer), `plot_png` writes it as a PNG, atomically.
+`Figure` (drawn by the Agg renderer), `plot_png` writes it as a PNG (like `-o`).
 """
 from __future__ import annotations
 
 import io
-from pathlib import Path
 
 from lagcli.emit.escape import plot_text
 from lagcli.errors import SimulationError
-from lagcli.output import write_atomic
+from lagcli.output import write_output
 from lagcli.simulate.trajectory import Trajectory, parse_csv
 
 FLOOR = 1e-17
@@ -47,11 +52,11 @@ def drift_series(header: list[str], energy_conserved: bool) -> list[tuple[str, s
 
 
 def plot_png(traj: Trajectory, coordinates, energy_conserved: bool, path: str, title: str) -> None:
-    """Write the figure of `build_figure` to `path` as a PNG, atomically."""
+    """Write the figure of `build_figure` to `path` as a PNG (lagcli.output.write_output)."""
     figure = build_figure(traj, coordinates, energy_conserved, title)
     buffer = io.BytesIO()
     figure.savefig(buffer, format="png", dpi=110)
-    write_atomic(Path(path), buffer.getvalue())
+    write_output(path, buffer.getvalue())
 
 
 def build_figure(traj: Trajectory, coordinates, energy_conserved: bool, title: str):

@@ -10,9 +10,11 @@ whose SHA-256 the cache has just checked, never imported by its path.
 
 Integration is scipy.integrate.solve_ivp with `t_eval`, written out as its own
 loop (the same solver classes, steps and dense output, so the same numbers) in
-order to keep the rows computed so far when the solver fails, a state becomes
-non-finite, the right-hand side raises (singular mass matrix) or the user presses
-Ctrl-C, and to report progress.  The right-hand side is the Baumgarte-stabilised
+order to hand each row to its sink as soon as it is computed (output times are
+made a window at a time: memory does not grow with the number of rows), to keep
+the rows computed so far when the solver fails, a state becomes non-finite, the
+right-hand side raises (singular mass matrix) or the run is interrupted, and to
+report progress.  The right-hand side is the Baumgarte-stabilised
 one (docs/design.md); each output row holds t, the state, the multipliers of that
 stabilised system and the invariants. On a constrained system RK45 and DOP853 run
 with the step cap of `lagcli.numerics.max_step` (docs/simulate.md).
@@ -24,11 +26,11 @@ import types
 import numpy as np
 from scipy import integrate
 
-from lagcli.numerics import max_step, output_times
+from lagcli.numerics import max_step, output_time_windows
 from lagcli.simulate import cache
 from lagcli.spec.files import read_spec_bytes
 from lagcli.simulate.options import RunSettings
-from lagcli.simulate.trajectory import Trajectory, format_row
+from lagcli.simulate.trajectory import RowSink, Trajectory
 
 MODULE, MODULE_VARIANT = "module.py", "python-module"
 SOLVERS = {"RK45": integrate.RK45, "DOP853": integrate.DOP853, "Radau": integrate.Radau,
@@ -91,10 +93,11 @@ def header(module) -> list[str]:
 
 
 def integrate_module(module, p: list[float], y0: list[float], s: RunSettings,
-                     progress=None) -> Trajectory:
-    """Integrate from t = 0 to s.t_end; never raises for run-time failures (see Trajectory)."""
+                     progress=None, sink: RowSink | None = None) -> RowSink:
+    """Integrate from t = 0 to s.t_end, giving each row to `sink` as it is computed (a new
+    in-memory `Trajectory` when None) and returning it; never raises for run-time
+    failures (see lagcli.simulate.trajectory)."""
     n = len(module.COORDINATES)
-    times = np.array(output_times(s.t_end, s.dt))
 
     def accelerations(t, y):
         try:
@@ -109,44 +112,56 @@ def integrate_module(module, p: list[float], y0: list[float], s: RunSettings,
     def row(t, y):
         lam = accelerations(t, y)[1]
         inv = module.invariants(t, y, p)
-        return format_row([t, *y, *lam, *(inv[name] for name in module.INVARIANTS)])
+        return [t, *y, *lam, *(inv[name] for name in module.INVARIANTS)]
 
-    traj = Trajectory(header(module))
+    sink = Trajectory() if sink is None else sink
+    sink.begin(header(module))
     y = np.array(y0, dtype=float)
     with np.errstate(all="ignore"):   # overflow shows up as a failure, not as warnings
-        _run(fun, row, y, times, s, max_step(s.method, s.alpha, s.beta, bool(module.MULTIPLIERS)),
-             traj, progress)
-    return traj
+        _run(fun, row, y, s, max_step(s.method, s.alpha, s.beta, bool(module.MULTIPLIERS)),
+             sink, progress)
+    return sink
 
 
-def _run(fun, row, y, times, s, cap, traj, progress) -> None:
+def _run(fun, row, y, s, cap, sink: RowSink, progress) -> None:
     try:
         _check_finite(0.0, y)
-        traj.lines.append(row(0.0, y))
+        sink.add_row(row(0.0, y))
         _steps(SOLVERS[s.method](fun, 0.0, y, s.t_end, rtol=s.rtol, atol=s.atol, max_step=cap),
-               times, traj, row, progress)
+               output_time_windows(s.t_end, s.dt), sink, row, progress)
     except _RhsFailure as exc:
-        traj.failure = f"at t = {exc.t:.10g}: {exc.reason}"
+        sink.failure = f"at t = {exc.t:.10g}: {exc.reason}"
     except KeyboardInterrupt:
-        traj.interrupted = True
+        sink.interrupted = True
 
 
-def _steps(solver, times, traj: Trajectory, row, progress) -> None:
-    """solve_ivp's loop for increasing t_eval: step, then dense output at the times passed."""
-    k = 1
-    while k < len(times):
+def _steps(solver, windows, sink: RowSink, row, progress) -> None:
+    """solve_ivp's loop for increasing t_eval (the output times after t = 0, a window at
+    a time): step, then dense output at the times passed."""
+    times, k = np.array(next(windows)), 1             # times[0] = 0: its row is written
+    while True:
+        while k == len(times):
+            times, k = np.array(next(windows, [])), 0
+            if not len(times):
+                return
         message = solver.step()
         if solver.status == "failed":
             raise _RhsFailure(solver.t, f"the {type(solver).__name__} integrator failed: {message}")
         _check_finite(solver.t, solver.y)
-        end = len(times) if solver.status == "finished" else int(np.searchsorted(times, solver.t, "right"))
-        if end > k:
-            dense = solver.dense_output()
+        dense = None
+        while k < len(times):
+            end = len(times) if solver.status == "finished" else int(np.searchsorted(times, solver.t, "right"))
+            if end == k:
+                break
+            if dense is None:
+                dense = solver.dense_output()
             for tk in times[k:end]:
                 y = dense(tk)
                 _check_finite(tk, y)
-                traj.lines.append(row(tk, y))
+                sink.add_row(row(tk, y))
             k = end
+            if k == len(times):
+                times, k = np.array(next(windows, [])), 0
         if progress is not None:
             progress(solver.t)
 

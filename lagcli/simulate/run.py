@@ -1,4 +1,4 @@
-"""`simulate`: a Request in, a Trajectory out, through the C or the Python backend.
+"""`simulate`: a Request in, its rows out into a sink, through the C or the Python backend.
 
     warm C path   spec bytes -> cache key -> meta.json -> driver          (no sympy, no numpy)
     cold path     spec -> Model -> Derivation -> consistent initial state
@@ -9,8 +9,12 @@ The warm path runs only when the cache holds a driver for this very spec and the
 state is known to be consistent: the spec's own initial state was made consistent
 when the driver was built (meta.json), and for `--set`/`--init` overrides of a
 constrained system the driver's first row (its constraint_residual at t = 0) is
-checked; if it exceeds 1e-8 the driver is stopped and the cold path solves for
-the dependent coordinates/velocities, then reruns the cached driver.
+checked; if it exceeds 1e-8 the driver is stopped (before any row reaches the sink)
+and the cold path solves for the dependent coordinates/velocities, then reruns the
+cached driver.
+
+The rows go to a `RowSink` (lagcli.simulate.trajectory) as they are computed: the
+CLI's writes the CSV file as the run goes on, the default keeps them in memory.
 """
 from __future__ import annotations
 
@@ -21,7 +25,7 @@ from lagcli.errors import SimulationError, UsageError
 from lagcli.simulate import c_backend
 from lagcli.numerics import CONSTRAINT_TOLERANCE, EXPLICIT_METHODS
 from lagcli.simulate.options import Request, RunSettings, parse_assignments, resolve_settings
-from lagcli.simulate.trajectory import Trajectory
+from lagcli.simulate.trajectory import RowSink, Trajectory
 from lagcli.spec.files import read_spec_bytes
 
 
@@ -33,32 +37,34 @@ class Interrupted(SimulationError):
 
 @dataclass(frozen=True)
 class Outcome:
-    trajectory: Trajectory
+    trajectory: RowSink           # the sink given to `simulate`, holding the run's end state
     backend: str                  # "c" | "python"
     coordinates: tuple[str, ...]
     energy_conserved: bool        # the energy column is conserved (it equals the Jacobi integral)
 
 
-def simulate(request: Request, note=lambda text: None, progress=None) -> Outcome:
-    """Run `request`. `note(text)` receives remarks for stderr; `progress(t_end)` is a
-    context manager yielding `update(t)` (or None for no progress report)."""
+def simulate(request: Request, note=lambda text: None, progress=None, sink: RowSink | None = None
+             ) -> Outcome:
+    """Run `request`, giving the rows to `sink` (a new in-memory `Trajectory` when None).
+    `note(text)` receives remarks for stderr; `progress(t_end)` is a context manager
+    yielding `update(t)` (or None for no progress report)."""
     try:
-        return _simulate(request, note, progress or _no_progress)
+        return _simulate(request, note, progress or _no_progress, Trajectory() if sink is None else sink)
     except KeyboardInterrupt:
         raise Interrupted(f"{request.spec}: interrupted before the integration started "
                           "(while deriving, generating or compiling); nothing was written") from None
 
 
-def _simulate(request: Request, note, progress) -> Outcome:
+def _simulate(request: Request, note, progress, sink: RowSink) -> Outcome:
     compiler = c_backend.find_compiler()
     if request.backend == "c" and compiler is None:
         raise SimulationError("--backend c needs a C compiler, but 'cc' was not found on PATH "
                               "(install gcc or clang, or use --backend python)")
     if compiler and request.backend in (None, "c") and request.method in (None, *EXPLICIT_METHODS):
-        outcome = _warm(request, compiler, note, progress)
+        outcome = _warm(request, compiler, note, progress, sink)
         if outcome is not None:
             return outcome
-    return _cold(request, compiler, note, progress)
+    return _cold(request, compiler, note, progress, sink)
 
 
 @contextlib.contextmanager
@@ -66,7 +72,7 @@ def _no_progress(total):
     yield None
 
 
-def _warm(request: Request, compiler: str, note, progress) -> Outcome | None:
+def _warm(request: Request, compiler: str, note, progress, sink: RowSink) -> Outcome | None:
     spec_bytes = read_spec_bytes(request.spec)  # size-limited; refuses a FIFO or a device
     cached = c_backend.lookup(c_backend.cache_key(request.spec, spec_bytes, compiler))
     if cached is None:
@@ -88,7 +94,7 @@ def _warm(request: Request, compiler: str, note, progress) -> Outcome | None:
     limit = CONSTRAINT_TOLERANCE if meta["constrained"] and (sets or inits) else None
     args = c_backend.driver_arguments(settings, sets, dict(zip(meta["state"], state)))
     with progress(settings.t_end) as update:
-        traj = c_backend.run(cached, args, update, max_first_residual=limit)
+        traj = c_backend.run(cached, args, update, max_first_residual=limit, sink=sink)
     if traj is None:
         return None
     for text in notes:
@@ -96,7 +102,7 @@ def _warm(request: Request, compiler: str, note, progress) -> Outcome | None:
     return Outcome(traj, "c", tuple(meta["coordinates"]), meta["energy_conserved"])
 
 
-def _cold(request: Request, compiler: str | None, note, progress) -> Outcome:
+def _cold(request: Request, compiler: str | None, note, progress, sink: RowSink) -> Outcome:
     from lagcli.api import load_model
     from lagcli.derive import derive
     from lagcli.simulate.initial import initial_state
@@ -119,12 +125,12 @@ def _cold(request: Request, compiler: str | None, note, progress) -> Outcome:
     coordinates = tuple(s.name for s in model.q)
     energy_conserved = d.jacobi_integral is not None and d.energy_is_jacobi
     if backend == "python":
-        traj = _python(d, request.spec, spec_start, params, start.values, settings, progress)
+        traj = _python(d, request.spec, spec_start, params, start.values, settings, progress, sink)
     else:
         cached = _cached_driver(d, request.spec, compiler, spec_start)
         args = c_backend.driver_arguments(settings, sets, dict(zip(state_names, start.values)))
         with progress(settings.t_end) as update:
-            traj = c_backend.run(cached, args, update)
+            traj = c_backend.run(cached, args, update, sink=sink)
     return Outcome(traj, backend, coordinates, energy_conserved)
 
 
@@ -142,13 +148,14 @@ def _spec_settings(model) -> dict:
     return {"t_end": s.t_end, "dt": s.dt, "method": s.method, "rtol": s.rtol, "atol": s.atol}
 
 
-def _python(d, spec: str, spec_start, params: dict, y0, settings: RunSettings, progress) -> Trajectory:
+def _python(d, spec: str, spec_start, params: dict, y0, settings: RunSettings, progress,
+            sink: RowSink) -> RowSink:
     from lagcli.simulate.python_backend import cached_module, integrate_module
 
     module = cached_module(d, spec, spec_start)
     p = [params[p.symbol.name] for p in d.model.parameters]
     with progress(settings.t_end) as update:
-        return integrate_module(module, p, list(y0), settings, update)
+        return integrate_module(module, p, list(y0), settings, update, sink)
 
 
 def _cached_driver(d, spec: str, compiler: str, spec_start=None) -> c_backend.Cached:

@@ -8,8 +8,11 @@
  * Defaults: the model's (the spec's simulate: and initial: blocks), Baumgarte
  * alpha = beta = LAGCLI_BAUMGARTE. Integrates from t = 0 and prints a header (t, state,
  * multipliers, invariants), then one row (%.17g) per output time t_k = k dt,
- * k = 0 .. floor(t_end/dt + LAGCLI_OUTPUT_SLACK), and t_end if not reached; each row is
- * flushed. On failure: "error: at t = ...: reason" on stderr, exit status 1, the rows
+ * k = 0 .. floor(t_end/dt + LAGCLI_OUTPUT_SLACK), and t_end if not reached, through a
+ * 64 KiB stdout buffer (a reader gets rows in blocks, not one write per row). Memory does
+ * not grow with the number of rows: the output times are made LAGCLI_WINDOW at a time and
+ * the integrator restarts from the last row's state at the end of each window (a run of
+ * up to LAGCLI_WINDOW rows is one integration). On failure: "error: at t = ...: reason" on stderr, exit status 1, the rows
  * so far kept. Bad options: exit status 2.
  * Constrained models: the step is capped at 1/|lambda| of the Baumgarte-damped
  * constraint error (max_step), and an initial state that violates the constraints by
@@ -33,10 +36,12 @@
 #define LAGCLI_CONSTRAINT_TOLERANCE_TEXT "1e-08"
 #define LAGCLI_BAUMGARTE 10.0             /* default alpha = beta of the constraint stabilisation */
 #define LAGCLI_METHODS "RK45|DOP853"      /* the explicit methods lagcli_ode implements */
+#define LAGCLI_WINDOW 65536               /* output times per integration (see the top) */
 
 typedef struct {
     const lagcli_model *model;
     double *p, *dydt, *lambda, *inv;   /* nparam, nstate, nlambda, ninv values */
+    double *last;                      /* nstate: the state at the last output time */
     double alpha, beta;
     int code;      /* nonzero return of the model function that failed */
     double when;   /* and the time it failed at */
@@ -70,7 +75,9 @@ static int row(double t, const double *y, void *ctx)
 {
     run_state *run = (run_state *)ctx;
     const lagcli_model *m = run->model;
-    int i, rc = m->rhs_stabilized(t, y, run->p, run->alpha, run->beta, run->dydt, run->lambda);
+    int i, rc;
+    memcpy(run->last, y, (size_t)m->nstate * sizeof *y);
+    rc = m->rhs_stabilized(t, y, run->p, run->alpha, run->beta, run->dydt, run->lambda);
     if (rc != 0) {
         run->code = rc;
         run->when = t;
@@ -85,7 +92,6 @@ static int row(double t, const double *y, void *ctx)
     for (i = 0; i < m->ninv; ++i)
         printf(",%.17g", run->inv[i]);
     printf("\n");
-    fflush(stdout);
     return 0;
 }
 
@@ -243,17 +249,68 @@ static void check_initial(const double *y0, run_state *run)
 
 static int no_row(double t, const double *y, void *ctx)
 {
+    run_state *run = (run_state *)ctx;
     (void)t;
-    (void)y;
-    (void)ctx;
+    memcpy(run->last, y, (size_t)run->model->nstate * sizeof *y);
     return 0;
+}
+
+/* The output times t_k = k dt, k = 0 .. floor(t_end/dt + LAGCLI_OUTPUT_SLACK), then t_end
+ * if not reached: `count` of them, made on demand by time_at. */
+typedef struct {
+    double t_end, dt;
+    size_t regular, count;
+} output_times;
+
+static output_times times_of(double t_end, double dt)
+{
+    output_times times;
+    times.t_end = t_end;
+    times.dt = dt;
+    times.regular = (size_t)floor(t_end / dt + LAGCLI_OUTPUT_SLACK) + 1;
+    times.count = times.regular;
+    if ((double)(times.regular - 1) * dt < t_end - LAGCLI_END_TOLERANCE * (t_end > 1.0 ? t_end : 1.0))
+        ++times.count;
+    return times;
+}
+
+static double time_at(const output_times *times, size_t k)
+{
+    return k < times->regular ? (double)k * times->dt : times->t_end;
+}
+
+/* Integrate from y0 at t = 0, calling `out` at every output time after 0: LAGCLI_WINDOW
+ * output times per integration, each continuing from the last row's state. */
+static int integrate_windows(const run_settings *s, run_state *run, const double *y0,
+                             lagcli_ode_out_fn out, lagcli_ode_stats *stats)
+{
+    static double window[LAGCLI_WINDOW];
+    output_times times = times_of(s->t_end, s->dt);
+    double t0 = 0.0, t_stop;
+    size_t next = 1, n, i;
+    int rc = LAGCLI_ODE_OK;
+    memset(stats, 0, sizeof *stats);
+    memcpy(run->last, y0, (size_t)run->model->nstate * sizeof *y0);
+    while (next < times.count && rc == LAGCLI_ODE_OK) {
+        n = times.count - next < LAGCLI_WINDOW ? times.count - next : LAGCLI_WINDOW;
+        for (i = 0; i < n; ++i)
+            window[i] = time_at(&times, next + i);
+        t_stop = window[n - 1];
+        if (next + n == times.count && t_stop < s->t_end)
+            t_stop = s->t_end;                 /* the last window: integrate to t_end */
+        rc = lagcli_ode_integrate(s->method, rhs, out, run, run->model->nstate, t0, run->last, t_stop,
+                                  window, n, s->rtol, s->atol,
+                                  max_step(run->model, run->alpha, run->beta), stats);
+        t0 = window[n - 1];
+        next += n;
+    }
+    return rc;
 }
 
 /* --bench-integration N (for bench/simulate.py; not in the usage text): integrate N times
  * with the same steps and dense output but no rows (no invariants, no printf), timing each
  * run with clock() (processor time: no process start-up, no output), and report on stderr. */
-static int bench(const run_settings *s, run_state *run, const double *y0, const double *times,
-                 size_t n_times)
+static int bench(const run_settings *s, run_state *run, const double *y0)
 {
     lagcli_ode_stats stats;
     double best = HUGE_VAL, total = 0.0, seconds;
@@ -262,9 +319,7 @@ static int bench(const run_settings *s, run_state *run, const double *y0, const 
     int rc;
     for (k = 0; k < s->bench; ++k) {
         start = clock();
-        rc = lagcli_ode_integrate(s->method, rhs, no_row, run, run->model->nstate, 0.0, y0, s->t_end,
-                                  times + 1, n_times - 1, s->rtol, s->atol,
-                                  max_step(run->model, run->alpha, run->beta), &stats);
+        rc = integrate_windows(s, run, y0, no_row, &stats);
         seconds = (double)(clock() - start) / CLOCKS_PER_SEC;
         if (rc != LAGCLI_ODE_OK) {
             fprintf(stderr, "error: at t = %.10g: %s\n", stats.t, stats.message);
@@ -279,51 +334,20 @@ static int bench(const run_settings *s, run_state *run, const double *y0, const 
     return 0;
 }
 
-/* Output times t_k = k dt, k = 0 .. floor(t_end/dt + LAGCLI_OUTPUT_SLACK), then t_end if not reached. */
-static double *output_times(double t_end, double dt, size_t *count)
-{
-    double last;
-    size_t k, n = (size_t)floor(t_end / dt + LAGCLI_OUTPUT_SLACK) + 1;
-    double *times = (double *)malloc((n + 1) * sizeof *times);
-    if (times == NULL)
-        return NULL;
-    for (k = 0; k < n; ++k)
-        times[k] = (double)k * dt;
-    last = times[n - 1];
-    if (last < t_end - LAGCLI_END_TOLERANCE * (t_end > 1.0 ? t_end : 1.0))
-        times[n++] = t_end;
-    *count = n;
-    return times;
-}
-
 /* Integrate from y0 and print the rows; the exit status. */
 static int integrate(const run_settings *s, run_state *run, const double *y0)
 {
     lagcli_ode_stats stats;
-    size_t n_times;
     int rc;
-    double *times = output_times(s->t_end, s->dt, &n_times);
-    if (times == NULL) {
-        fprintf(stderr, "error: at t = 0: out of memory\n");
-        return 1;
-    }
-    if (s->bench > 0) {
-        rc = bench(s, run, y0, times, n_times);
-        free(times);
-        return rc;
-    }
+    if (s->bench > 0)
+        return bench(s, run, y0);
+    setvbuf(stdout, NULL, _IOFBF, 1 << 16);
     header(run->model);
     if (row(0.0, y0, run) != 0) {
         fprintf(stderr, "error: at t = %.10g: %s\n", run->when, reason(run->code));
-        free(times);
         return 1;
     }
-    rc = LAGCLI_ODE_OK;
-    if (n_times > 1)
-        rc = lagcli_ode_integrate(s->method, rhs, row, run, run->model->nstate, 0.0, y0, s->t_end,
-                                  times + 1, n_times - 1, s->rtol, s->atol,
-                                  max_step(run->model, run->alpha, run->beta), &stats);
-    free(times);
+    rc = integrate_windows(s, run, y0, row, &stats);
     if (rc == LAGCLI_ODE_OK)
         return 0;
     if (rc == LAGCLI_ODE_ERR_RHS || rc == LAGCLI_ODE_INTERRUPTED)
@@ -341,7 +365,7 @@ int lagcli_driver_main(const lagcli_model *model, int argc, char **argv)
     run_settings s;
     run_state run;
     double *work, *y0;
-    size_t size = (size_t)(model->nparam + 2 * model->nstate + model->nlambda + model->ninv) + 1;
+    size_t size = (size_t)(model->nparam + 3 * model->nstate + model->nlambda + model->ninv) + 1;
     int rc;
 
     work = (double *)calloc(size, sizeof *work);
@@ -355,6 +379,7 @@ int lagcli_driver_main(const lagcli_model *model, int argc, char **argv)
     run.dydt = y0 + model->nstate;
     run.lambda = run.dydt + model->nstate;
     run.inv = run.lambda + model->nlambda;
+    run.last = run.inv + model->ninv;
     memcpy(run.p, model->parameter_defaults, (size_t)model->nparam * sizeof *run.p);
     memcpy(y0, model->initial_state, (size_t)model->nstate * sizeof *y0);
     run.alpha = run.beta = LAGCLI_BAUMGARTE;
