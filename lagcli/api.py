@@ -7,8 +7,8 @@ from lagcli.derive import derive
 from lagcli.derive.result import Derivation
 from lagcli.model import build_model
 from lagcli.model_types import Model
-from lagcli.errors import Loc, Problem, SpecError
-from lagcli.spec.reader import read_document
+from lagcli.errors import SpecError
+from lagcli.spec.reader import parse_text, read_document
 from lagcli.spec.schema import check
 
 
@@ -26,13 +26,7 @@ def load_model(path: str | Path) -> Model:
 def load_model_text(text: str, toml: bool = False) -> Model:
     """`load_model` for a spec given as YAML (or TOML) text; problems are located in
     `<string>` (line and column as in a file)."""
-    from lagcli.spec import reader
-
-    if len(text.encode()) > reader.MAX_BYTES:
-        raise SpecError(Problem(Loc(TEXT_SOURCE), "spec text is too large (the limit is 1 MiB)"))
-    # the reader's per-format parsers (a public `read_text` there would be better)
-    parse = reader._read_toml if toml else reader._read_yaml
-    return _build(parse(TEXT_SOURCE, text))
+    return _build(parse_text(TEXT_SOURCE, text, toml))
 
 
 def _build(raw) -> Model:

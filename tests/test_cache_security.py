@@ -318,7 +318,7 @@ def test_a_signal_during_the_compile_leaves_no_work_directory(home, spec, tmp_pa
     finally:
         if proc.poll() is None:
             proc.kill()
-    assert proc.returncode == (1 if signum == signal.SIGINT else -signum), stderr
+    assert proc.returncode == 1, stderr           # SIGTERM and SIGHUP end the run like Ctrl-C
     assert "Traceback" not in stderr
     assert os.listdir(root) == []
 

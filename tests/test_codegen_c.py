@@ -146,7 +146,7 @@ def test_c_agrees_with_engine(spec, built, derived, rng):
 
 @pytest.mark.parametrize("spec", SPEC_FILES, ids=spec_id)
 def test_driver_without_arguments_prints_the_csv(spec, built, derived):
-    from lagcli.simulate.trajectory import output_times
+    from lagcli.numerics import output_times
 
     d = derived(spec.name)
     c = built(spec)

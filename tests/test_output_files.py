@@ -140,12 +140,12 @@ def test_a_bad_target_fails_with_exit_2_before_any_work(tmp_path, monkeypatch, c
 def test_generate_c_creates_its_directory_but_not_its_parents(tmp_path):
     result = invoke("generate", spec_path("double_pendulum"), "--lang", "c", "-o", tmp_path / "dp_c")
     assert result.exit_code == 0, result.output
-    assert sorted(p.name for p in (tmp_path / "dp_c").iterdir()) == [
-        "double_pendulum.c", "double_pendulum.h", "double_pendulum_main.c"]
+    written = {p.name for p in (tmp_path / "dp_c").iterdir()}
+    assert {"double_pendulum.c", "double_pendulum.h", "double_pendulum_main.c"} <= written
 
 
 def test_a_failed_write_leaves_the_old_file_and_no_temporary(tmp_path, monkeypatch):
-    import lagcli.commands
+    import lagcli.system
     from lagcli.errors import SpecError
 
     target = tmp_path / "eom.txt"
@@ -155,7 +155,7 @@ def test_a_failed_write_leaves_the_old_file_and_no_temporary(tmp_path, monkeypat
         assert temporaries(tmp_path)            # the output is open while the work runs
         raise SpecError([])
 
-    monkeypatch.setattr(lagcli.commands, "_derive", fails)
+    monkeypatch.setattr(lagcli.system, "load", fails)
     result = invoke("derive", spec_path("double_pendulum"), "-o", target)
     assert result.exit_code == 2
     assert target.read_text() == "old\n" and temporaries(tmp_path) == []

@@ -45,7 +45,7 @@ def test_python_and_c_backends_agree(spec):
     Baumgarte step cap (docs/simulate.md) even the constrained runs agree to ~1e-11;
     without it disc_on_incline differed by 3e-6 (residual 1.5e-6)."""
     from lagcli.api import load_model
-    from lagcli.simulate.trajectory import output_times
+    from lagcli.numerics import output_times
 
     settings = load_model(str(spec)).settings
     results = {b: invoke(spec, "--backend", b) for b in ("python", "c")}

@@ -22,7 +22,8 @@ import pytest
 from click.testing import CliRunner
 
 from lagcli.cli import cli
-from lagcli.simulate.trajectory import output_times, parse_csv
+from lagcli.numerics import output_times
+from lagcli.simulate.trajectory import parse_csv
 
 from conftest import ROOT, spec_path
 

@@ -23,7 +23,7 @@ from typing import Any
 import yaml
 
 from lagcli.errors import Loc, Problem, SpecError
-from lagcli.spec.files import read_spec_bytes
+from lagcli.spec.files import MAX_BYTES, read_spec_bytes
 
 MAX_NODES = 100_000
 MAX_DEPTH = 32
@@ -87,8 +87,14 @@ def read_document(path: str | Path) -> RawDoc:
     if suffix not in (".yaml", ".yml", ".toml"):
         raise SpecError(Problem(Loc(name), f"unknown spec format '{suffix or name}'",
                                 "a spec file ends in .yaml, .yml or .toml"))
-    text = _read_text(name)
-    return _read_toml(name, text) if suffix == ".toml" else _read_yaml(name, text)
+    return parse_text(name, _read_text(name), toml=suffix == ".toml")
+
+
+def parse_text(name: str, text: str, toml: bool = False) -> RawDoc:
+    """Parse spec `text` (YAML, or TOML), located as `name`; the size limit of a file holds."""
+    if len(text.encode()) > MAX_BYTES:
+        raise SpecError(Problem(Loc(name), f"spec text is too large (the limit is {MAX_BYTES >> 20} MiB)"))
+    return _read_toml(name, text) if toml else _read_yaml(name, text)
 
 
 def _read_text(name: str) -> str:
