@@ -13,43 +13,34 @@ from collections.abc import Callable
 import sympy as sp
 from sympy.simplify.fu import TR10i
 
-from lagcli.calculus import TooSlow, time_limit
 from lagcli.derive.result import Derivation
+from lagcli.emit.tidy import expandable, trigsimp_safe
 
 TIDY_MAX_OPS = 300      # beyond this, print as derived
 TRIGSIMP_MAX_OPS = 60   # trigsimp is thorough but slow: only for what is already small
-TIDY_SECONDS = 2.0      # a guard against pathological inputs, far above any normal case
 
 
 def tidy(expr: sp.Expr) -> sp.Expr:
     """A bounded simplification for display (never for numerics): fu's TR10i folds
-    sin a sin b + cos a cos b into cos(a - b) cheaply, then small results get trigsimp."""
-    try:
-        with time_limit(TIDY_SECONDS):
-            return _tidy(sp.sympify(expr))
-    except TooSlow:
-        return sp.sympify(expr)
+    sin a sin b + cos a cos b into cos(a - b) cheaply, then small results get trigsimp.
+    Bounded by operation counts only (`lagcli.emit.tidy`), never by a clock."""
+    return _tidy(sp.sympify(expr))
 
 
 def _tidy(expr: sp.Expr) -> sp.Expr:
     ops = sp.count_ops(expr)
-    if expr.is_Atom or ops > TIDY_MAX_OPS or _has_high_power(expr):
+    if expr.is_Atom or ops > TIDY_MAX_OPS or not expandable(expr):
         return expr
     best, best_ops = expr, ops
     candidate = sp.factor_terms(TR10i(expr))
     candidate_ops = sp.count_ops(candidate)
     if candidate_ops <= best_ops:
         best, best_ops = candidate, candidate_ops
-    if best_ops <= TRIGSIMP_MAX_OPS:
+    if best_ops <= TRIGSIMP_MAX_OPS and trigsimp_safe(best):
         candidate = sp.factor_terms(sp.trigsimp(best))
         if sp.count_ops(candidate) <= best_ops:
             best = candidate
     return best
-
-
-def _has_high_power(expr: sp.Expr) -> bool:
-    """(a + b)**1000 counts as small but trigsimp would expand it: leave such powers alone."""
-    return any(p.exp.is_Number and abs(p.exp) > 6 for p in expr.atoms(sp.Pow))
 
 
 def report_content(d: Derivation, printer: Callable[[sp.Expr], str], simplify: bool = True) -> dict:
