@@ -16,19 +16,17 @@ def _derive(path: str):
 
 
 def derive_text(path: str, simplify: bool = True) -> str:
-    from lagcli.emit.report import report_content
-    from lagcli.spec_printer import spec_str
+    from lagcli.emit.report import report_content, spec_printer
     from lagcli.emit.templates import render
 
-    content = report_content(_derive(path), spec_str, simplify)
+    content = report_content(_derive(path), spec_printer(), simplify)
     return render("report/derive.txt.jinja", r=content)
 
 
 def derive_json(path: str, simplify: bool = True) -> str:
-    from lagcli.emit.report import report_content
-    from lagcli.spec_printer import spec_str
+    from lagcli.emit.report import report_content, spec_printer
 
-    content = report_content(_derive(path), spec_str, simplify)
+    content = report_content(_derive(path), spec_printer(), simplify)
     return json.dumps(content, indent=2) + "\n"
 
 

@@ -19,7 +19,7 @@ from pathlib import Path
 import lagcli
 from lagcli.derive.result import Derivation
 from lagcli.emit.latex_printer import CONTENT_WIDTH, LatexPrinter, Tex, escape_text, tex_width
-from lagcli.emit.report import report_content
+from lagcli.emit.report import ReportPrinter, report_content
 from lagcli.emit.templates import render
 
 PLANAR_AXES = ("x", "y", "z")
@@ -101,7 +101,7 @@ def matrix_block(name: str, entries: list[list[Tex]], kind: str) -> dict:
 def _context(d: Derivation, simplify: bool) -> dict:
     m = d.model
     printer = latex_printer(d)
-    r = report_content(d, printer.tex, simplify)
+    r = report_content(d, ReportPrinter(printer.tex, printer.tex_terms), simplify)
     qtex = {q.name: printer.doprint(q) for q in m.q}
     qs = [qtex[name] for name in r["coordinates"]]
 
@@ -127,9 +127,7 @@ def _context(d: Derivation, simplify: bool) -> dict:
         "counts": {"n": r["counts"]["coordinates"], "d": r["counts"]["holonomic"],
                    "g": r["counts"]["nonholonomic"], "dof": r["dof"]},
         "scleronomic": r["scleronomic"],
-        "energy_rows": [*rows("T", r["kinetic_energy"]["T"]),
-                        *(row for k in ("T2", "T1", "T0")
-                          for row in rows(f"T_{k[1]}", r["kinetic_energy"][k]))],
+        "energy_rows": _energy_rows(r),
         "mass_matrix": matrix_block("M", r["mass_matrix"], "symmetric"),
         "potential_rows": [*rows("V", r["potential_energy"]), *rows("L", r["lagrangian"], "T - V")],
         "force_rows": column(r["generalized_forces"], "Q_{@}", "Q"),
@@ -159,6 +157,15 @@ def _context(d: Derivation, simplify: bool) -> dict:
         "jacobi": r["jacobi_integral"] is not None,
         "energy_is_jacobi": r["energy_is_jacobi"],
     }
+
+
+def _energy_rows(r: dict) -> list[str]:
+    """T and its parts; one row `T = T_2` when T1 and T0 vanish (nothing printed twice)."""
+    kinetic = r["kinetic_energy"]
+    if r["T_is_T2"]:
+        return [*rows("T", kinetic["T"], "T_2"), "T_1 &= T_0 = 0"]
+    return [*rows("T", kinetic["T"]),
+            *(row for k in ("T2", "T1", "T0") for row in rows(f"T_{k[1]}", kinetic[k]))]
 
 
 def _constraint(j: int, c: dict, row, printer: LatexPrinter, qs: list[str]) -> dict:
@@ -197,7 +204,7 @@ def _conserved(r: dict, qtex: dict, energy_is_jacobi: bool) -> list[str]:
         if c["kind"] == "momentum":
             out.extend(rows(f"p_{{{momenta.get(c['name'], escape_text(c['name']))}}}", c["expr"]))
         elif c["kind"] == "jacobi":
-            out.extend(rows("h", c["expr"], "T_2 - T_0 + V = T + V" if merged else "T_2 - T_0 + V"))
+            out.extend(rows("h", c["expr"], "T_2 - T_0 + V = T + V = E" if merged else "T_2 - T_0 + V"))
         elif not merged:
             out.extend(rows("E", c["expr"], "T + V"))
     return out

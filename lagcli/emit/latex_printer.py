@@ -87,6 +87,24 @@ class LatexPrinter(SympyLatexPrinter):
             return Tex(flat)
         return Tex(flat, self.lines(expr, width, 0))
 
+    def tex_terms(self, terms, width: float = CONTENT_WIDTH) -> Tex:
+        """An ordered sum (the report's term lists: q'' terms first), signs pulled out."""
+        if not terms:
+            return self.tex(sp.S.Zero, width)
+        flat = self._join_terms(terms)
+        if tex_width(flat) <= width:
+            return Tex(flat)
+        return Tex(flat, self._terms_lines(list(terms), width, 0, width))
+
+    def _join_terms(self, terms) -> str:
+        out = [self._print(terms[0])]
+        for term in terms[1:]:
+            sign, term = ("-", -term) if term.could_extract_minus_sign() else ("+", term)
+            body = self._print(term)
+            out.append(f"{sign} {self.paren[0]}{body}{self.paren[1]}" if self._needs_add_brackets(term)
+                       else f"{sign} {body}")
+        return " ".join(out)
+
     def symbol(self, name: str) -> str:
         """LaTeX of a name that is not in the model (a known function, a particle)."""
         return self._deal_with_super_sub(name)
@@ -118,8 +136,11 @@ class LatexPrinter(SympyLatexPrinter):
         return [f"{sign} {body[0]}", *body[1:]]
 
     def _add_lines(self, expr: sp.Add, width: float, depth: int, first: float) -> list[str]:
+        return self._terms_lines(self._as_ordered_terms(expr), width, depth, first)
+
+    def _terms_lines(self, terms, width: float, depth: int, first: float) -> list[str]:
         out: list[str] = []
-        for i, term in enumerate(self._as_ordered_terms(expr)):
+        for i, term in enumerate(terms):
             if i == 0:
                 out.extend(self.lines(term, width, depth, first))
                 continue

@@ -100,3 +100,150 @@ def _cheaper(current, candidate, calls) -> sp.Expr:
             and sp.count_ops(candidate) < sp.count_ops(current):
         return candidate
     return current
+
+
+# -- display (reports): small parts tidied once, big expressions assembled from them -----
+
+DISPLAY_MAX_NODES = 400       # tidy for display only expressions this small (tree nodes)
+
+
+def small(expr, budget: int = DISPLAY_MAX_NODES) -> bool:
+    """True when expr has at most `budget` tree nodes (stops counting past it: cheap on
+    the megabyte expressions of a big system, unlike count_ops)."""
+    for count, _ in enumerate(sp.preorder_traversal(expr), start=1):
+        if count > budget:
+            return False
+    return True
+
+
+def display_form(expr) -> sp.Expr:
+    """A tidier, equal form of a small expr for reports, by a fixed sequence of cheap
+    exact rewritings: expand; the Pythagorean identity (`pythagorean`); angle sums
+    folded (`fold_angle_sums`: a sin x sin y + a cos x cos y -> a cos(x - y)); terms
+    grouped by their function calls with common factors pulled out (`group_by_calls`);
+    signs pulled out (`pull_signs`). The original is kept when the result has more
+    operations. Every step is linear or nearly so in the number of terms: no trigsimp
+    (~1 s per expression) nor fu's TR10i (pairwise, ~50 ms per sum); an expression
+    over DISPLAY_MAX_NODES nodes or with a big expansion is returned as it is
+    (reports assemble big expressions from tidied parts instead)."""
+    expr = sp.sympify(expr)
+    if expr.is_Atom or not small(expr) or not expandable(expr):
+        return expr
+    result = sp.expand(expr)
+    if result.has(sp.sin, sp.cos):
+        result = fold_angle_sums(pythagorean(result))
+    result = pull_signs(sp.factor_terms(group_by_calls(result)))
+    return result if sp.count_ops(result) <= sp.count_ops(expr) else pull_signs(expr)
+
+
+def group_by_calls(expr) -> sp.Expr:
+    """sum over distinct products of function calls f of (common factors pulled out of
+    the sum of their coefficients) * f: `sympy.collect` over the calls, in one pass."""
+    groups: dict = {}
+    for term in sp.Add.make_args(expr):
+        calls, rest = [], []
+        for factor in sp.Mul.make_args(term):
+            (calls if factor.has(sp.Function) else rest).append(factor)
+        key = sp.Mul(*calls)
+        groups[key] = groups.get(key, []) + [sp.Mul(*rest)]
+    return sp.Add(*(sp.factor_terms(sp.Add(*coefficients)) * key for key, coefficients in groups.items()))
+
+
+_ANGLE_SUMS = {   # (kinds of the two terms) -> (ratio of their coefficients, function, sign of y)
+    ("cc", "ss"): ((1, sp.cos, -1), (-1, sp.cos, 1)),
+    ("sc", "cs"): ((1, sp.sin, 1), (-1, sp.sin, -1)),
+}
+
+
+def fold_angle_sums(expr) -> sp.Expr:
+    """In an expanded sum, c cos x cos y + c sin x sin y -> c cos(x - y),
+    c cos x cos y - c sin x sin y -> c cos(x + y), c sin x cos y + c cos x sin y ->
+    c sin(x + y) and c sin x cos y - c cos x sin y -> c sin(x - y): fu's TR10i for the
+    pairs of a mechanical system's dot products, found by a dictionary in one pass."""
+    slots: dict = {}
+    others = []
+    for term in sp.Add.make_args(expr):
+        split = _two_angles(term)
+        if split is None:
+            others.append(term)
+            continue
+        kind, x, y, number, rest = split
+        slots.setdefault((x, y, rest), {}).setdefault(kind, []).append(number)
+    out = list(others)
+    for (x, y, rest), kinds in slots.items():
+        for (first, second), rules in _ANGLE_SUMS.items():
+            a, b = kinds.get(first, []), kinds.get(second, [])
+            while a and b:
+                for ratio, function, sign in rules:
+                    if b[0] == ratio * a[0]:
+                        out.append(a[0] * rest * function(x + sign * y))
+                        a.pop(0), b.pop(0)
+                        break
+                else:
+                    break
+        out += [number * rest * _KINDS[kind](x, y) for kind, numbers in kinds.items() for number in numbers]
+    return sp.Add(*out)
+
+
+_KINDS = {"cc": lambda x, y: sp.cos(x) * sp.cos(y), "ss": lambda x, y: sp.sin(x) * sp.sin(y),
+          "sc": lambda x, y: sp.sin(x) * sp.cos(y), "cs": lambda x, y: sp.cos(x) * sp.sin(y)}
+
+
+def _two_angles(term):
+    """(kind, x, y, number, rest) when term = number * rest * f(x) g(y), f, g in {sin, cos}
+    to the first power, x before y; None otherwise."""
+    number, factors = term.as_coeff_mul()
+    trig = [f for f in factors if isinstance(f, (sp.sin, sp.cos))]
+    if len(trig) != 2 or trig[0].args[0] == trig[1].args[0]:
+        return None
+    first, second = sorted(trig, key=lambda f: sp.default_sort_key(f.args[0]))
+    rest = sp.Mul(*(f for f in factors if f not in trig))
+    if rest.has(sp.sin(first.args[0]), sp.cos(first.args[0]), sp.sin(second.args[0]), sp.cos(second.args[0])):
+        return None
+    kind = ("s" if isinstance(first, sp.sin) else "c") + ("s" if isinstance(second, sp.sin) else "c")
+    return kind, first.args[0], second.args[0], number, rest
+
+
+def pythagorean(expr) -> sp.Expr:
+    """expr (expanded) with sin(x)**2 + cos(x)**2 = 1 used for each argument x whose
+    sin**2 and cos**2 both appear, in the direction (eliminating sin**2 or cos**2)
+    that leaves fewer terms."""
+    squares = {p.base for p in expr.atoms(sp.Pow) if isinstance(p.base, (sp.sin, sp.cos))
+               and p.exp.is_Integer and p.exp >= 2}
+    arguments = sorted({f.args[0] for f in squares if f.func(f.args[0]) in squares
+                        and (sp.cos if f.func == sp.sin else sp.sin)(f.args[0]) in squares},
+                       key=sp.default_sort_key)
+    for x in arguments:
+        options = [expr, _eliminate_square(expr, sp.sin(x), sp.cos(x)),
+                   _eliminate_square(expr, sp.cos(x), sp.sin(x))]
+        expr = min(options, key=lambda e: len(sp.Add.make_args(e)))
+    return expr
+
+
+def _eliminate_square(expr, drop, keep) -> sp.Expr:
+    """drop**k -> drop**(k mod 2) * (1 - keep**2)**(k // 2), expanded."""
+    powers = {p for p in expr.atoms(sp.Pow) if p.base == drop and p.exp.is_Integer and p.exp >= 2}
+    if not powers:
+        return expr
+    table = {p: drop ** (int(p.exp) % 2) * (1 - keep ** 2) ** (int(p.exp) // 2) for p in powers}
+    return sp.expand(expr.xreplace(table))
+
+
+def pull_signs(expr) -> sp.Expr:
+    """-a*(-b + c) -> a*(b - c): in every product, a sum with more negative than positive
+    terms is negated (and the product's sign with it), so no double negative prints."""
+    if expr.is_Atom:
+        return expr
+    args = [pull_signs(a) for a in expr.args]
+    if expr.is_Mul:
+        flips = [i for i, a in enumerate(args) if a.is_Add and _mostly_negative(a)]
+        for i in flips:
+            args[i] = -args[i]
+        if flips:
+            args.append(sp.S.NegativeOne ** len(flips))
+    return expr.func(*args)
+
+
+def _mostly_negative(add) -> bool:
+    signs = [term.could_extract_minus_sign() for term in add.args]
+    return sum(signs) > len(signs) - sum(signs)
