@@ -15,12 +15,14 @@ def _derive(path: str):
     return derive(load_model(path))
 
 
-def derive_text(path: str, simplify: bool = True) -> str:
-    from lagcli.emit.report import report_content, spec_printer
+def derive_text(path: str, simplify: bool = True, parts: str | None = None) -> str:
+    """The text report; `parts`: the sections to print ("equations,energies"; None: all)."""
+    from lagcli.emit.report import report_content, report_parts, spec_printer
     from lagcli.emit.templates import render
 
-    content = report_content(_derive(path), spec_printer(), simplify)
-    return render("report/derive.txt.jinja", r=content)
+    chosen = report_parts(parts)
+    content = report_content(_derive(path), spec_printer(), simplify, named=True)
+    return render("report/derive.txt.jinja", r=content, parts=chosen)
 
 
 def derive_json(path: str, simplify: bool = True) -> str:
@@ -30,11 +32,16 @@ def derive_json(path: str, simplify: bool = True) -> str:
     return json.dumps(content, indent=2) + "\n"
 
 
-def derive_latex(path: str, simplify: bool = True, standalone: bool = False) -> str:
+def derive_latex(path: str, simplify: bool = True, standalone: bool = False,
+                 parts: str | None = None) -> str:
+    """LaTeX (a fragment or, `standalone`, a document); `parts` as for `derive_text`."""
     from lagcli.emit.latex import latex_document, latex_fragment
+    from lagcli.emit.report import report_parts
 
+    chosen = report_parts(parts)
     derivation = _derive(path)
-    return latex_document(derivation, simplify) if standalone else latex_fragment(derivation, simplify)
+    make = latex_document if standalone else latex_fragment
+    return make(derivation, simplify, chosen)
 
 
 def check_summary(path: str) -> str:

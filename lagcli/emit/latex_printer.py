@@ -29,6 +29,12 @@ LINE_WIDTH = 76.0
 LABEL_WIDTH = 8.0                     # the label column of `align*` (e.g. "Q'_{\theta_{1}}" or "\ddot x\colon")
 CONTENT_WIDTH = LINE_WIDTH - LABEL_WIDTH - 4.0   # minus "= " and the "\quad" of continuation lines
 
+# The report's own notation (T, V, L, M, Q, F, G, c in every report; see
+# `lagcli.emit.latex.report_notation` for the rest): a parameter typeset as one of these
+# letters is set in sans-serif instead, so that `L` the length and L the Lagrangian never
+# look alike on the page.
+REPORT_NOTATION = frozenset("TVLMQFGc")
+THIN_SPACE = r"\,"                    # between the factors of a product: m\,l\,\dot\theta, never "ml"
 MIN_ROOM = 12.0                       # do not start a long term on a line with less room left
 _DELIMITERS = (r"\biggl(", r"\biggr)"), (r"\Bigl(", r"\Bigr)"), (r"\bigl(", r"\bigr)")
 
@@ -53,17 +59,16 @@ class LatexPrinter(SympyLatexPrinter):
     delimiters = _DELIMITERS                # around a broken sum, by nesting depth
     times = r"\times"                       # a product continued on the next line
 
-    def __init__(self, model, settings: dict | None = None, multipliers=()):
-        super().__init__({"symbol_names": {}, **(settings or {})})
+    def __init__(self, model, settings: dict | None = None, multipliers=(), notation=REPORT_NOTATION):
+        super().__init__({"symbol_names": {}, "mul_symbol": THIN_SPACE, **(settings or {})})
         names = self._settings["symbol_names"] = dict(self._settings["symbol_names"])
         for q, qd, qdd in zip(model.q, model.qd, model.qdd):
             user = model.coordinate_latex.get(q)
-            names[q] = user if user else self._deal_with_super_sub(q.name)
+            names[q] = user if user else self._name(q.name)
             names[qd] = self._accented(r"\dot", q, user)
             names[qdd] = self._accented(r"\ddot", q, user)
         for info in model.parameters:
-            if info.latex:
-                names[info.symbol] = info.latex
+            names[info.symbol] = distinct_from_notation(info.latex or self._name(info.symbol.name), notation)
         for multiplier, label in multipliers:
             names[multiplier] = multiplier_latex(multiplier, label)
 
@@ -105,9 +110,16 @@ class LatexPrinter(SympyLatexPrinter):
                        else f"{sign} {body}")
         return " ".join(out)
 
+    def _name(self, string: str) -> str:
+        """sympy's name -> LaTeX (theta1 -> \\theta_{1}), with a multi-letter name set as
+        one word (\\mathit{Lam}) rather than a product of letters."""
+        tex = self._deal_with_super_sub(string)
+        word = re.match(r"[A-Za-z]{2,}", tex)
+        return rf"\mathit{{{word.group()}}}{tex[word.end():]}" if word else tex
+
     def symbol(self, name: str) -> str:
         """LaTeX of a name that is not in the model (a known function, a particle)."""
-        return self._deal_with_super_sub(name)
+        return self._name(name)
 
     # -- breaking long expressions -------------------------------------------------
     #
@@ -181,6 +193,11 @@ class LatexPrinter(SympyLatexPrinter):
         if len(inner) == 1:
             return [f"{self.paren[0]}{inner[0]}{self.paren[1]}"]
         return [f"{left}{inner[0]}", *inner[1:-1], f"{inner[-1]}{right}"]
+
+
+def distinct_from_notation(tex: str, notation=REPORT_NOTATION) -> str:
+    """A parameter's LaTeX, or `\\mathsf{L}` when it is one of the report's letters."""
+    return rf"\mathsf{{{tex}}}" if tex in notation else tex
 
 
 def _room(out: list[str], width: float, first: float) -> float:

@@ -16,6 +16,25 @@ import sympy as sp
 
 from lagcli.derive.result import Derivation
 from lagcli.emit.display import Display, signed_sum
+from lagcli.emit.naming import Namer
+
+
+PARTS = ("system", "energies", "forces", "equations", "constraints", "explicit", "conservation")
+
+
+def report_parts(selection: str | None) -> tuple[str, ...]:
+    """The sections of a text or LaTeX report named in `selection` ("equations,energies"),
+    in report order; every section for None."""
+    from lagcli.errors import UsageError
+
+    if selection is None:
+        return PARTS
+    chosen = {name.strip() for name in selection.split(",") if name.strip()}
+    unknown = sorted(chosen - set(PARTS))
+    if unknown or not chosen:
+        raise UsageError(f"--part {selection}: unknown part {', '.join(unknown) or '(none given)'}; "
+                         f"choose from {', '.join(PARTS)}")
+    return tuple(name for name in PARTS if name in chosen)
 
 
 @dataclass(frozen=True)
@@ -31,10 +50,30 @@ def spec_printer() -> ReportPrinter:
     return ReportPrinter(spec_str, lambda terms: signed_sum(terms, spec_str))
 
 
-def report_content(d: Derivation, printer: ReportPrinter, simplify: bool = True) -> dict:
+def report_content(d: Derivation, printer: ReportPrinter, simplify: bool = True,
+                   named: bool = False) -> dict:
+    """The report of `d`. `named` (text, LaTeX): big expressions are shown with named
+    intermediate quantities, listed under "named_quantities" (`lagcli.emit.naming`);
+    without it (JSON) every expression is complete."""
     m = d.model
     shown = Display(d, simplify)
-    p, terms = printer.expr, printer.terms
+    taken = (m.t, *m.q, *m.qd, *m.qdd, *m.parameter_symbols, *d.multipliers)
+    namer = Namer(s.name for s in taken) if named else None
+
+    def p(expr) -> str:
+        return printer.expr(namer(expr) if namer else expr)
+
+    def terms(items) -> str:
+        return printer.terms([namer(e) for e in items] if namer else items)
+
+    content = _content(d, shown, p, terms)
+    content["named_quantities"] = [] if namer is None else [
+        {"name": symbol.name, "expr": printer.expr(value)} for symbol, value in namer.definitions]
+    return content
+
+
+def _content(d: Derivation, shown: Display, p, terms) -> dict:
+    m = d.model
     qs = range(len(m.q))
 
     def column(values) -> dict:

@@ -245,5 +245,7 @@ def pull_signs(expr) -> sp.Expr:
 
 
 def _mostly_negative(add) -> bool:
+    """More negative terms than positive ones, or as many and the leading one negative."""
     signs = [term.could_extract_minus_sign() for term in add.args]
-    return sum(signs) > len(signs) - sum(signs)
+    negative, positive = sum(signs), len(signs) - sum(signs)
+    return negative > positive or (negative == positive and add.as_ordered_terms()[0].could_extract_minus_sign())
