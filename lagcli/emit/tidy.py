@@ -207,7 +207,7 @@ def _two_angles(term):
 def pythagorean(expr) -> sp.Expr:
     """expr (expanded) with sin(x)**2 + cos(x)**2 = 1 used for each argument x whose
     sin**2 and cos**2 both appear, in the direction (eliminating sin**2 or cos**2)
-    that leaves fewer terms."""
+    that leaves fewer terms (then fewer distinct powers, then fewer minus signs)."""
     squares = {p.base for p in expr.atoms(sp.Pow) if isinstance(p.base, (sp.sin, sp.cos))
                and p.exp.is_Integer and p.exp >= 2}
     arguments = sorted({f.args[0] for f in squares if f.func(f.args[0]) in squares
@@ -216,8 +216,14 @@ def pythagorean(expr) -> sp.Expr:
     for x in arguments:
         options = [expr, _eliminate_square(expr, sp.sin(x), sp.cos(x)),
                    _eliminate_square(expr, sp.cos(x), sp.sin(x))]
-        expr = min(options, key=lambda e: len(sp.Add.make_args(e)))
+        expr = min(options, key=_pythagorean_cost)
     return expr
+
+
+def _pythagorean_cost(expr) -> tuple[int, int, int]:
+    """Fewer terms, then fewer distinct powers, then fewer minus signs."""
+    terms = sp.Add.make_args(expr)
+    return len(terms), len(expr.atoms(sp.Pow)), sum(t.could_extract_minus_sign() for t in terms)
 
 
 def _eliminate_square(expr, drop, keep) -> sp.Expr:
