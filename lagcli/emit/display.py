@@ -29,7 +29,9 @@ import sympy as sp
 
 from lagcli.calculus import almost_everywhere
 from lagcli.derive.result import Derivation
-from lagcli.emit.tidy import display_form, pull_signs
+from lagcli.emit.tidy import display_form, pull_signs, small
+
+TREE_MAX_NODES = 5000     # tidy the parts of expressions up to this size (tree nodes)
 
 Terms = list   # of sympy expressions, none of them a sum
 
@@ -70,6 +72,8 @@ class Display:
         n = self.n
         upper = {(i, j): self.tidy(d.mass_matrix[i, j]) for i in range(n) for j in range(i, n)}
         self.M = [[upper[min(i, j), max(i, j)] for j in range(n)] for i in range(n)]
+        self._free = {key: entry.free_symbols for key, entry in upper.items()}
+        self._derivatives: dict = {}
         self.a = [self.tidy(e) for e in d.t1_coefficients]
         self.T0 = self.tidy(d.T0)
         self.V = self.tidy(d.V)
@@ -87,8 +91,8 @@ class Display:
     def _tidy_tree(self, expr: sp.Expr) -> sp.Expr:
         """Children first (each distinct one once: the same dot product appears in every
         mass's term), then the sums that combine them."""
-        if expr.is_Atom or not (expr.is_Add or expr.is_Mul):
-            return expr
+        if expr.is_Atom or not (expr.is_Add or expr.is_Mul) or not small(expr, TREE_MAX_NODES):
+            return expr      # a huge expression is shown with named quantities instead
         rebuilt = expr.func(*(self.tidy(a) for a in expr.args))
         return display_form(rebuilt) if rebuilt.is_Add else rebuilt
 
@@ -154,7 +158,13 @@ class Display:
     # -- equations of motion ---------------------------------------------------------------
 
     def _dM(self, i: int, j: int, var) -> sp.Expr:
-        return derivative(self.M[i][j], var)
+        """dM_ij/d var, each computed once (the velocity terms ask for most of them n times)."""
+        key = (min(i, j), max(i, j), var)
+        if key not in self._derivatives:
+            if var not in self._free[key[:2]]:
+                return sp.S.Zero
+            self._derivatives[key] = derivative(self.M[i][j], var)
+        return self._derivatives[key]
 
     def velocity_buckets(self, i: int) -> dict:
         """c_i grouped by monomial: {q'_j q'_l: C_ijl} (see the module docstring)."""

@@ -9,11 +9,11 @@ from __future__ import annotations
 
 import sympy as sp
 
-TIDY_MAX_OPS = 80             # trigsimp only expressions this small (bench/codegen.py: cost vs gain)
+TIDY_MAX_OPS = 80             # rewrite trigonometry only in expressions this small (bench/codegen.py)
 COLLECT_MAX_OPS = 5000        # expand + collect only expressions this small
 MAX_POWER = 6                 # (a + b)**1000 counts as small, but expanding it would not be
 MAX_EXPANDED_TERMS = 20000    # expand only what has at most this many terms once expanded
-TRIGSIMP_FUNCTIONS = (sp.sin, sp.cos)   # trigsimp only expressions calling nothing else
+TRIGSIMP_FUNCTIONS = (sp.sin, sp.cos)   # rewrite only expressions calling nothing else
 PRINTABLE = (sp.sin, sp.cos, sp.tan, sp.asin, sp.acos, sp.atan, sp.atan2, sp.sinh, sp.cosh,
              sp.tanh, sp.exp, sp.log, sp.Abs, sp.sign, sp.Min, sp.Max)
 
@@ -22,13 +22,14 @@ PRINTABLE = (sp.sin, sp.cos, sp.tan, sp.asin, sp.acos, sp.atan, sp.atan2, sp.sin
 def tidy_expression(expr, velocities=(), cache: dict | None = None) -> sp.Expr:
     """The cheapest (sympy.count_ops) of: expr; expr expanded and collected over the
     `velocities`, each coefficient collected over its function calls (the physical
-    grouping of F = sum c_jk q'_j q'_k + c_j q'_j + c_0); and `factor_terms(trigsimp(.))`
-    of the better of these two when it has at most TIDY_MAX_OPS operations and calls
-    only sin and cos (`trigsimp_safe`). A candidate may not call a function expr does
+    grouping of F = sum c_jk q'_j q'_k + c_j q'_j + c_0); and `display_form` (the
+    reports' linear-time exact rewritings: sin^2 + cos^2 = 1, angle sums, common
+    factors) of the better of these two when it has at most TIDY_MAX_OPS operations
+    and calls only sin and cos (`trigsimp_safe`). sympy's trigsimp found a little more
+    but took ~1 s per expression, most of `generate`'s time. A candidate may not call a function expr does
     not already call: a new cos(q1 - q2) costs more at run time than the
-    multiplications it saves. The steps are bounded by operation counts only (sympy's
-    trigsimp can grind for minutes on tanh, Max or sign terms: `trigsimp_safe` keeps
-    it to what it is fast on), and expressions with high powers are left alone."""
+    multiplications it saves. The steps are bounded by operation counts only, and
+    expressions with high powers or big expansions are left alone."""
     expr = sp.sympify(expr)
     if cache is not None and expr in cache:
         return cache[expr]
@@ -37,8 +38,7 @@ def tidy_expression(expr, velocities=(), cache: dict | None = None) -> sp.Expr:
         calls = expr.atoms(sp.Function)
         result = _cheaper(expr, _collected(expr, list(velocities)), calls)
         if sp.count_ops(result) <= TIDY_MAX_OPS and trigsimp_safe(result):
-            simplified = sp.factor_terms(sp.trigsimp(result))
-            result = _cheaper(result, simplified, calls)
+            result = _cheaper(result, display_form(result), calls)
     if cache is not None:
         cache[expr] = result
     return result
