@@ -4,7 +4,8 @@ A hand derivation of a large system does not print thousands of terms: it names
 the recurring sums once ("where X1 = ...") and writes the equations with the
 names. `Namer` does that for the reports: an expression over SHOW_MAX_NODES tree
 nodes is shown with every sum inside it of more than NAME_MIN_NODES nodes replaced
-by a name X1, X2, ... The same sum gets the same name wherever it occurs (in M, F,
+by a name X1, X2, ... (for a sum given as terms, T or an equation, the size of the
+whole sum decides). The same sum gets the same name wherever it occurs (in M, F,
 the constraints, T...), so each is defined once; definitions use earlier names
 (children are named before their parents). Small expressions are untouched, so the
 reports of small systems are as before. The JSON report never uses names: its
@@ -37,6 +38,14 @@ class Namer:
         if small(expr, SHOW_MAX_NODES):
             return expr
         return self._rebuilt(expr)
+
+    def terms(self, terms) -> list:
+        """A sum given as terms (T, L, h, an equation) as shown: when the whole sum is big,
+        the big sums inside every term are named, however small the term itself."""
+        terms = [sp.sympify(term) for term in terms]
+        if small(sp.Add(*terms), SHOW_MAX_NODES):
+            return terms
+        return [self._rebuilt(term) for term in terms]
 
     def _rebuilt(self, expr: sp.Expr) -> sp.Expr:
         if expr.is_Atom or small(expr, NAME_MIN_NODES):

@@ -64,7 +64,7 @@ def report_content(d: Derivation, printer: ReportPrinter, simplify: bool = True,
         return printer.expr(namer(expr) if namer else expr)
 
     def terms(items) -> str:
-        return printer.terms([namer(e) for e in items] if namer else items)
+        return printer.terms(namer.terms(items) if namer else items)
 
     content = _content(d, shown, p, terms)
     content["named_quantities"] = [] if namer is None else [
