@@ -7,11 +7,8 @@ derivative, which is much faster than sympy's `Function`/`Derivative` objects:
 """
 from __future__ import annotations
 
-import contextlib
 import random
-import signal
-import threading
-from collections.abc import Iterable, Iterator, Sequence
+from collections.abc import Iterable, Sequence
 
 import sympy as sp
 
@@ -154,28 +151,3 @@ def almost_everywhere(value):
     value = value.replace(sp.DiracDelta, lambda *args: sp.S.Zero)
     return value.replace(sp.Heaviside, lambda x, *rest: (1 + sp.sign(x)) / 2)
 
-
-class TooSlow(Exception):
-    """An optional symbolic step (simplification, potential search) ran out of time."""
-
-
-@contextlib.contextmanager
-def time_limit(seconds: float) -> Iterator[None]:
-    """Raise TooSlow in the block after `seconds` (main thread on Unix; elsewhere no limit).
-
-    Only for optional work whose result is a nicety (a tidier display, a closed-form
-    potential): a hostile but small spec must not make sympy grind for minutes."""
-    if threading.current_thread() is not threading.main_thread() or not hasattr(signal, "setitimer"):
-        yield
-        return
-
-    def expire(signum, frame):
-        raise TooSlow()
-
-    previous = signal.signal(signal.SIGALRM, expire)
-    signal.setitimer(signal.ITIMER_REAL, seconds)
-    try:
-        yield
-    finally:
-        signal.setitimer(signal.ITIMER_REAL, 0)
-        signal.signal(signal.SIGALRM, previous)

@@ -46,26 +46,38 @@ def _run(ctx: click.Context, action) -> None:
 @click.option("--json", "as_json", is_flag=True, help="JSON with the contract's keys.")
 @click.option("--standalone", is_flag=True, help="With --latex: a complete document for pdflatex.")
 @click.option("--simplify/--no-simplify", default=True, show_default=True,
-              help="Tidy small expressions (trigsimp) for display.")
+              help="Tidy small expressions for display (exact; never changes numerics).")
+@click.option("--part", "parts", default=None, metavar="NAME[,NAME...]",
+              help="With --text or --latex: only these sections (system, energies, forces, "
+                   "equations, constraints, explicit, conservation).")
 @click.option("-o", "--output", default=None, help="Output file ('-' or none: stdout).")
 @click.pass_context
-def derive(ctx, spec, as_text, as_latex, as_json, standalone, simplify, output):
-    """Derive the equations of motion of SPEC and report them."""
+def derive(ctx, spec, as_text, as_latex, as_json, standalone, simplify, parts, output):
+    """Derive the equations of motion of SPEC and report them.
+
+    \b
+    Examples:
+      lagcli derive specs/double_pendulum.yaml
+      lagcli derive specs/double_pendulum.yaml --json -o eom.json
+      lagcli derive specs/double_pendulum.yaml --latex --part equations,energies
+    """
     chosen = [name for name, on in (("text", as_text), ("latex", as_latex), ("json", as_json)) if on]
     if len(chosen) > 1:
         raise click.UsageError(f"choose one output format, not {' and '.join('--' + c for c in chosen)}")
     fmt = chosen[0] if chosen else "text"
     if standalone and fmt != "latex":
         raise click.UsageError("--standalone goes with --latex")
+    if parts is not None and fmt == "json":
+        raise click.UsageError("--part goes with --text or --latex (JSON always has every key)")
 
     def action():
         with open_output(output) as out:      # a bad -o fails before deriving
             if fmt == "json":
                 text = commands.derive_json(spec, simplify)
             elif fmt == "latex":
-                text = commands.derive_latex(spec, simplify, standalone)
+                text = commands.derive_latex(spec, simplify, standalone, parts)
             else:
-                text = commands.derive_text(spec, simplify)
+                text = commands.derive_text(spec, simplify, parts)
             out.stream.write(text)
     _run(ctx, action)
 

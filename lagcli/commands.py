@@ -15,10 +15,11 @@ def _derive(path: str):
     return derive(load_model(path))
 
 
-def derive_text(path: str, simplify: bool = True) -> str:
+def derive_text(path: str, simplify: bool = True, parts: str | None = None) -> str:
+    """The text report; `parts`: the sections to print ("equations,energies"; None: all)."""
     from lagcli.system import load
 
-    return load(Path(path)).report("text", simplify)
+    return load(Path(path)).report("text", simplify, parts)
 
 
 def derive_json(path: str, simplify: bool = True) -> str:
@@ -27,10 +28,12 @@ def derive_json(path: str, simplify: bool = True) -> str:
     return load(Path(path)).report("json", simplify)
 
 
-def derive_latex(path: str, simplify: bool = True, standalone: bool = False) -> str:
+def derive_latex(path: str, simplify: bool = True, standalone: bool = False,
+                 parts: str | None = None) -> str:
+    """LaTeX (a fragment or, `standalone`, a document); `parts` as for `derive_text`."""
     from lagcli.system import load
 
-    return load(Path(path)).report("latex-document" if standalone else "latex", simplify)
+    return load(Path(path)).report("latex-document" if standalone else "latex", simplify, parts)
 
 
 def check_summary(path: str) -> str:

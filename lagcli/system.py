@@ -53,26 +53,28 @@ class System:
 
     # --- reports and code ---------------------------------------------------------------
 
-    def report(self, format: str = "text", simplify: bool = True):
+    def report(self, format: str = "text", simplify: bool = True, parts: str | None = None):
         """What `lagcli derive` prints: "text", "json" (a string), "dict" (the same
-        content as Python values), "latex" (a fragment) or "latex-document"."""
-        if format in ("text", "json", "dict"):
-            from lagcli.emit.report import report_content
-            from lagcli.spec_printer import spec_str
+        content as Python values), "latex" (a fragment) or "latex-document"; `parts`
+        (text and LaTeX): the sections to print, e.g. "equations,energies" (None: all)."""
+        from lagcli.emit.report import report_content, report_parts, spec_printer
 
-            content = report_content(self.derivation, spec_str, simplify)
-            if format == "dict":
-                return content
-            if format == "json":
-                return json.dumps(content, indent=2) + "\n"
+        if format in ("json", "dict"):
+            if parts is not None:
+                raise UsageError("--part selects sections of the text and LaTeX reports; "
+                                 "the JSON report always carries every key")
+            content = report_content(self.derivation, spec_printer(), simplify)
+            return content if format == "dict" else json.dumps(content, indent=2) + "\n"
+        if format == "text":
             from lagcli.emit.templates import render
 
-            return render("report/derive.txt.jinja", r=content)
+            content = report_content(self.derivation, spec_printer(), simplify, named=True)
+            return render("report/derive.txt.jinja", r=content, parts=report_parts(parts))
         if format in ("latex", "latex-document"):
             from lagcli.emit.latex import latex_document, latex_fragment
 
             make = latex_document if format == "latex-document" else latex_fragment
-            return make(self.derivation, simplify)
+            return make(self.derivation, simplify, report_parts(parts))
         raise UsageError(f"report format {format!r}: expected one of {', '.join(REPORT_FORMATS)}")
 
     def generate(self, target: str, path: str | Path | None = None) -> dict[str, str]:

@@ -7,12 +7,13 @@ from __future__ import annotations
 
 import sympy as sp
 
-from lagcli.calculus import TimeDerivative, TooSlow, depends_on, numerically_zero, time_limit
+from sympy.integrals.manualintegrate import manualintegrate
+
+from lagcli.calculus import TimeDerivative, depends_on, numerically_zero
 from lagcli.derive.energy import body_angular_velocity
 from lagcli.model_types import Model
 
 MAX_OPS_FOR_POTENTIAL = 400  # beyond this, searching for a closed-form potential is not worth it
-POTENTIAL_SECONDS = 5.0      # and it may not take longer than this
 
 
 def applied_generalized_forces(model: Model, D: TimeDerivative) -> sp.ImmutableMatrix:
@@ -47,22 +48,22 @@ def find_potential(model: Model, Q: sp.ImmutableMatrix) -> tuple[bool, sp.Expr |
         return False, None
     if sum(sp.count_ops(e) for e in Q) > MAX_OPS_FOR_POTENTIAL:
         return True, None
-    try:
-        with time_limit(POTENTIAL_SECONDS):
-            return True, _integrate_potential(model.q, Q)
-    except TooSlow:
-        return True, None
+    return True, _integrate_potential(model.q, Q)
 
 
 def _integrate_potential(q, Q) -> sp.Expr | None:
+    """V' coordinate by coordinate with sympy's rule-based `manualintegrate` (a
+    bounded search, unlike `integrate`'s Risch and Meijer-G fallbacks, so the same
+    forces give the same answer in the same time everywhere); None when a part has
+    no closed form by those rules."""
     V = sp.S.Zero
     for j, qj in enumerate(q):
-        remainder = sp.simplify(-Q[j] - V.diff(qj))
-        if remainder == 0:
+        remainder = sp.expand(-Q[j] - V.diff(qj))
+        if numerically_zero([remainder]):
             continue
-        part = sp.integrate(remainder, qj)
+        part = manualintegrate(remainder, qj)
         if part.has(sp.Integral):
             return None
         V += part
     residual = [e + V.diff(qj) for e, qj in zip(Q, q)]
-    return sp.simplify(V) if numerically_zero(residual) else None
+    return V if numerically_zero(residual) else None

@@ -4,8 +4,10 @@ The content is the text report's (`report_content`), printed with lagcli's
 `LatexPrinter`; this module only lays it out as rows of `align*` environments
 (pre-printed strings) for `templates/latex/fragment.tex.jinja`:
 
-    latex_fragment(derivation, simplify=True) -> str   # body text, needs amsmath
-    latex_document(derivation, simplify=True) -> str   # article + geometry + amsmath, for pdflatex
+    latex_fragment(derivation, simplify=True, parts=PARTS) -> str   # body text, needs amsmath
+    latex_document(derivation, simplify=True, parts=PARTS) -> str   # article + geometry + amsmath
+
+`parts`: the report's sections to include (`lagcli.emit.report.PARTS`, `--part`).
 
 Every row has a label column and a content column (`label & content`); a long
 expression continues on `&\\quad` lines, a wide matrix is listed entry by entry.
@@ -16,11 +18,13 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import sympy as sp
+
 import lagcli
 from lagcli.derive.result import Derivation
 from lagcli.emit.escape import latex_comment, latex_text
-from lagcli.emit.latex_printer import CONTENT_WIDTH, LatexPrinter, Tex, tex_width
-from lagcli.emit.report import report_content
+from lagcli.emit.latex_printer import CONTENT_WIDTH, REPORT_NOTATION, LatexPrinter, Tex, tex_width
+from lagcli.emit.report import PARTS, ReportPrinter, report_content
 from lagcli.emit.templates import render
 
 PLANAR_AXES = ("x", "y", "z")
@@ -30,16 +34,31 @@ LIST_SEP = r", \allowbreak "   # inline lists of symbols may break after a comma
 
 def latex_printer(derivation: Derivation) -> LatexPrinter:
     """The printer for one derivation's symbols (coordinates, parameters, multipliers)."""
-    return LatexPrinter(derivation.model,
+    return LatexPrinter(derivation.model, notation=report_notation(derivation),
                         multipliers=[(c.multiplier, c.label) for c in derivation.constraints])
 
 
-def latex_fragment(derivation: Derivation, simplify: bool = True) -> str:
-    return render("latex/fragment.tex.jinja", **_context(derivation, simplify))
+def report_notation(d: Derivation) -> frozenset:
+    """The letters this derivation's report uses for its own quantities (a parameter with
+    one of these names is set in sans-serif: `lagcli.emit.latex_printer.distinct_from_notation`)."""
+    letters = set(REPORT_NOTATION)
+    if d.constraints:
+        letters |= set("AadC")
+    if d.particle_constraint_forces:
+        letters.add("R")
+    if d.ignorable:
+        letters.add("p")
+    if d.jacobi_integral is not None:
+        letters |= set("hE")
+    return frozenset(letters)
 
 
-def latex_document(derivation: Derivation, simplify: bool = True) -> str:
-    context = _context(derivation, simplify)
+def latex_fragment(derivation: Derivation, simplify: bool = True, parts=PARTS) -> str:
+    return render("latex/fragment.tex.jinja", **_context(derivation, simplify), parts=parts)
+
+
+def latex_document(derivation: Derivation, simplify: bool = True, parts=PARTS) -> str:
+    context = dict(_context(derivation, simplify), parts=parts, in_document=True)   # description = title
     body = render("latex/fragment.tex.jinja", **context)
     return render("latex/document.tex.jinja", body=body, **context)
 
@@ -102,7 +121,7 @@ def matrix_block(name: str, entries: list[list[Tex]], kind: str) -> dict:
 def _context(d: Derivation, simplify: bool) -> dict:
     m = d.model
     printer = latex_printer(d)
-    r = report_content(d, printer.tex, simplify)
+    r = report_content(d, ReportPrinter(printer.tex, printer.tex_terms), simplify, named=True)
     qtex = {q.name: printer.doprint(q) for q in m.q}
     qs = [qtex[name] for name in r["coordinates"]]
 
@@ -114,9 +133,11 @@ def _context(d: Derivation, simplify: bool) -> dict:
 
     return {
         "version": lagcli.__version__,
+        "in_document": False,          # a standalone document prints the description as its title
         "spec_file": latex_comment(Path(m.source).name if m.source else ""),   # in % comments only
         "spec_name": latex_comment(r["name"]),
-        "title": latex_text(r["name"]),
+        "spec_title": latex_text(r["name"]),
+        "title": latex_text(r["description"]) if r["description"] else latex_text(r["name"]),
         "description": _sentence(latex_text(r["description"] or "")),
         "coordinates": LIST_SEP.join(qs),
         "velocities": LIST_SEP.join(printer.doprint(v) for v in m.qd),
@@ -128,9 +149,7 @@ def _context(d: Derivation, simplify: bool) -> dict:
         "counts": {"n": r["counts"]["coordinates"], "d": r["counts"]["holonomic"],
                    "g": r["counts"]["nonholonomic"], "dof": r["dof"]},
         "scleronomic": r["scleronomic"],
-        "energy_rows": [*rows("T", r["kinetic_energy"]["T"]),
-                        *(row for k in ("T2", "T1", "T0")
-                          for row in rows(f"T_{k[1]}", r["kinetic_energy"][k]))],
+        "energy_rows": _energy_rows(r),
         "mass_matrix": matrix_block("M", r["mass_matrix"], "symmetric"),
         "potential_rows": [*rows("V", r["potential_energy"]), *rows("L", r["lagrangian"], "T - V")],
         "force_rows": column(r["generalized_forces"], "Q_{@}", "Q"),
@@ -157,9 +176,20 @@ def _context(d: Derivation, simplify: bool) -> dict:
         "gyroscopic": matrix_block("G", r["gyroscopic_matrix"], "skew"),
         "ignorable": LIST_SEP.join(qtex[name] for name in r["ignorable_coordinates"]),
         "conserved_rows": _conserved(r, qtex, r["energy_is_jacobi"]),
+        "named_rows": [row for named in r["named_quantities"]
+                       for row in rows(printer.doprint(sp.Symbol(named["name"])), named["expr"])],
         "jacobi": r["jacobi_integral"] is not None,
         "energy_is_jacobi": r["energy_is_jacobi"],
     }
+
+
+def _energy_rows(r: dict) -> list[str]:
+    """T and its parts; one row `T = T_2` when T1 and T0 vanish (nothing printed twice)."""
+    kinetic = r["kinetic_energy"]
+    if r["T_is_T2"]:
+        return [*rows("T", kinetic["T"], "T_2"), "T_1 &= T_0 = 0"]
+    return [*rows("T", kinetic["T"]),
+            *(row for k in ("T2", "T1", "T0") for row in rows(f"T_{k[1]}", kinetic[k]))]
 
 
 def _constraint(j: int, c: dict, row, printer: LatexPrinter, qs: list[str]) -> dict:
@@ -198,7 +228,7 @@ def _conserved(r: dict, qtex: dict, energy_is_jacobi: bool) -> list[str]:
         if c["kind"] == "momentum":
             out.extend(rows(f"p_{{{momenta.get(c['name'], latex_text(c['name']))}}}", c["expr"]))
         elif c["kind"] == "jacobi":
-            out.extend(rows("h", c["expr"], "T_2 - T_0 + V = T + V" if merged else "T_2 - T_0 + V"))
+            out.extend(rows("h", c["expr"], "T_2 - T_0 + V = T + V = E" if merged else "T_2 - T_0 + V"))
         elif not merged:
             out.extend(rows("E", c["expr"], "T + V"))
     return out

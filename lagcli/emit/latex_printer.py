@@ -31,6 +31,12 @@ LINE_WIDTH = 76.0
 LABEL_WIDTH = 8.0                     # the label column of `align*` (e.g. "Q'_{\theta_{1}}" or "\ddot x\colon")
 CONTENT_WIDTH = LINE_WIDTH - LABEL_WIDTH - 4.0   # minus "= " and the "\quad" of continuation lines
 
+# The report's own notation (T, V, L, M, Q, F, G, c in every report; see
+# `lagcli.emit.latex.report_notation` for the rest): a parameter typeset as one of these
+# letters is set in sans-serif instead, so that `L` the length and L the Lagrangian never
+# look alike on the page.
+REPORT_NOTATION = frozenset("TVLMQFGc")
+THIN_SPACE = r"\,"                    # between the factors of a product: m\,l\,\dot\theta, never "ml"
 MIN_ROOM = 12.0                       # do not start a long term on a line with less room left
 _DELIMITERS = (r"\biggl(", r"\biggr)"), (r"\Bigl(", r"\Bigr)"), (r"\bigl(", r"\bigr)")
 
@@ -55,17 +61,16 @@ class LatexPrinter(SympyLatexPrinter):
     delimiters = _DELIMITERS                # around a broken sum, by nesting depth
     times = r"\times"                       # a product continued on the next line
 
-    def __init__(self, model, settings: dict | None = None, multipliers=()):
-        super().__init__({"symbol_names": {}, **(settings or {})})
+    def __init__(self, model, settings: dict | None = None, multipliers=(), notation=REPORT_NOTATION):
+        super().__init__({"symbol_names": {}, "mul_symbol": THIN_SPACE, **(settings or {})})
         names = self._settings["symbol_names"] = dict(self._settings["symbol_names"])
         for q, qd, qdd in zip(model.q, model.qd, model.qdd):
             user = model.coordinate_latex.get(q)
-            names[q] = user if user else self._deal_with_super_sub(q.name)
+            names[q] = user if user else self._name(q.name)
             names[qd] = self._accented(r"\dot", q, user)
             names[qdd] = self._accented(r"\ddot", q, user)
         for info in model.parameters:
-            if info.latex:
-                names[info.symbol] = info.latex
+            names[info.symbol] = distinct_from_notation(info.latex or self._name(info.symbol.name), notation)
         for multiplier, label in multipliers:
             names[multiplier] = multiplier_latex(multiplier, label)
 
@@ -89,9 +94,34 @@ class LatexPrinter(SympyLatexPrinter):
             return Tex(flat)
         return Tex(flat, self.lines(expr, width, 0))
 
+    def tex_terms(self, terms, width: float = CONTENT_WIDTH) -> Tex:
+        """An ordered sum (the report's term lists: q'' terms first), signs pulled out."""
+        if not terms:
+            return self.tex(sp.S.Zero, width)
+        flat = self._join_terms(terms)
+        if tex_width(flat) <= width:
+            return Tex(flat)
+        return Tex(flat, self._terms_lines(list(terms), width, 0, width))
+
+    def _join_terms(self, terms) -> str:
+        out = [self._print(terms[0])]
+        for term in terms[1:]:
+            sign, term = ("-", -term) if term.could_extract_minus_sign() else ("+", term)
+            body = self._print(term)
+            out.append(f"{sign} {self.paren[0]}{body}{self.paren[1]}" if self._needs_add_brackets(term)
+                       else f"{sign} {body}")
+        return " ".join(out)
+
+    def _name(self, string: str) -> str:
+        """sympy's name -> LaTeX (theta1 -> \\theta_{1}), with a multi-letter name set as
+        one word (\\mathit{Lam}) rather than a product of letters."""
+        tex = self._deal_with_super_sub(string)
+        word = re.match(r"[A-Za-z]{2,}", tex)
+        return rf"\mathit{{{word.group()}}}{tex[word.end():]}" if word else tex
+
     def symbol(self, name: str) -> str:
         """LaTeX of a name that is not in the model (a known function, a particle)."""
-        return self._deal_with_super_sub(name)
+        return self._name(name)
 
     # -- breaking long expressions -------------------------------------------------
     #
@@ -120,8 +150,11 @@ class LatexPrinter(SympyLatexPrinter):
         return [f"{sign} {body[0]}", *body[1:]]
 
     def _add_lines(self, expr: sp.Add, width: float, depth: int, first: float) -> list[str]:
+        return self._terms_lines(self._as_ordered_terms(expr), width, depth, first)
+
+    def _terms_lines(self, terms, width: float, depth: int, first: float) -> list[str]:
         out: list[str] = []
-        for i, term in enumerate(self._as_ordered_terms(expr)):
+        for i, term in enumerate(terms):
             if i == 0:
                 out.extend(self.lines(term, width, depth, first))
                 continue
@@ -162,6 +195,11 @@ class LatexPrinter(SympyLatexPrinter):
         if len(inner) == 1:
             return [f"{self.paren[0]}{inner[0]}{self.paren[1]}"]
         return [f"{left}{inner[0]}", *inner[1:-1], f"{inner[-1]}{right}"]
+
+
+def distinct_from_notation(tex: str, notation=REPORT_NOTATION) -> str:
+    """A parameter's LaTeX, or `\\mathsf{L}` when it is one of the report's letters."""
+    return rf"\mathsf{{{tex}}}" if tex in notation else tex
 
 
 def _room(out: list[str], width: float, first: float) -> float:

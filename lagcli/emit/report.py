@@ -1,136 +1,137 @@
 """What `derive` reports, as pre-printed strings, shared by text, JSON and LaTeX.
 
 `report_content(derivation, printer)` returns a plain dict (the JSON keys of
-CONTRACT §3 plus a few extensions) whose expressions are strings made by
-`printer`. Small expressions are tidied (trigsimp) for readability when
-`simplify` is on; big ones are printed as derived (simplifying them can take
-minutes and changes nothing in the physics).
+docs/derive.md plus a few extensions) whose expressions are strings made by a
+`ReportPrinter`: `expr` prints one expression, `terms` an ordered sum. Every
+expression is assembled from small parts tidied once (`lagcli.emit.display`), so
+the same spec gives the same report on any machine, fast: nothing large is ever
+simplified.
 """
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 
 import sympy as sp
-from sympy.simplify.fu import TR10i
 
-from lagcli.calculus import TooSlow, time_limit
 from lagcli.derive.result import Derivation
-
-TIDY_MAX_OPS = 300      # beyond this, print as derived
-TRIGSIMP_MAX_OPS = 60   # trigsimp is thorough but slow: only for what is already small
-TIDY_SECONDS = 2.0      # a guard against pathological inputs, far above any normal case
+from lagcli.emit.display import Display, signed_sum
+from lagcli.emit.naming import Namer
 
 
-def tidy(expr: sp.Expr) -> sp.Expr:
-    """A bounded simplification for display (never for numerics): fu's TR10i folds
-    sin a sin b + cos a cos b into cos(a - b) cheaply, then small results get trigsimp."""
-    try:
-        with time_limit(TIDY_SECONDS):
-            return _tidy(sp.sympify(expr))
-    except TooSlow:
-        return sp.sympify(expr)
+PARTS = ("system", "energies", "forces", "equations", "constraints", "explicit", "conservation")
 
 
-def _tidy(expr: sp.Expr) -> sp.Expr:
-    ops = sp.count_ops(expr)
-    if expr.is_Atom or ops > TIDY_MAX_OPS or _has_high_power(expr):
-        return expr
-    best, best_ops = expr, ops
-    candidate = sp.factor_terms(TR10i(expr))
-    candidate_ops = sp.count_ops(candidate)
-    if candidate_ops <= best_ops:
-        best, best_ops = candidate, candidate_ops
-    if best_ops <= TRIGSIMP_MAX_OPS:
-        candidate = sp.factor_terms(sp.trigsimp(best))
-        if sp.count_ops(candidate) <= best_ops:
-            best = candidate
-    return best
+def report_parts(selection: str | None) -> tuple[str, ...]:
+    """The sections of a text or LaTeX report named in `selection` ("equations,energies"),
+    in report order; every section for None."""
+    from lagcli.errors import UsageError
+
+    if selection is None:
+        return PARTS
+    chosen = {name.strip() for name in selection.split(",") if name.strip()}
+    unknown = sorted(chosen - set(PARTS))
+    if unknown or not chosen:
+        raise UsageError(f"--part {selection}: unknown part {', '.join(unknown) or '(none given)'}; "
+                         f"choose from {', '.join(PARTS)}")
+    return tuple(name for name in PARTS if name in chosen)
 
 
-def _has_high_power(expr: sp.Expr) -> bool:
-    """(a + b)**1000 counts as small but trigsimp would expand it: leave such powers alone."""
-    return any(p.exp.is_Number and abs(p.exp) > 6 for p in expr.atoms(sp.Pow))
+@dataclass(frozen=True)
+class ReportPrinter:
+    expr: Callable[[sp.Expr], str]                 # one expression
+    terms: Callable[[Sequence[sp.Expr]], str]      # an ordered sum, signs pulled out
 
 
-def report_content(d: Derivation, printer: Callable[[sp.Expr], str], simplify: bool = True) -> dict:
+def spec_printer() -> ReportPrinter:
+    """The spec language (text report and JSON): every string parses back with lagcli's parser."""
+    from lagcli.spec_printer import spec_str
+
+    return ReportPrinter(spec_str, lambda terms: signed_sum(terms, spec_str))
+
+
+def report_content(d: Derivation, printer: ReportPrinter, simplify: bool = True,
+                   named: bool = False) -> dict:
+    """The report of `d`. `named` (text, LaTeX): big expressions are shown with named
+    intermediate quantities, listed under "named_quantities" (`lagcli.emit.naming`);
+    without it (JSON) every expression is complete."""
     m = d.model
-    cache: dict = {}
-
-    def t(expr) -> sp.Expr:
-        expr = sp.sympify(expr)
-        if expr not in cache:
-            cache[expr] = tidy(expr) if simplify else expr
-        return cache[expr]
+    shown = Display(d, simplify)
+    taken = (m.t, *m.q, *m.qd, *m.qdd, *m.parameter_symbols, *d.multipliers)
+    namer = Namer(s.name for s in taken) if named else None
 
     def p(expr) -> str:
-        return printer(t(expr))
+        return printer.expr(namer(expr) if namer else expr)
 
-    # T and L are assembled from their tidied parts: tidying the whole sum at once
-    # is slow and misses cos(W t)**2 + sin(W t)**2 hidden inside products.
-    T1 = sum((t(a_i) * v for a_i, v in zip(d.t1_coefficients, m.qd)), sp.S.Zero)
-    T = t(d.T2) + T1 + t(d.T0)
-    # Likewise each equation, from the tidied named terms of the explicit form (the
-    # tests check these terms add up to the numerics' M q'' - F).
-    F = [_forcing_from_terms(d, i, t) for i in range(len(m.q))]
-    lhs = [sum((t(d.mass_matrix[i, j]) * a for j, a in enumerate(m.qdd)), sp.S.Zero) - F[i]
-           for i in range(len(m.q))]
+    def terms(items) -> str:
+        return printer.terms(namer.terms(items) if namer else items)
 
-    def column(matrix) -> dict:
-        return {q.name: p(e) for q, e in zip(m.q, matrix)}
+    content = _content(d, shown, p, terms)
+    content["named_quantities"] = [] if namer is None else [
+        {"name": symbol.name, "expr": printer.expr(value)} for symbol, value in namer.definitions]
+    return content
+
+
+def _content(d: Derivation, shown: Display, p, terms) -> dict:
+    m = d.model
+    qs = range(len(m.q))
+
+    def column(values) -> dict:
+        return {q.name: v for q, v in zip(m.q, values)}
 
     def rows(matrix) -> list:
-        return [[p(matrix[i, j]) for j in range(matrix.cols)] for i in range(matrix.rows)]
+        return [[p(e) for e in row] for row in matrix]
 
+    def part(names) -> dict:
+        return column(terms(shown.part_terms(i, names)) for i in qs)
+
+    energy_is_jacobi = d.energy_is_jacobi
     return {
         "name": m.name,
         "description": m.description,
         "coordinates": [q.name for q in m.q],
         "velocities": [v.name for v in m.qd],
         "parameters": {pi.symbol.name: pi.value for pi in m.parameters},
-        "known": {name: p(expr) for name, expr in m.known},
+        "known": {name: p(shown.tidy(expr)) for name, expr in m.known},
         "counts": {"coordinates": len(m.q), "holonomic": d.n_holonomic,
                    "nonholonomic": d.n_nonholonomic},
         "dof": d.dof,
         "scleronomic": d.scleronomic,
-        "kinetic_energy": {"T": printer(T), "T2": p(d.T2), "T1": printer(T1), "T0": p(d.T0)},
-        "mass_matrix": rows(d.mass_matrix),
-        "potential_energy": p(d.V),
-        "lagrangian": printer(T - t(d.V)),
-        "generalized_forces": column(d.generalized_forces),
-        "nonconservative_forces": column(d.nonconservative_forces),
+        "kinetic_energy": {"T": terms(shown.T), "T2": terms(shown.T2), "T1": terms(shown.T1),
+                           "T0": p(shown.T0)},
+        "T_is_T2": shown.T_is_T2,
+        "mass_matrix": rows(shown.M),
+        "potential_energy": p(shown.V),
+        "lagrangian": terms(shown.lagrangian),
+        "generalized_forces": column(p(shown.generalized_force(i)) for i in qs),
+        "nonconservative_forces": column(p(e) for e in shown.Qp),
         "forces_conservative": d.forces_conservative,
-        "force_potential": None if d.force_potential is None else p(d.force_potential),
-        "equations": [{"coordinate": eq.coordinate.name, "lhs": printer(lhs_i), "rhs": p(eq.rhs)}
-                      for eq, lhs_i in zip(d.equations, lhs)],
+        "force_potential": None if d.force_potential is None else p(shown.tidy(d.force_potential)),
+        "equations": [{"coordinate": q.name, "lhs": terms(shown.equation(i)),
+                       "rhs": terms(shown.constraint_force(i))} for i, q in enumerate(m.q)],
         "explicit_form": {
-            "velocity_terms": column(d.velocity_terms),
-            "mass_rate_terms": column(d.mass_rate_terms),
-            "t1_rate_terms": column(d.t1_rate_terms),
-            "position_terms": column(d.position_terms),
-            "forcing": {q.name: printer(F_i) for q, F_i in zip(m.q, F)},
+            "velocity_terms": part(["velocity"]),
+            "mass_rate_terms": part(["mass_rate"]),
+            "t1_rate_terms": part(["t1_rate"]),
+            "position_terms": part(["position"]),
+            "forcing": column(terms(shown.forcing(i)) for i in qs),
         },
         "constraints": [{"kind": r.kind, "name": r.label, "multiplier": r.multiplier.name,
-                         "expr": p(r.expr), "a": [p(e) for e in r.a], "d": p(r.d),
-                         "integrable": r.integrable} for r in d.constraints],
+                         "expr": p(shown.tidy(r.expr)), "a": [p(e) for e in a], "d": p(shown.tidy(r.d)),
+                         "integrable": r.integrable} for r, a in zip(d.constraints, shown.A)],
         "multipliers": [lam.name for lam in d.multipliers],
         "constraint_forces": {
-            "generalized": column(d.generalized_constraint_forces) if d.constraints else {},
-            "particles": {name: [p(e) for e in vec[: m.dimension]]
+            "generalized": column(terms(shown.constraint_force(i)) for i in qs) if d.constraints else {},
+            "particles": {name: [p(shown.tidy(e)) for e in vec[: m.dimension]]
                           for name, vec in d.particle_constraint_forces.items()},
         },
-        "gyroscopic_matrix": rows(d.gyroscopic_matrix),
+        "gyroscopic_matrix": rows(shown.gyroscopic),
         "ignorable_coordinates": [q.name for q in d.ignorable],
-        "conserved_quantities": [{"name": c.name, "kind": c.kind, "expr": p(c.expr)} for c in d.conserved],
-        "jacobi_integral": None if d.jacobi_integral is None else p(d.jacobi_integral),
-        "energy_is_jacobi": d.energy_is_jacobi,
+        "conserved_quantities": [{"name": c.name, "kind": c.kind, "expr": terms(shown.conserved(c.kind, c.name))}
+                                 for c in d.conserved],
+        "jacobi_integral": None if d.jacobi_integral is None else terms(shown.jacobi),
+        "energy_is_jacobi": energy_is_jacobi,
     }
-
-
-def _forcing_from_terms(d: Derivation, i: int, t) -> sp.Expr:
-    """F_i = Q'_i - c_i - (M_t q')_i - (gamma q')_i - a_t,i - (dV/dq - dT0/dq)_i, each term tidied."""
-    gyroscopic = sum((t(d.gyroscopic_matrix[i, j]) * v for j, v in enumerate(d.model.qd)), sp.S.Zero)
-    return (t(d.nonconservative_forces[i]) - t(d.velocity_terms[i]) - t(d.mass_rate_terms[i])
-            - gyroscopic - t(d.t1_rate_terms[i]) - t(d.position_terms[i]))
 
 
 def check_content(d: Derivation) -> dict:

@@ -1,18 +1,19 @@
 """Tidying one expression before CSE: the cheapest of a few equivalent forms.
 
 Only an optimisation of generated code (fewer operations at run time); every step
-is bounded in size and time, and an expression no step improves stays as it was.
+is bounded by the size of its input (operation counts, never a clock, so the same
+spec gives the same code on any machine), and an expression no step improves stays
+as it was.
 """
 from __future__ import annotations
 
 import sympy as sp
 
-from lagcli.calculus import TooSlow, time_limit
-
-TIDY_MAX_OPS = 80             # trigsimp only expressions this small (bench/codegen.py: cost vs gain)
+TIDY_MAX_OPS = 80             # rewrite trigonometry only in expressions this small (bench/codegen.py)
 COLLECT_MAX_OPS = 5000        # expand + collect only expressions this small
-TIDY_SECONDS = 2.0            # per tidy step; past it the expression stays as it was
-TRIGSIMP_FUNCTIONS = (sp.sin, sp.cos)   # trigsimp only expressions calling nothing else
+MAX_POWER = 6                 # (a + b)**1000 counts as small, but expanding it would not be
+MAX_EXPANDED_TERMS = 20000    # expand only what has at most this many terms once expanded
+TRIGSIMP_FUNCTIONS = (sp.sin, sp.cos)   # rewrite only expressions calling nothing else
 PRINTABLE = (sp.sin, sp.cos, sp.tan, sp.asin, sp.acos, sp.atan, sp.atan2, sp.sinh, sp.cosh,
              sp.tanh, sp.exp, sp.log, sp.Abs, sp.sign, sp.Min, sp.Max)
 
@@ -21,23 +22,23 @@ PRINTABLE = (sp.sin, sp.cos, sp.tan, sp.asin, sp.acos, sp.atan, sp.atan2, sp.sin
 def tidy_expression(expr, velocities=(), cache: dict | None = None) -> sp.Expr:
     """The cheapest (sympy.count_ops) of: expr; expr expanded and collected over the
     `velocities`, each coefficient collected over its function calls (the physical
-    grouping of F = sum c_jk q'_j q'_k + c_j q'_j + c_0); and `factor_terms(trigsimp(.))`
-    of the better of these two when it has at most TIDY_MAX_OPS operations and calls
-    only sin and cos (`trigsimp_safe`). A candidate may not call a function expr does
+    grouping of F = sum c_jk q'_j q'_k + c_j q'_j + c_0); and `display_form` (the
+    reports' linear-time exact rewritings: sin^2 + cos^2 = 1, angle sums, common
+    factors) of the better of these two when it has at most TIDY_MAX_OPS operations
+    and calls only sin and cos (`trigsimp_safe`). sympy's trigsimp found a little more
+    but took ~1 s per expression, most of `generate`'s time. A candidate may not call a function expr does
     not already call: a new cos(q1 - q2) costs more at run time than the
-    multiplications it saves. Each step gets TIDY_SECONDS (`lagcli.calculus.time_limit`);
-    one that runs out leaves the expression as it was (tidying is only an optimisation:
-    sympy's trigsimp can grind for minutes on tanh, Max or sign terms)."""
+    multiplications it saves. The steps are bounded by operation counts only, and
+    expressions with high powers or big expansions are left alone."""
     expr = sp.sympify(expr)
     if cache is not None and expr in cache:
         return cache[expr]
     result = expr
-    if not expr.is_Atom and sp.count_ops(expr) <= COLLECT_MAX_OPS:
+    if not expr.is_Atom and expandable(expr) and sp.count_ops(expr) <= COLLECT_MAX_OPS:
         calls = expr.atoms(sp.Function)
-        result = _cheaper(expr, _limited(_collected, expr, list(velocities)), calls)
+        result = _cheaper(expr, _collected(expr, list(velocities)), calls)
         if sp.count_ops(result) <= TIDY_MAX_OPS and trigsimp_safe(result):
-            simplified = _limited(lambda e: sp.factor_terms(sp.trigsimp(e)), result)
-            result = _cheaper(result, simplified, calls)
+            result = _cheaper(result, display_form(result), calls)
     if cache is not None:
         cache[expr] = result
     return result
@@ -55,13 +56,33 @@ def trigsimp_safe(expr) -> bool:
     return True
 
 
-def _limited(step, expr, *args):
-    """step(expr, *args) within TIDY_SECONDS, else expr unchanged."""
-    try:
-        with time_limit(TIDY_SECONDS):
-            return step(expr, *args)
-    except TooSlow:
-        return expr
+def has_high_power(expr) -> bool:
+    """(a + b)**1000 counts as small, but expanding or trigsimp-ing it would not be."""
+    return any(p.exp.is_Number and abs(p.exp) > MAX_POWER for p in expr.atoms(sp.Pow))
+
+
+def expandable(expr) -> bool:
+    """True when `sympy.expand(expr)` stays small: no high power and at most
+    MAX_EXPANDED_TERMS terms by the bound `expanded_terms` (a product of ten sums of
+    ten terms is small to write and 10**10 terms expanded)."""
+    return not has_high_power(expr) and expanded_terms(expr) <= MAX_EXPANDED_TERMS
+
+
+def expanded_terms(expr) -> int:
+    """An upper bound on the number of terms of expr expanded (function arguments,
+    which expand inside their call, count as one term each)."""
+    if expr.is_Add:
+        return sum(expanded_terms(a) for a in expr.args)
+    if expr.is_Mul:
+        count = 1
+        for factor in expr.args:
+            count *= expanded_terms(factor)
+            if count > MAX_EXPANDED_TERMS:
+                return count
+        return count
+    if expr.is_Pow and expr.exp.is_Integer and expr.exp > 1:
+        return expanded_terms(expr.base) ** min(int(expr.exp), MAX_POWER + 1)
+    return 1
 
 
 def _collected(expr, velocities: list) -> sp.Expr:
@@ -79,3 +100,158 @@ def _cheaper(current, candidate, calls) -> sp.Expr:
             and sp.count_ops(candidate) < sp.count_ops(current):
         return candidate
     return current
+
+
+# -- display (reports): small parts tidied once, big expressions assembled from them -----
+
+DISPLAY_MAX_NODES = 400       # tidy for display only expressions this small (tree nodes)
+
+
+def small(expr, budget: int = DISPLAY_MAX_NODES) -> bool:
+    """True when expr has at most `budget` tree nodes (stops counting past it: cheap on
+    the megabyte expressions of a big system, unlike count_ops)."""
+    for count, _ in enumerate(sp.preorder_traversal(expr), start=1):
+        if count > budget:
+            return False
+    return True
+
+
+def display_form(expr) -> sp.Expr:
+    """A tidier, equal form of a small expr for reports, by a fixed sequence of cheap
+    exact rewritings: expand; the Pythagorean identity (`pythagorean`); angle sums
+    folded (`fold_angle_sums`: a sin x sin y + a cos x cos y -> a cos(x - y)); terms
+    grouped by their function calls with common factors pulled out (`group_by_calls`);
+    signs pulled out (`pull_signs`). The original is kept when the result has more
+    operations. Every step is linear or nearly so in the number of terms: no trigsimp
+    (~1 s per expression) nor fu's TR10i (pairwise, ~50 ms per sum); an expression
+    over DISPLAY_MAX_NODES nodes or with a big expansion is returned as it is
+    (reports assemble big expressions from tidied parts instead)."""
+    expr = sp.sympify(expr)
+    if expr.is_Atom or not small(expr) or not expandable(expr):
+        return expr
+    result = sp.expand(expr)
+    if result.has(sp.sin, sp.cos):
+        result = fold_angle_sums(pythagorean(result))
+    result = pull_signs(sp.factor_terms(group_by_calls(result)))
+    return result if sp.count_ops(result) <= sp.count_ops(expr) else pull_signs(expr)
+
+
+def group_by_calls(expr) -> sp.Expr:
+    """sum over distinct products of function calls f of (common factors pulled out of
+    the sum of their coefficients) * f: `sympy.collect` over the calls, in one pass."""
+    groups: dict = {}
+    for term in sp.Add.make_args(expr):
+        calls, rest = [], []
+        for factor in sp.Mul.make_args(term):
+            (calls if factor.has(sp.Function) else rest).append(factor)
+        key = sp.Mul(*calls)
+        groups[key] = groups.get(key, []) + [sp.Mul(*rest)]
+    return sp.Add(*(sp.factor_terms(sp.Add(*coefficients)) * key for key, coefficients in groups.items()))
+
+
+_ANGLE_SUMS = {   # (kinds of the two terms) -> (ratio of their coefficients, function, sign of y)
+    ("cc", "ss"): ((1, sp.cos, -1), (-1, sp.cos, 1)),
+    ("sc", "cs"): ((1, sp.sin, 1), (-1, sp.sin, -1)),
+}
+
+
+def fold_angle_sums(expr) -> sp.Expr:
+    """In an expanded sum, c cos x cos y + c sin x sin y -> c cos(x - y),
+    c cos x cos y - c sin x sin y -> c cos(x + y), c sin x cos y + c cos x sin y ->
+    c sin(x + y) and c sin x cos y - c cos x sin y -> c sin(x - y): fu's TR10i for the
+    pairs of a mechanical system's dot products, found by a dictionary in one pass."""
+    slots: dict = {}
+    others = []
+    for term in sp.Add.make_args(expr):
+        split = _two_angles(term)
+        if split is None:
+            others.append(term)
+            continue
+        kind, x, y, number, rest = split
+        slots.setdefault((x, y, rest), {}).setdefault(kind, []).append(number)
+    out = list(others)
+    for (x, y, rest), kinds in slots.items():
+        for (first, second), rules in _ANGLE_SUMS.items():
+            a, b = kinds.get(first, []), kinds.get(second, [])
+            while a and b:
+                for ratio, function, sign in rules:
+                    if b[0] == ratio * a[0]:
+                        out.append(a[0] * rest * function(x + sign * y))
+                        a.pop(0), b.pop(0)
+                        break
+                else:
+                    break
+        out += [number * rest * _KINDS[kind](x, y) for kind, numbers in kinds.items() for number in numbers]
+    return sp.Add(*out)
+
+
+_KINDS = {"cc": lambda x, y: sp.cos(x) * sp.cos(y), "ss": lambda x, y: sp.sin(x) * sp.sin(y),
+          "sc": lambda x, y: sp.sin(x) * sp.cos(y), "cs": lambda x, y: sp.cos(x) * sp.sin(y)}
+
+
+def _two_angles(term):
+    """(kind, x, y, number, rest) when term = number * rest * f(x) g(y), f, g in {sin, cos}
+    to the first power, x before y; None otherwise."""
+    number, factors = term.as_coeff_mul()
+    trig = [f for f in factors if isinstance(f, (sp.sin, sp.cos))]
+    if len(trig) != 2 or trig[0].args[0] == trig[1].args[0]:
+        return None
+    first, second = sorted(trig, key=lambda f: sp.default_sort_key(f.args[0]))
+    rest = sp.Mul(*(f for f in factors if f not in trig))
+    if rest.has(sp.sin(first.args[0]), sp.cos(first.args[0]), sp.sin(second.args[0]), sp.cos(second.args[0])):
+        return None
+    kind = ("s" if isinstance(first, sp.sin) else "c") + ("s" if isinstance(second, sp.sin) else "c")
+    return kind, first.args[0], second.args[0], number, rest
+
+
+def pythagorean(expr) -> sp.Expr:
+    """expr (expanded) with sin(x)**2 + cos(x)**2 = 1 used for each argument x whose
+    sin**2 and cos**2 both appear, in the direction (eliminating sin**2 or cos**2)
+    that leaves fewer terms (then fewer distinct powers, then fewer minus signs)."""
+    squares = {p.base for p in expr.atoms(sp.Pow) if isinstance(p.base, (sp.sin, sp.cos))
+               and p.exp.is_Integer and p.exp >= 2}
+    arguments = sorted({f.args[0] for f in squares if f.func(f.args[0]) in squares
+                        and (sp.cos if f.func == sp.sin else sp.sin)(f.args[0]) in squares},
+                       key=sp.default_sort_key)
+    for x in arguments:
+        options = [expr, _eliminate_square(expr, sp.sin(x), sp.cos(x)),
+                   _eliminate_square(expr, sp.cos(x), sp.sin(x))]
+        expr = min(options, key=_pythagorean_cost)
+    return expr
+
+
+def _pythagorean_cost(expr) -> tuple[int, int, int]:
+    """Fewer terms, then fewer distinct powers, then fewer minus signs."""
+    terms = sp.Add.make_args(expr)
+    return len(terms), len(expr.atoms(sp.Pow)), sum(t.could_extract_minus_sign() for t in terms)
+
+
+def _eliminate_square(expr, drop, keep) -> sp.Expr:
+    """drop**k -> drop**(k mod 2) * (1 - keep**2)**(k // 2), expanded."""
+    powers = {p for p in expr.atoms(sp.Pow) if p.base == drop and p.exp.is_Integer and p.exp >= 2}
+    if not powers:
+        return expr
+    table = {p: drop ** (int(p.exp) % 2) * (1 - keep ** 2) ** (int(p.exp) // 2) for p in powers}
+    return sp.expand(expr.xreplace(table))
+
+
+def pull_signs(expr) -> sp.Expr:
+    """-a*(-b + c) -> a*(b - c): in every product, a sum with more negative than positive
+    terms is negated (and the product's sign with it), so no double negative prints."""
+    if expr.is_Atom:
+        return expr
+    args = [pull_signs(a) for a in expr.args]
+    if expr.is_Mul:
+        flips = [i for i, a in enumerate(args) if a.is_Add and _mostly_negative(a)]
+        for i in flips:
+            args[i] = -args[i]
+        if flips:
+            args.append(sp.S.NegativeOne ** len(flips))
+    return expr.func(*args)
+
+
+def _mostly_negative(add) -> bool:
+    """More negative terms than positive ones, or as many and the leading one negative."""
+    signs = [term.could_extract_minus_sign() for term in add.args]
+    negative, positive = sum(signs), len(signs) - sum(signs)
+    return negative > positive or (negative == positive and add.as_ordered_terms()[0].could_extract_minus_sign())

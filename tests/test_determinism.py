@@ -1,0 +1,71 @@
+"""Same spec -> same bytes, for every output of `derive` and `generate`.
+
+Each command runs in fresh processes, several at once while other processes keep the
+CPU busy, each with its own PYTHONHASHSEED and an empty cache directory; every
+run must write exactly the same bytes. (Output once depended on a wall-clock alarm
+that stopped display tidying under load; nothing in lagcli may decide output by
+time, hash order or machine.)
+"""
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+
+import pytest
+
+SPECS = Path(__file__).resolve().parent.parent / "specs"
+CHOSEN = ("ex20_spinning_disk_double_pendulum", "rolling_disc")
+SEEDS = ("0", "1", "4242")
+COMMANDS = {
+    "text": ["derive", "--text"],
+    "json": ["derive", "--json"],
+    "latex": ["derive", "--latex"],
+    "latex-standalone": ["derive", "--latex", "--standalone"],
+    "python": ["generate", "--lang", "python"],
+    "c": ["generate", "--lang", "c"],
+    "latex-document": ["generate", "--lang", "latex"],
+}
+BURNERS = 2          # busy processes alongside the runs
+PARALLEL = 4         # runs at once
+
+
+def _run(spec: Path, name: str, seed: str, workdir: Path) -> dict[str, bytes]:
+    """{file name: bytes} written by one command in a fresh process."""
+    out = workdir / f"{spec.stem}-{name}-{seed}"
+    out.mkdir()
+    cache = workdir / f"cache-{spec.stem}-{name}-{seed}"
+    args = [sys.executable, "-m", "lagcli", *COMMANDS[name][:1], str(spec), *COMMANDS[name][1:]]
+    args += ["-o", str(out if name == "c" else out / "output")]
+    env = {**os.environ, "PYTHONHASHSEED": seed, "XDG_CACHE_HOME": str(cache)}
+    done = subprocess.run(args, env=env, capture_output=True, timeout=900)
+    assert done.returncode == 0, done.stderr.decode()
+    return {path.name: path.read_bytes() for path in sorted(out.iterdir())}
+
+
+@pytest.fixture(scope="module")
+def cpu_load():
+    """Processes that keep the CPU busy while the runs compete with them."""
+    burners = [subprocess.Popen([sys.executable, "-c", "while True: pass"]) for _ in range(BURNERS)]
+    yield
+    for burner in burners:
+        burner.kill()
+        burner.wait()
+
+
+@pytest.mark.parametrize("spec", CHOSEN)
+def test_every_output_is_the_same_bytes_under_load_and_any_hash_seed(spec, tmp_path, cpu_load):
+    path = SPECS / f"{spec}.yaml"
+    jobs = [(name, seed) for name in COMMANDS for seed in SEEDS]
+    with ThreadPoolExecutor(PARALLEL) as pool:
+        outputs = list(pool.map(lambda job: _run(path, *job, tmp_path), jobs))
+    by_command: dict[str, list] = {}
+    for (name, seed), files in zip(jobs, outputs):
+        by_command.setdefault(name, []).append((seed, files))
+    for name, runs in by_command.items():
+        (_, first), *others = runs
+        assert first and all(first.values()), f"{name}: no output"
+        for seed, files in others:
+            assert files == first, f"{name}: PYTHONHASHSEED={seed} wrote different bytes"
