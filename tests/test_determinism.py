@@ -55,10 +55,14 @@ def cpu_load():
         burner.wait()
 
 
-@pytest.mark.parametrize("spec", CHOSEN)
-def test_every_output_is_the_same_bytes_under_load_and_any_hash_seed(spec, tmp_path, cpu_load):
+@pytest.mark.parametrize("spec,seeds", [
+    (CHOSEN[0], SEEDS[::2]),                      # the default run: two seeds, every output
+    pytest.param(CHOSEN[0], SEEDS, marks=pytest.mark.slow),
+    pytest.param(CHOSEN[1], SEEDS, marks=pytest.mark.slow),
+])
+def test_every_output_is_the_same_bytes_under_load_and_any_hash_seed(spec, seeds, tmp_path, cpu_load):
     path = SPECS / f"{spec}.yaml"
-    jobs = [(name, seed) for name in COMMANDS for seed in SEEDS]
+    jobs = [(name, seed) for name in COMMANDS for seed in seeds]
     with ThreadPoolExecutor(PARALLEL) as pool:
         outputs = list(pool.map(lambda job: _run(path, *job, tmp_path), jobs))
     by_command: dict[str, list] = {}
