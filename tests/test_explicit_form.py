@@ -58,17 +58,18 @@ def test_augmented_system_reproduces_equations_and_constraints(derivation):
     d = derivation
     m = d.model
     rng = np.random.default_rng(7)
+    # xreplace, not subs: the same values, minutes faster on the bicycle's large expressions
     values = {s: float(rng.uniform(0.3, 1.3)) for s in (m.t, *m.q, *m.qd, *m.parameter_symbols)}
-    K = np.array(d.augmented_matrix.subs(values).evalf(), dtype=float)
-    b = np.array(d.augmented_rhs.subs(values).evalf(), dtype=float).ravel()
+    K = np.array(d.augmented_matrix.xreplace(values).evalf(), dtype=float)
+    b = np.array(d.augmented_rhs.xreplace(values).evalf(), dtype=float).ravel()
     solution = np.linalg.solve(K, b)
     n = len(m.q)
     values.update(zip(m.qdd, solution[:n]))
     values.update(zip(d.multipliers, solution[n:]))
-    residuals = [float((eq.lhs - eq.rhs).subs(values)) for eq in d.equations]
+    residuals = [float((eq.lhs - eq.rhs).xreplace(values)) for eq in d.equations]
     for row in d.constraints:  # d/dt (a.q' + d) = 0 along the solution
         velocity_form = sum((ak * v for ak, v in zip(row.a, m.qd)), row.d)
-        residuals.append(float(_total_derivative(m, velocity_form).subs(values)))
+        residuals.append(float(_total_derivative(m, velocity_form).xreplace(values)))
     assert np.allclose(residuals, 0, atol=1e-9 * (1 + np.abs(b).max()))
 
 
