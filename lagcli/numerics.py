@@ -9,7 +9,7 @@ generated Python module and of the generated C driver (docs/simulate.md).
     EXPLICIT_METHODS        explicit Runge-Kutta: the ones the C driver implements, and
                             the ones whose step is capped on constrained systems (max_step)
     DEFAULT_BAUMGARTE       (alpha, beta) of the constraint stabilisation
-    CONSTRAINT_TOLERANCE    largest |constraint| of a consistent initial state (CONTRACT §4)
+    CONSTRAINT_TOLERANCE    largest |constraint| of a consistent initial state
     output_times            t_k = k dt, k = 0 .. floor(t_end/dt + OUTPUT_SLACK), then
                             t_end when the last t_k < t_end - END_TOLERANCE max(1, t_end);
                             output_time_windows: the same times a window at a time

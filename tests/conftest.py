@@ -134,3 +134,18 @@ def _ddt(model, expr):
 def ddt():
     """`ddt(model, expr)`: total time derivative along q(t)."""
     return _ddt
+
+
+# Bundled specs that take minutes in the tests looping over every spec (derive, LaTeX,
+# codegen, simulate); those cases run with `pytest -m slow`. Their own test files
+# (e.g. tests/test_benchmark_bicycle.py, tests/test_linearize_bicycle.py) decide for themselves.
+HEAVY_SPECS = ("benchmark_bicycle",)
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_collection_modifyitems(config, items):
+    for item in items:
+        callspec = getattr(item, "callspec", None)
+        if callspec is not None and any(name in callspec.id for name in HEAVY_SPECS) \
+                and "bicycle" not in item.module.__name__:
+            item.add_marker(pytest.mark.slow)

@@ -3,13 +3,13 @@
 Each test runs the CLI on both backends (python; c, skipped without `cc`) and
 checks the CSV against a result derived by hand, not by lagcli:
 
-- seed Ex 6-9 (two wheels on an axle): x = (v0/w) sin wt, y = (v0/w)(1 - cos wt),
+- the lecture notes' Ex 6-9 (two wheels on an axle): x = (v0/w) sin wt, y = (v0/w)(1 - cos wt),
   lambda = -2 m v0 w (the notes' closed-form solution);
-- seed Ex 19 (wedge): x1 = a t^2 / 2 with a = m2 g / (2 m1 + m2);
+- the lecture notes' Ex 19 (wedge): x1 = a t^2 / 2 with a = m2 g / (2 m1 + m2);
 - double pendulum: the energy is conserved;
 - spherical pendulum: p_phi = m L^2 sin^2(theta) phi_dot is conserved;
 - Kapitza pendulum: upright is stable iff a^2 w^2 > 2 g l;
-- seed Ex 20: the Jacobi integral is conserved, the energy T + V is not;
+- the lecture notes' Ex 20: the Jacobi integral is conserved, the energy T + V is not;
 - Cartesian pendulum: the Baumgarte-stabilised rod constraint stays satisfied;
 - disc rolling down an incline and the Atwood machine (over their `simulate:`
   blocks, default Baumgarte gains): s = g sin(alpha) t^2 / 3, friction multiplier

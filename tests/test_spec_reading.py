@@ -1,5 +1,5 @@
 """Reading and validating specs: YAML and TOML agree, locations are right, every
-rule of CONTRACT §1 that the validator owns is enforced, and the bundled specs load.
+rule of docs/spec.md that the validator owns is enforced, and the bundled specs load.
 
 Bad specs that go through the CLI live in `test_bad_specs.py`; here `load_spec`
 is called directly, to look at the `Spec` and at every collected problem.

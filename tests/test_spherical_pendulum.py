@@ -1,4 +1,4 @@
-"""Spherical pendulum (seed notes): phi is ignorable, energy is the Jacobi integral."""
+"""Spherical pendulum (lecture notes): phi is ignorable, energy is the Jacobi integral."""
 import sympy as sp
 from sympy import cos, sin
 

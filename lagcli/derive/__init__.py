@@ -65,7 +65,7 @@ def derive(model: Model) -> Derivation:
 
 
 def _particle_constraint_forces(model: Model, D: TimeDerivative) -> dict:
-    """R_i = m_i r_i'' - F_i (seed 6.6): what the constraints must supply to each particle."""
+    """R_i = m_i r_i'' - F_i (lecture notes, 6.6): what the constraints must supply to each particle."""
     result = {}
     for p in model.particles:
         applied = sp.zeros(3, 1)
@@ -86,7 +86,7 @@ def _particle_constraint_forces(model: Model, D: TimeDerivative) -> dict:
 
 
 def _is_scleronomic(model: Model) -> bool:
-    """CONTRACT §1: no position, orientation, energy term or constraint depends on t,
+    """docs/spec.md, "scleronomic": no position, orientation, energy term or constraint depends on t,
     and no `known` function of t is declared."""
     if model.known:
         return False

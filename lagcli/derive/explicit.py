@@ -1,4 +1,4 @@
-"""The explicit form of Lagrange's equations (seed notes, section 6.6), term by term:
+"""The explicit form of Lagrange's equations (lecture notes, section 6.6), term by term:
 
     M q'' + c + M_t q' + gamma q' + a_t + (dV/dq - dT0/dq) = Q'
     c_i     = sum_j (sum_l dM_ij/dq_l q'_l) q'_j - 1/2 q'^T (dM/dq_i) q'

@@ -31,7 +31,7 @@ def applied_generalized_forces(model: Model, D: TimeDerivative) -> sp.ImmutableM
 
 
 def find_potential(model: Model, Q: sp.ImmutableMatrix) -> tuple[bool, sp.Expr | None]:
-    """(conservative, V') with Q = -dV'/dq, for forces depending on q only (seed Ex 18).
+    """(conservative, V') with Q = -dV'/dq, for forces depending on q only (lecture notes, Ex 18).
 
     Conservative means Q(q) with a symmetric Jacobian dQ_i/dq_j (tested at random
     points). V' is then built coordinate by coordinate, as in the notes:

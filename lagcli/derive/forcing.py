@@ -1,6 +1,6 @@
 """The right-hand side F of M q'' = F (+ A^T lambda), from accelerations.
 
-Lagrange's operator applied to T equals the generalized inertia force (seed 6.6):
+Lagrange's operator applied to T equals the generalized inertia force (lecture notes, 6.6):
 
     d/dt(dT/dq'_j) - dT/dq_j = sum_points m r'' . dr/dq_j
                                + sum_bodies dw/dq'_j . (I w' + w x I w)     (w in body axes)

@@ -1,6 +1,6 @@
 """The frozen result of `derive(model)`: everything later stages need, as sympy objects.
 
-Sign conventions (seed notes, section 6.7), for coordinates q (n), multipliers
+Sign conventions (lecture notes, section 6.7), for coordinates q (n), multipliers
 lambda (m = d + g constraint rows):
 
     d/dt(dL/dq'_i) - dL/dq_i - Q'_i = sum_j lambda_j a_ji            (equations)

@@ -32,7 +32,7 @@ from lagcli.spec.files import read_spec_bytes
 class Interrupted(SimulationError):
     """Ctrl-C: during the integration (the rows so far are written) or before it, while
     deriving, generating or compiling (nothing is written). Exit status 1, like every
-    run-time failure (CONTRACT §2 allows only 0, 1 and 2)."""
+    run-time failure (README, "Exit status": only 0, 1 and 2)."""
 
 
 @dataclass(frozen=True)

@@ -1,4 +1,4 @@
-"""Check a `RawDoc` against the spec format (CONTRACT §1) and build a `Spec`.
+"""Check a `RawDoc` against the spec format (docs/spec.md) and build a `Spec`.
 
 Every problem is collected, with its location, and reported in one `SpecError`.
 Expressions are not parsed here: they travel as `Src` (text + location) to the
