@@ -7,23 +7,17 @@ worked examples as a checkout.
 from __future__ import annotations
 
 import shutil
-from importlib import resources
 from pathlib import Path
 
 from lagcli.errors import UsageError
+from lagcli.package_data import data_dir
 
 SUFFIXES = (".yaml", ".yml", ".toml")
 
 
 def examples_dir() -> Path:
     """The folder holding the bundled specs (installed package data, else the checkout's)."""
-    try:
-        installed = Path(str(resources.files("lagcli.specs")))
-        if installed.is_dir():
-            return installed
-    except ModuleNotFoundError:
-        pass
-    return Path(__file__).resolve().parents[1] / "specs"
+    return data_dir("lagcli.specs", "specs")
 
 
 def example_paths() -> list[Path]:

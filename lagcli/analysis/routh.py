@@ -51,7 +51,6 @@ def routhian(d) -> Routhian:
     s = [model.q.index(c) for c in cyclic]
     r = [k for k in range(len(model.q)) if k not in s]
     M, a = sp.Matrix(d.mass_matrix), sp.Matrix(d.t1_coefficients)
-    qd = sp.Matrix(model.qd)
     p = sp.Matrix([sp.Symbol(f"p_{c.name}", real=True) for c in cyclic])
     M_ss, M_sr = M.extract(s, s), M.extract(s, r)
     qd_r = sp.Matrix([model.qd[k] for k in r])

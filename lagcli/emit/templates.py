@@ -8,23 +8,17 @@ text; only the caller writes files.
 from __future__ import annotations
 
 import functools
-from importlib import resources
 from pathlib import Path
 
 import jinja2
 
 from lagcli.emit.escape import FILTERS
 from lagcli.errors import EmitError
+from lagcli.package_data import data_dir
 
 
 def _template_dir() -> Path:
-    try:
-        installed = Path(str(resources.files("lagcli.templates")))
-        if installed.is_dir():
-            return installed
-    except ModuleNotFoundError:
-        pass
-    return Path(__file__).resolve().parents[2] / "templates"  # a source checkout
+    return data_dir("lagcli.templates", "templates")
 
 
 @functools.lru_cache(maxsize=1)
