@@ -5,8 +5,8 @@ log sqrt abs sign min max diff; its equations contain sign, Max, Min, Abs, atan2
 and the a.e. derivative (1 + sign(x - y))/2 of max. sympy's trigsimp used to grind
 forever on such expressions in the tidy step of code generation, so:
 
-- `generate --lang python` and `--lang c` finish within seconds (run in a subprocess
-  with a timeout, so a regression fails instead of hanging the suite);
+- `generate --lang python` and `--lang c` finish (run in a subprocess with a generous
+  timeout, so a regression fails instead of hanging the suite; no timing is asserted);
 - the generated module (without sympy) and the C library (strict flags, ctypes) agree
   with the engine's Derivation evaluated with mpmath (test_codegen_python.reference)
   at states on both sides of every kink: x < 0 and x > 0, x < y and x > y, x = y,
@@ -21,7 +21,6 @@ import os
 import shutil
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
@@ -32,7 +31,7 @@ from click.testing import CliRunner
 from test_codegen_python import ROOT, compare, run_module
 
 SPEC = Path(__file__).resolve().parent / "data" / "all_functions.yaml"
-GENERATE_SECONDS = 30.0        # it takes about 1 s; before the fix it never finished
+HANG_GUARD_SECONDS = 600       # it takes seconds; before the fix it never finished
 CC = shutil.which("cc")
 
 GENERATE = r"""
@@ -59,7 +58,7 @@ STATES = [
 def generated(tmp_path_factory):
     folder = tmp_path_factory.mktemp("all_functions")
     done = subprocess.run([sys.executable, "-c", GENERATE, str(SPEC), str(folder / "module.py"),
-                           str(folder / "c")], capture_output=True, text=True, timeout=300,
+                           str(folder / "c")], capture_output=True, text=True, timeout=HANG_GUARD_SECONDS,
                           env={**os.environ, "PYTHONPATH": str(ROOT)})
     assert done.returncode == 0, done.stderr
     return folder, float(done.stdout.split()[-1])
@@ -79,9 +78,8 @@ def cases(d) -> list[dict]:
             for x, y, xd, yd, t in STATES]
 
 
-def test_generation_is_quick(generated):
-    folder, seconds = generated
-    assert seconds < GENERATE_SECONDS
+def test_generation_finishes(generated):
+    folder, _ = generated
     assert (folder / "module.py").is_file() and (folder / "c" / "all_functions.c").is_file()
 
 
@@ -167,11 +165,9 @@ def test_cold_simulate_finishes_and_follows_the_equations(backend, derivation, t
     from lagcli.simulate.trajectory import parse_csv
 
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))       # cold: nothing cached
-    start = time.perf_counter()
     result = CliRunner().invoke(cli, ["simulate", str(SPEC), "--backend", backend,
                                       "--rtol", "1e-11", "--atol", "1e-13"])
     assert result.exit_code == 0, result.stderr
-    assert time.perf_counter() - start < 60
     header, rows = parse_csv(result.stdout)
     rows = np.array(rows)
     assert header == ["t", "x", "y", "x_dot", "y_dot", "energy"] and rows.shape == (21, 6)
