@@ -212,14 +212,14 @@ def test_module_interface_and_simulate(generated):
     spec.loader.exec_module(module)
     assert module.NAME == "ex6_9_two_wheels_axle" and module.SPEC_FILE == "ex6_9_two_wheels_axle.yaml"
     assert module.MULTIPLIERS == ["lambda_1"]
-    assert module.INVARIANTS == ["energy", "jacobi", "constraint_residual"]
+    assert module.INVARIANTS == ["energy", "jacobi", "p_phi", "constraint_residual"]   # phi is ignorable
     y = module.INITIAL
     assert np.array_equal(module.rhs(0.0, y, {"l": 0.5}), module.rhs(0.0, y, [1.0, 0.5]))
     with pytest.raises(KeyError):
         module.rhs(0.0, y, {"nope": 1.0})
     header, rows = module.simulate(t_end=1.0, dt=0.25)
     assert header == ["t", "x", "y", "phi", "x_dot", "y_dot", "phi_dot", "lambda_1", "energy", "jacobi",
-                      "constraint_residual"]
+                      "p_phi", "constraint_residual"]
     assert np.allclose(rows[:, 0], [0, 0.25, 0.5, 0.75, 1.0])
     # Ex 6-9: from (v0, w) = (1, 2): x = (v0/w) sin wt, lambda = -2 m v0 w
     assert np.allclose(rows[:, 1], 0.5 * np.sin(2 * rows[:, 0]), atol=1e-7)

@@ -8,7 +8,9 @@
   CSV header, stdout must start with the same header.
 
 Commands run in a fresh folder holding a copy of the bundled specs, with the
-installed `lagcli` first on PATH; `cd` lines move within that folder.
+installed `lagcli` first on PATH (and as `.venv/bin/lagcli`, as the README's set-up
+makes it), and the checkout's `tests/` and `bench/` at hand; `cd` lines move within
+that folder.
 """
 from __future__ import annotations
 
@@ -57,6 +59,9 @@ def transcripts() -> list[tuple[str, list[tuple[str, list[str]]]]]:
 @pytest.fixture
 def workdir(tmp_path: Path) -> Path:
     shutil.copytree(ROOT / "specs", tmp_path / "specs")
+    for shared in ("tests", "bench"):                  # read by some examples, never written
+        (tmp_path / shared).symlink_to(ROOT / shared)
+    (tmp_path / ".venv").symlink_to(Path(sys.executable).parent.parent)
     return tmp_path
 
 
