@@ -34,7 +34,7 @@ class Assignments:
 
 def parse_assignments(d, items, sweep_name: str | None = None) -> Assignments:
     """`("theta=0", "phi_dot=Omega")` -> Assignments; names checked against the model."""
-    from lagcli.simulate.options import _hint
+    from lagcli.simulate.options import parse_assignments as assignments
 
     model = d.model
     allowed = [s.name for s in (*model.q, *model.qd, *model.parameter_symbols)] + ["t"]
@@ -43,16 +43,8 @@ def parse_assignments(d, items, sweep_name: str | None = None) -> Assignments:
     if sweep_name is not None:
         sweep = scope_names.get(sweep_name) or sp.Symbol(sweep_name, real=True)
         scope_names[sweep_name] = sweep
-    values = {}
-    for item in items:
-        name, sep, text = item.partition("=")
-        name = name.strip()
-        if not sep or not name or not text.strip():
-            raise UsageError(f"--at {item!r}: expected NAME=VALUE")
-        if name not in allowed:
-            raise UsageError(f"--at {item!r}: unknown name {name!r}"
-                             + _hint(name, allowed, "coordinates, velocities and parameters"))
-        values[name] = _parse(text, scope_names, f"--at {name}")
+    values = assignments(tuple(items), "--at", allowed, "name", "coordinates, velocities and parameters",
+                         parse=lambda text, where: _parse(text, scope_names, where))
     return Assignments(values, sweep)
 
 

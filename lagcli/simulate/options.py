@@ -70,9 +70,11 @@ def resolve_settings(request: Request, spec_settings: dict) -> RunSettings:
 
 
 def parse_assignments(items: tuple[str, ...], option: str, allowed: list[str],
-                      what: str, plural: str) -> dict[str, float]:
-    """{"m=2", "x=pi/4"} -> {"m": 2.0, "x": 0.785...}; names must be in `allowed`."""
-    values: dict[str, float] = {}
+                      what: str, plural: str, parse=None) -> dict:
+    """{"m=2", "x=pi/4"} -> {"m": 2.0, "x": 0.785...}; names must be in `allowed`.
+    `parse(text, where)` reads each VALUE (default `parse_value`: a number)."""
+    parse = parse or parse_value
+    values: dict = {}
     for item in items:
         name, sep, text = item.partition("=")
         name = name.strip()
@@ -81,7 +83,7 @@ def parse_assignments(items: tuple[str, ...], option: str, allowed: list[str],
         if name not in allowed:
             raise UsageError(f"{option} {item!r}: unknown {what} {name!r}"
                              + _hint(name, allowed, plural))
-        values[name] = parse_value(text, f"{option} {name}")
+        values[name] = parse(text, f"{option} {name}")
     return values
 
 
