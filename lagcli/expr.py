@@ -77,21 +77,24 @@ class Scope:
 
     `names` maps a name to its sympy value (a symbol, or an already-built
     expression for known functions and definitions). `time_derivative` is the
-    total time derivative operator used by `diff(expr, t)`.
+    total time derivative operator used by `diff(expr, t)`. `builder` is the tree
+    walker (`_Builder` here; lagcli/vectors.py's adds vectors, frames and kinematics).
     """
 
     def __init__(self, names: Mapping[str, sp.Expr], t: sp.Symbol,
-                 time_derivative: Callable[[sp.Expr], sp.Expr] | None = None):
+                 time_derivative: Callable[[sp.Expr], sp.Expr] | None = None, builder: type | None = None):
         self.names = dict(names)
         self.t = t
         self.time_derivative = time_derivative
+        self.builder = builder or _Builder
 
     def with_name(self, name: str, value: sp.Expr) -> "Scope":
-        return Scope({**self.names, name: value}, self.t, self.time_derivative)
+        return Scope({**self.names, name: value}, self.t, self.time_derivative, self.builder)
 
 
-def parse(text: str, scope: Scope, loc: Loc) -> sp.Expr:
-    """Parse `text` into a sympy expression using only names in `scope`."""
+def parse(text: str, scope: Scope, loc: Loc, vector: bool = False) -> sp.Expr:
+    """Parse `text` into a sympy expression using only names in `scope` (a vector
+    expression, lagcli/vectors.py's `Vector`, when `vector` is true)."""
     if len(text) > MAX_TEXT:
         _fail(loc, f"expression is too large ({len(text)} characters, at most {MAX_TEXT})")
     # `^` is a power, as in most maths notations; Python's ^ would bind looser than `*`.
@@ -106,12 +109,14 @@ def parse(text: str, scope: Scope, loc: Loc) -> sp.Expr:
     except (RecursionError, MemoryError, ValueError):
         _fail(loc, f"expression is too deeply nested or too large: {_short(text)!r}")
     _check_size(tree, text, loc)
-    value = _Builder(scope, loc, text).build(tree.body)
-    if _tree_size_exceeds(value, MAX_RESULT_NODES):
-        _fail(loc, f"expression is too large once names are substituted (more than {MAX_RESULT_NODES} "
-                   "terms); split it or simplify the definitions it uses")
-    if value.has(sp.I, sp.zoo, sp.nan, sp.oo):
-        _fail(loc, f"{_short(text)!r} is complex or infinite; expressions must be real")
+    builder = scope.builder(scope, loc, text)
+    value = builder.finish(builder.build(tree.body), vector)
+    for part in getattr(value, "components", (value,)):
+        if _tree_size_exceeds(part, MAX_RESULT_NODES):
+            _fail(loc, f"expression is too large once names are substituted (more than {MAX_RESULT_NODES} "
+                       "terms); split it or simplify the definitions it uses")
+        if part.has(sp.I, sp.zoo, sp.nan, sp.oo):
+            _fail(loc, f"{_short(text)!r} is complex or infinite; expressions must be real")
     return value
 
 
@@ -160,6 +165,16 @@ class _Builder:
 
     def fail(self, message: str, hint: str = "") -> None:
         raise SpecError(Problem(self.loc, f"in {_short(self.text)!r}: {message}", hint))
+
+    def scalar(self, node: ast.AST) -> sp.Expr:
+        """An operand that must be a scalar (every operand here; vectors.py checks it)."""
+        return self.build(node)
+
+    def finish(self, value: sp.Expr, vector: bool) -> sp.Expr:
+        """The value of the whole expression, `vector` when a vector is expected."""
+        if vector:
+            self.fail("a vector is expected here")
+        return value
 
     def build(self, node: ast.AST) -> sp.Expr:
         handler = getattr(self, "_" + type(node).__name__, None)
@@ -246,21 +261,25 @@ class _Builder:
                        "known functions, earlier definitions, t or pi")
 
     def _UnaryOp(self, node: ast.UnaryOp) -> sp.Expr:
-        operand = self.build(node.operand)
-        if isinstance(node.op, ast.USub):
+        return self.unary(node.op, self.scalar(node.operand))
+
+    def unary(self, op: ast.unaryop, operand: sp.Expr) -> sp.Expr:
+        if isinstance(op, ast.USub):
             return -operand
-        if isinstance(node.op, ast.UAdd):
+        if isinstance(op, ast.UAdd):
             return operand
-        self.fail(f"operator '{type(node.op).__name__}' is not allowed")
+        self.fail(f"operator '{type(op).__name__}' is not allowed")
 
     def _BinOp(self, node: ast.BinOp) -> sp.Expr:
-        left, right = self.build(node.left), self.build(node.right)
-        if isinstance(node.op, ast.Pow):
+        return self.binary(node.op, self.scalar(node.left), self.scalar(node.right))
+
+    def binary(self, op_node: ast.operator, left: sp.Expr, right: sp.Expr) -> sp.Expr:
+        if isinstance(op_node, ast.Pow):
             return self._power(left, right)
-        op = _BINARY.get(type(node.op))
+        op = _BINARY.get(type(op_node))
         if op is None:
-            self.fail(f"operator '{type(node.op).__name__}' is not allowed")
-        if isinstance(node.op, ast.Div) and self.is_zero(right):
+            self.fail(f"operator '{type(op_node).__name__}' is not allowed")
+        if isinstance(op_node, ast.Div) and self.is_zero(right):
             self.fail("division by zero")
         return op(left, right)
 
@@ -306,8 +325,8 @@ class _Builder:
         if name == "diff":
             return self._diff(node)
         if name == "sqrt":  # sqrt(a) is a ** (1/2): the same checks
-            return self._power(self.build(node.args[0]), sp.S.Half)
-        args = [self.build(arg) for arg in node.args]
+            return self._power(self.scalar(node.args[0]), sp.S.Half)
+        args = [self.scalar(arg) for arg in node.args]
         if max(self.depth(arg) for arg in args) >= MAX_RESULT_DEPTH:
             self.too_deep()  # before sympy evaluates the call: sin(sin(...(1/2))) grows costly
         try:
@@ -321,7 +340,7 @@ class _Builder:
             self.fail("diff(expr, t) differentiates with respect to time t only")
         if self.scope.time_derivative is None:
             self.fail("diff(expr, t) is not available here")
-        return self.scope.time_derivative(self.build(node.args[0]))
+        return self.scope.time_derivative(self.scalar(node.args[0]))
 
 
 def _is_plain_decimal(literal: str) -> bool:

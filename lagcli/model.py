@@ -1,8 +1,10 @@
 """Spec -> Model: every expression parsed (safely) into sympy, vectors made 3-D.
 
 Name resolution follows the spec's order: parameters and coordinates first,
-then `known` functions of t (each may use earlier ones), then `definitions`
-(each may use everything before it). Known functions and definitions are
+then `known` functions of t (each may use earlier ones), then `frames` (their
+angles may use all of these), then `definitions` (each may use everything before
+it; a definition may be a vector). Particles and bodies are named points and
+frames for the sections after them (forces, springs, constraints: lagcli/vectors.py). Known functions and definitions are
 substituted, so model expressions contain only t, q, q', q'' and parameters.
 All problems are collected and raised together as one `SpecError`.
 """
@@ -17,7 +19,10 @@ from lagcli.errors import Problem, SpecError
 from lagcli.expr import Scope, parse, parse_constant
 from lagcli.model_types import (AppliedForce, ConstraintSpec, LinearSpring, Model, ParameterInfo,
                                 PointMass, RigidBody, Settings)
-from lagcli.spec.types import Body, Spec, Src
+from lagcli.kinematics import AXES, Entity, Vector, frame_chains
+from lagcli.rolling import rolling_constraints
+from lagcli.spec.types import Body, Spec, Src, VectorSrc
+from lagcli.vectors import VectorBuilder
 
 
 def build_model(spec: Spec) -> Model:
@@ -35,7 +40,8 @@ class _ModelBuilder:
         self.qd = tuple(sp.Symbol(f"{n}_dot", real=True) for n in names)
         self.qdd = tuple(sp.Symbol(f"{n}_ddot", real=True) for n in names)
         self.D = TimeDerivative(self.t, self.q, self.qd, self.qdd)
-        self.scope = Scope({"pi": sp.pi}, self.t, self._time_derivative)
+        self.scope = Scope({"pi": sp.pi}, self.t, self._time_derivative, VectorBuilder)
+        self.frames: dict[str, tuple] = {}  # frame name -> its whole rotation chain
 
     # -- helpers ---------------------------------------------------------------
     def _time_derivative(self, expr: sp.Expr) -> sp.Expr:
@@ -45,21 +51,25 @@ class _ModelBuilder:
         return self.D(expr)
 
     def expr(self, src: Src | None, default: sp.Expr | None = None,
-             check: Callable[[sp.Expr, Src], None] | None = None) -> sp.Expr | None:
-        """Parse one expression, recording (not raising) its problems."""
+             check: Callable[[sp.Expr, Src], None] | None = None, vector: bool | None = False):
+        """Parse one expression, recording (not raising) its problems; a `Vector` when
+        `vector` is true, either kind when it is None."""
         if src is None:
             return default
         self._current_loc = src.loc
         try:
-            value = parse(src.text, self.scope, src.loc)
-            if check:
-                check(value, src)
+            value = parse(src.text, self.scope, src.loc, vector)
+            for part in value.components if isinstance(value, Vector) else (value,):
+                if check:
+                    check(part, src)
             return value
         except SpecError as exc:
             self.problems.extend(exc.problems)
-            return sp.Symbol("_invalid_")
+            return Vector((sp.Symbol("_invalid_"),) * 3) if vector else sp.Symbol("_invalid_")
 
     def vector(self, srcs, check=None) -> sp.ImmutableMatrix:
+        if len(srcs) == 1 and isinstance(srcs[0], VectorSrc):
+            return self.expr(srcs[0], check=check, vector=True).matrix
         parts = [self.expr(s, check=check) for s in srcs]
         return sp.ImmutableMatrix(parts + [sp.S.Zero] * (3 - len(parts)))
 
@@ -103,15 +113,18 @@ class _ModelBuilder:
     def build(self) -> Model:
         spec = self.spec
         parameters = self._parameters()
+        self.parameter_values = {p.symbol: p.value for p in parameters}
         self.scope.names.update({p.symbol.name: p.symbol for p in parameters})
         self.scope.names.update({q.name: q for q in self.q})
         self.scope.names.update({v.name: v for v in self.qd})
         known = self._named(spec.known, self._only_time)
-        definitions = self._named(spec.definitions, None)
+        self._frames()
+        definitions = self._named(spec.definitions, None, vector=None)
         particles = tuple(PointMass(p.name, self.expr(p.mass, check=self.constant_in_motion),
                                     self.vector(p.position, self.no_velocities), p.loc)
                           for p in spec.particles)
         bodies = tuple(self._body(b) for b in spec.bodies)
+        self._name_points(particles, bodies)
         where = {p.name: p.position for p in particles} | {b.name: b.position for b in bodies}
         model = Model(
             name=spec.name, description=spec.description, source=spec.file,
@@ -126,7 +139,8 @@ class _ModelBuilder:
             kinetic=self.expr(spec.kinetic, sp.S.Zero, self.at_most_quadratic),
             generalized_forces=self._generalized_forces(),
             constraints=tuple(ConstraintSpec(c.name, self.expr(c.expr, check=self.no_accelerations), c.loc)
-                              for c in spec.constraints),
+                              for c in spec.constraints)
+                        + tuple(row for item in spec.rolling for row in rolling_constraints(item, self)),
             initial=self._initial(parameters),
             settings=self._settings(),
         )
@@ -144,17 +158,39 @@ class _ModelBuilder:
             raise SpecError(Problem(src.loc, f"known function {src.text!r} may depend on t and "
                                     f"parameters only (uses {', '.join(sorted(map(str, used)))})"))
 
-    def _named(self, items, check) -> tuple[tuple[str, sp.Expr], ...]:
+    def _named(self, items, check, vector: bool | None = False) -> tuple[tuple[str, sp.Expr], ...]:
+        """The scalar items (vector definitions live in the scope only)."""
         result = []
         for item in items:
-            value = self.expr(item.expr, check=check)
+            value = self.expr(item.expr, check=check, vector=vector)
             self.scope.names[item.name] = value
-            result.append((item.name, value))
+            if not isinstance(value, Vector):
+                result.append((item.name, value))
         return tuple(result)
+
+    def _frames(self) -> None:
+        """Each frame (with its unit vectors A_x, A_y, A_z) into the scope."""
+        own = {f.name: (f.parent, tuple((axis, self.expr(a, check=self.no_velocities)) for axis, a in f.rotations))
+               for f in self.spec.frames}
+        self.frames = frame_chains(own)
+        for name, chain in self.frames.items():
+            frame = Entity("frame", name, self.D, rotations=chain)
+            self.scope.names[name] = frame
+            self.scope.names.update({f"{name}_{axis}": frame.unit(axis) for axis in AXES})
+
+    def _name_points(self, particles, bodies) -> None:
+        """Particles and bodies as named points (and frames) of later expressions."""
+        for p in particles:
+            self.scope.names[p.name] = Entity("particle", p.name, self.D, position=Vector.of(p.position))
+        for b in bodies:
+            self.scope.names[b.name] = Entity("body", b.name, self.D, rotations=b.rotations,
+                                              position=Vector.of(b.position))
 
     def _body(self, body: Body) -> RigidBody:
         inertia = [self.expr(s, check=self.constant_in_motion) for s in body.inertia]
-        if body.angle is not None:
+        if body.frame is not None:
+            rotations, tensor = self.frames[body.frame], _inertia_tensor(inertia)
+        elif body.angle is not None:
             rotations = (("z", self.expr(body.angle, check=self.no_velocities)),)
             tensor = sp.diag(0, 0, inertia[0])
         else:
@@ -174,7 +210,8 @@ class _ModelBuilder:
         torque = None
         if force.torque is not None:
             torque = (sp.ImmutableMatrix([0, 0, self.expr(force.torque[0], check=self.no_accelerations)])
-                      if len(force.torque) == 1 else self.vector(force.torque, self.no_accelerations))
+                      if len(force.torque) == 1 and not isinstance(force.torque[0], VectorSrc)
+                      else self.vector(force.torque, self.no_accelerations))
         vector = self.vector(force.force, self.no_accelerations) if force.force is not None else None
         return AppliedForce(point, vector, body_name if torque is not None else None, torque, force.loc)
 

@@ -17,7 +17,7 @@ from lagcli.errors import Problem
 from lagcli.layout import column_clash
 from lagcli.layout import reserved_reason as generated_name_reason
 from lagcli.spec.reader import KeyPath, RawDoc
-from lagcli.spec.types import Src, Vector
+from lagcli.spec.types import Src, Vector, VectorSrc
 
 IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 FUNCTIONS = frozenset("sin cos tan asin acos atan atan2 sinh cosh tanh exp log sqrt abs sign "
@@ -135,7 +135,12 @@ class Checker:
         return Src(text, self.raw.loc(path))
 
     def vector(self, path: KeyPath, value: Any) -> Vector | None:
-        """A list of 2 or 3 expressions; its length counts towards the spec's dimension."""
+        """A list of 2 or 3 expressions; its length counts towards the spec's dimension.
+        A string is one vector expression (3-D, lagcli/vectors.py)."""
+        if isinstance(value, str):
+            src = self.expr(path, value)
+            self.note_dim(3, path)
+            return (VectorSrc(src.text, src.loc),) if src else None
         if isinstance(value, list) and any(_unbalanced(v) for v in value):
             self.fail(path, "a component has unbalanced parentheses: was an expression split at a comma?",
                       FLOW_COMMA_HINT)

@@ -15,16 +15,17 @@ from typing import Any, Callable
 from lagcli.errors import SpecError
 from lagcli.numerics import METHODS
 from lagcli.spec.checker import IDENTIFIER, Checker, describe, did_you_mean
+from lagcli.spec.frames import FrameChecks
 from lagcli.spec.latex_subset import HINT as LATEX_HINT
 from lagcli.spec.latex_subset import latex_problem
 from lagcli.spec.reader import KeyPath, RawDoc
 from lagcli.spec.types import (Body, Constraint, Coordinate, Force, Named, Parameter, Particle,
-                               SimulateSettings, Spec, Spring, Src, Vector)
+                               SimulateSettings, Spec, Spring, Src, Vector, VectorSrc)
 
 TOP_KEYS = ("name", "description", "coordinates", "parameters", "known", "definitions",
             "gravity", "particles", "bodies", "forces", "springs", "potential", "kinetic",
-            "generalized_forces", "constraints", "initial", "simulate")
-BODY_KEYS = ("mass", "inertia", "position", "angle", "orientation")
+            "generalized_forces", "constraints", "initial", "simulate", "frames", "rolling")
+BODY_KEYS = ("mass", "inertia", "position", "angle", "orientation", "frame")
 FORCE_KEYS = ("at", "point", "body", "force", "torque")
 SIMULATE_KEYS = ("t_end", "dt", "method", "rtol", "atol")
 AXES = ("x", "y", "z")
@@ -53,7 +54,7 @@ def default_name(file: str) -> str:
     return name if IDENTIFIER.fullmatch(name) else f"_{name}"
 
 
-class _SpecChecker(Checker):
+class _SpecChecker(FrameChecks, Checker):
     """The spec format, section by section; names are declared before they are referenced."""
 
     def __init__(self, raw: RawDoc):
@@ -66,6 +67,7 @@ class _SpecChecker(Checker):
             coordinates=self.coordinates(top.get("coordinates")),
             parameters=self.mapping_items(top, "parameters", self.parameter),
             known=self.mapping_items(top, "known", self.named("known function")),
+            frames=self.frames(top),
             definitions=self.mapping_items(top, "definitions", self.named("definition")),
             particles=self.mapping_items(top, "particles", self.particle),
             bodies=self.mapping_items(top, "bodies", self.body),
@@ -77,12 +79,14 @@ class _SpecChecker(Checker):
             generalized_forces=self.mapping_items(top, "generalized_forces",
                                                   self.keyed_by(self.coordinate_names, "coordinate")),
             constraints=self.list_items(top, "constraints", self.constraint),
+            rolling=self.list_items(top, "rolling", self.rolling),
             initial=self.mapping_items(top, "initial",
                                        self.keyed_by(self.state_names(), "coordinate or velocity")),
             simulate=self.simulate(top.get("simulate")),
             name=self.identifier(("name",), top["name"]) if "name" in top else None,
             description=self.optional_string(top, (), "description") or "",
         )
+        self.check_rolling_names(fields["rolling"])
         self.check_references()
         fields["name"] = fields["name"] or default_name(self.raw.file)
         return Spec(file=self.raw.file, dimension=self.dimension(), **fields)
@@ -165,12 +169,15 @@ class _SpecChecker(Checker):
         angle = self.expr(path + ("angle",), table["angle"]) if "angle" in table and not spatial else None
         orientation = (self.orientation(path + ("orientation",), table["orientation"])
                        if "orientation" in table and spatial else ())
+        frame = self.body_frame(path, table)
         if None in (mass, position, inertia, orientation) or (angle is None and not spatial):
             return None
-        return Body(name, mass, inertia, position, angle, orientation, self.raw.loc(path, at_key=True))
+        return Body(name, mass, inertia, position, angle, orientation, self.raw.loc(path, at_key=True), frame)
 
     def body_is_spatial(self, path: KeyPath, table: dict) -> bool:
-        """`angle` means planar, `orientation` spatial; with neither, the inertia's shape says."""
+        """`angle` means planar, `orientation` (or `frame`) spatial; with neither, the inertia's shape says."""
+        if "frame" in table:
+            return self.frame_body(path, table)
         both = "angle" in table and "orientation" in table
         if both:
             self.fail(path, "a body has 'angle' (planar) or 'orientation' (spatial), not both")
@@ -244,6 +251,8 @@ class _SpecChecker(Checker):
 
     def torque(self, path: KeyPath, value: Any) -> tuple[Src, ...] | None:
         """A scalar (planar, about z) or a 3-vector (spatial, inertial axes)."""
+        if self.torque_is_vector(value):
+            return self.vector(path, value)
         if isinstance(value, list):
             if len(value) != 3:
                 self.fail(path, f"a torque is one expression (planar) or [Tx, Ty, Tz] (spatial); "
@@ -272,12 +281,18 @@ class _SpecChecker(Checker):
             self.fail(path, f"expected [end, end] (a particle, body or fixed point [x, y(, z)] each); "
                       f"got {describe(value)}")
             return None
-        ends = [self.reference(path + (i,), end, ("particle", "body")) if isinstance(end, str)
+        ends = [self.reference(path + (i,), end, ("particle", "body")) if self.names_a_point(end)
                 else self.vector(path + (i,), end) for i, end in enumerate(value)]
-        if all(isinstance(end, tuple) for end in ends):
+        if all(isinstance(end, tuple) and not isinstance(end[0], VectorSrc) for end in ends):
             self.fail(path, "a spring between two fixed points does nothing",
                       "one end must be a particle or body")
         return None if None in ends else (ends[0], ends[1])
+
+    def names_a_point(self, end: Any) -> bool:
+        """A spring end written as a name is a particle or body, unless it names a
+        definition (a vector expression, like any other string that is not a name)."""
+        return isinstance(end, str) and IDENTIFIER.fullmatch(end) is not None and \
+            self.names.get(end, ("",))[0] != "definition"
 
     def constraint(self, path: KeyPath, value: Any) -> Constraint | None:
         if not isinstance(value, dict):

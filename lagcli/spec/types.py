@@ -19,7 +19,12 @@ class Src:
     loc: Loc
 
 
-Vector = tuple[Src, ...]  # 2 or 3 components; one dimension per spec
+@dataclass(frozen=True)
+class VectorSrc(Src):
+    """A vector written as one expression, e.g. `r*A_z + [x, y, 0]` (3-D; lagcli/vectors.py)."""
+
+
+Vector = tuple[Src, ...]  # 2 or 3 components (one dimension per spec), or one VectorSrc
 
 
 @dataclass(frozen=True)
@@ -72,6 +77,7 @@ class Body:
     angle: Src | None
     orientation: tuple[tuple[str, Src], ...]
     loc: Loc
+    frame: str | None = None  # a frame of `frames:` instead of `orientation`
 
 
 @dataclass(frozen=True)
@@ -105,6 +111,38 @@ class Constraint:
 
 
 @dataclass(frozen=True)
+class Frame:
+    """A named frame: successive body-fixed rotations from `parent` (None: inertial)."""
+
+    name: str
+    parent: str | None
+    rotations: tuple[tuple[str, Src], ...]
+    loc: Loc
+
+
+@dataclass(frozen=True)
+class Surface:
+    """The plane n.X = height, turning at `angular_velocity` about n through `centre`."""
+
+    normal: Vector
+    height: Src | None = None
+    angular_velocity: Src | None = None
+    centre: Vector | None = None
+
+
+@dataclass(frozen=True)
+class Rolling:
+    """A body rolling without slipping on a surface: its contact point is the wheel's
+    (`wheel` = (radius, axis letter)) or the offset `contact` from its centre of mass."""
+
+    body: str
+    wheel: tuple[Src, str] | None
+    contact: Vector | None
+    surface: Surface | None
+    loc: Loc
+
+
+@dataclass(frozen=True)
 class SimulateSettings:
     t_end: Src | None = None
     dt: Src | None = None
@@ -134,3 +172,5 @@ class Spec:
     constraints: tuple[Constraint, ...] = ()
     initial: tuple[Named, ...] = ()
     simulate: SimulateSettings = field(default_factory=SimulateSettings)
+    frames: tuple[Frame, ...] = ()
+    rolling: tuple[Rolling, ...] = ()
