@@ -75,7 +75,10 @@ class VectorBuilder(_Builder):
         text = ast.get_source_segment(self.source, node) if node is not None else None
         return repr(text) if text else "the expression"
 
-    def finish(self, value, vector: bool):
+    def finish(self, value, vector: bool | None):
+        """A vector when `vector`, a scalar when False, either when None (definitions)."""
+        if vector is None and isinstance(value, Vector):
+            return value
         return self.as_vector(value) if vector else self.as_scalar(value)
 
     def guarded(self, value, node: ast.AST):

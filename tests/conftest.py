@@ -139,7 +139,7 @@ def ddt():
 # Bundled specs that take minutes in the tests looping over every spec (derive, LaTeX,
 # codegen, simulate); those cases run with `pytest -m slow`. Their own test files
 # (e.g. tests/test_benchmark_bicycle.py, tests/test_linearize_bicycle.py) decide for themselves.
-HEAVY_SPECS = ("benchmark_bicycle",)
+HEAVY_SPECS = ("benchmark_bicycle", "benchmark_bicycle_frames")
 
 
 @pytest.hookimpl(tryfirst=True)
