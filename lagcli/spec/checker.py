@@ -25,7 +25,7 @@ FUNCTIONS = frozenset("sin cos tan asin acos atan atan2 sinh cosh tanh exp log s
 NAME_HINT = "a name is a letter or '_' followed by letters, digits or '_'"
 FLOW_COMMA_HINT = ("in YAML flow style, [a, b] or {k: v, ...}, a comma ends the item: "
                    "quote an expression that contains one, e.g. ['atan2(y, x)', 0]")
-_PLURAL = {"particle": "particles", "body": "bodies"}
+_PLURAL = {"particle": "particles", "body": "bodies", "frame": "frames"}
 
 
 def _unbalanced(value: Any) -> bool:

@@ -51,13 +51,14 @@ class FrameChecks:
         return Frame(name, parent, rotations, self.raw.loc(path, at_key=True))
 
     def check_frame_cycles(self, frames: tuple[Frame, ...]) -> None:
-        parents = {f.name: f.parent for f in frames}
+        parents, reported = {f.name: f.parent for f in frames}, set()
         for frame in frames:
             seen, name = [frame.name], frame.parent
             while name in parents and name not in seen:
                 seen.append(name)
                 name = parents[name]
-            if name == frame.name:
+            if name == frame.name and not reported & set(seen):
+                reported.update(seen)
                 self.fail(("frames", frame.name, "parent"),
                           f"frames form a cycle: {' -> '.join(seen + [name])}",
                           "every chain of parents must end at the inertial frame (a frame without parent)")
