@@ -100,9 +100,9 @@ class VectorBuilder(_Builder):
         if node.id not in self.scope.names and unit and unit.group(1) not in self.scope.names:
             frames = sorted(v.label for v in self.scope.names.values()
                             if isinstance(v, Entity) and v.kind == "frame")
-            self.fail(f"unknown name '{node.id}' (no frame '{unit.group(1)}')",
-                      f"frames are: {', '.join(frames)}" if frames else
-                      "unit vectors A_x, A_y, A_z belong to a frame A declared under frames:")
+            if frames:  # in a spec without frames, the scalar language's did-you-mean
+                self.fail(f"unknown name '{node.id}' (no frame '{unit.group(1)}')",
+                          f"frames are: {', '.join(frames)}")
         return super()._Name(node)
 
     def _UnaryOp(self, node: ast.UnaryOp):
