@@ -168,3 +168,37 @@ def test_sphere_on_turntable_centre_circles_at_two_sevenths_of_the_rate():
     # and the circle does not move: its centre is position + (e_z x v) / rate
     cx, cy = trajectory["x"] - vy / rate, trajectory["y"] + vx / rate
     assert np.ptp(cx) < 1e-7 and np.ptp(cy) < 1e-7
+
+
+def test_sphere_on_an_incline_rolls_down_at_five_sevenths_of_g_sin_alpha(tmp_path, augmented):
+    """A tilted plane (normal not along an axis): from rest, a uniform sphere's centre
+    accelerates down the slope at (5/7) g sin(alpha) (closed form), the normal row's
+    multiplier is the normal force m g cos(alpha) and the friction is (2/7) m g sin(alpha)
+    up the slope."""
+    from lagcli.api import load_model
+    from lagcli.derive import derive
+
+    path = tmp_path / "incline.yaml"
+    path.write_text("""
+coordinates: [x, y, z, a, b, c]
+parameters: {m: 2.0, r: 0.3, g: 9.81, al: 0.4}
+gravity: [0, 0, -g]
+frames: {S: {rotations: [[x, a], [y, b], [z, c]]}}
+bodies:
+  ball: {mass: m, inertia: [2*m*r**2/5, 2*m*r**2/5, 2*m*r**2/5], position: [x, y, z], frame: S}
+rolling:
+  - {body: ball, contact: '-r*[-sin(al), 0, cos(al)]', surface: {normal: [-sin(al), 0, cos(al)]}}
+""")
+    d = derive(load_model(str(path)))
+    assert [str(m) for m in d.multipliers] == ["lambda_rolling_ball_z", "lambda_rolling_ball_x",
+                                                "lambda_rolling_ball_y"]
+    m, r, g, al = 2.0, 0.3, 9.81, 0.4
+    symbols = {s.name: s for s in (*d.model.q, *d.model.qd)}
+    state = {symbols[n]: 0.0 for n in symbols}
+    state[symbols["x"]], state[symbols["z"]] = -r * np.sin(al), r * np.cos(al)
+    qdd, lam = augmented(d, state)
+    down = -np.array([np.cos(al), 0.0, np.sin(al)])
+    assert np.allclose(qdd[:3], 5 / 7 * g * np.sin(al) * down, rtol=0, atol=1e-12)
+    assert abs(lam[0] - m * g * np.cos(al)) < 1e-12
+    assert abs(lam[1] - 2 / 7 * m * g * np.sin(al)) < 1e-12  # t_x = (cos al, 0, sin al): up the slope
+    assert abs(lam[2]) < 1e-12
