@@ -4,8 +4,8 @@ Name resolution follows the spec's order: parameters and coordinates first,
 then `known` functions of t (each may use earlier ones), then `frames` (their
 angles may use all of these), then `definitions` (each may use everything before
 it; a definition may be a vector). Particles and bodies are named points and
-frames for the sections after them (forces, springs, constraints: lagcli/vectors.py). Known functions and definitions are
-substituted, so model expressions contain only t, q, q', q'' and parameters.
+frames for the sections after them (forces, springs, constraints; lagcli/vectors.py).
+Known functions and definitions are substituted, so model expressions contain only t, q, q', q'' and parameters.
 All problems are collected and raised together as one `SpecError`.
 """
 from __future__ import annotations
@@ -59,8 +59,8 @@ class _ModelBuilder:
         self._current_loc = src.loc
         try:
             value = parse(src.text, self.scope, src.loc, vector)
-            for part in value.components if isinstance(value, Vector) else (value,):
-                if check:
+            if check:
+                for part in value.components if isinstance(value, Vector) else (value,):
                     check(part, src)
             return value
         except SpecError as exc:
