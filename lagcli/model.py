@@ -5,8 +5,9 @@ then `known` functions of t (each may use earlier ones), then `frames` (their
 angles may use all of these), then `definitions` (each may use everything before
 it; a definition may be a vector). Particles and bodies are named points and
 frames for the sections after them (forces, springs, constraints; lagcli/vectors.py).
-Known functions and definitions are substituted, so model expressions contain only t, q, q', q'' and parameters.
-All problems are collected and raised together as one `SpecError`.
+Known functions and definitions are substituted, so model expressions contain
+only t, q, q', q'' and parameters. All problems are collected and raised
+together as one `SpecError`.
 """
 from __future__ import annotations
 
