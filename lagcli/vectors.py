@@ -19,11 +19,12 @@ reverse) is an error naming the place, with a hint.
 from __future__ import annotations
 
 import ast
+import difflib
 import re
 
 import sympy as sp
 
-from lagcli.expr import _Builder
+from lagcli.expr import FUNCTIONS, _Builder
 from lagcli.kinematics import Entity, Vector
 
 VECTOR_FUNCTIONS = {  # name: (argument kinds, what it gives)
@@ -129,6 +130,11 @@ class VectorBuilder(_Builder):
 
     def _Call(self, node: ast.Call):
         name = node.func.id if isinstance(node.func, ast.Name) else None
+        if name is not None and name not in FUNCTIONS and name not in VECTOR_FUNCTIONS \
+                and not name.startswith("__"):
+            close = difflib.get_close_matches(name, [*FUNCTIONS, *VECTOR_FUNCTIONS], n=1)
+            self.fail(f"unknown function '{name}'", f"did you mean '{close[0]}'?" if close else
+                      "functions: " + ", ".join(sorted([*FUNCTIONS, *VECTOR_FUNCTIONS])))
         if name not in VECTOR_FUNCTIONS:
             return super()._Call(node)
         kinds, _ = VECTOR_FUNCTIONS[name]
