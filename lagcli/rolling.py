@@ -57,8 +57,9 @@ def rolling_constraints(item: Rolling, model) -> tuple[ConstraintSpec, ...]:
 
 def _wheel_offset(body, radius: sp.Expr, axis: str, normal: Vector) -> Vector:
     a = body.unit(axis)
-    towards_plane = normal - a.scaled(normal.dot(a))
-    return towards_plane.scaled(-radius / sp.sqrt(towards_plane.dot(towards_plane)))
+    along_axis = normal.dot(a)
+    # |n - (n.a) a| = sqrt(1 - (n.a)^2) for unit n and a: the short form of the length
+    return (normal - a.scaled(along_axis)).scaled(-radius / sp.sqrt(1 - along_axis**2))
 
 
 def _surface_velocity(surface: Surface, model, normal: Vector, where: Vector) -> Vector:
