@@ -128,3 +128,18 @@ def test_misuse_is_a_located_error_with_a_hint(tmp_path, extra, message):
         model_with(tmp_path, extra)
     text = str(error.value)
     assert message in text and "constraints[0]" in text and "spec.yaml:" in text
+
+
+def test_velocity_in_a_force_gives_the_viscous_generalized_force(tmp_path, assert_zero):
+    """A drag force -c velocity(P) on a pendulum bob: Q_theta = -c l^2 theta_dot."""
+    model = model_with(tmp_path, "", """
+coordinates: [theta]
+parameters: {m: 1.0, l: 0.7, c: 0.3}
+particles:
+  P: {mass: m, position: '[l*sin(theta), -l*cos(theta), 0]'}
+forces:
+  - {at: P, force: -c*velocity(P)}
+""")
+    d = derive(model)
+    l, c, theta_dot = (model.symbol(n) for n in ("l", "c", "theta_dot"))
+    assert_zero(d.forcing[0] + c * l**2 * theta_dot, "Q_theta")
