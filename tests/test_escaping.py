@@ -261,6 +261,14 @@ def test_xml_round_trips(text):
 
 @EXAMPLES
 @given(hostile_text)
+def test_xml_comment_stays_one_comment(text):
+    inside = escape.xml_comment(text)
+    root = ElementTree.fromstring(f"<a><!-- {inside} --><b/></a>")   # parses: no `--` inside
+    assert [child.tag for child in root] == ["b"] and "\n" not in inside
+
+
+@EXAMPLES
+@given(hostile_text)
 def test_terminal_text_has_no_control_characters(text):
     shown = escape.terminal_text(text)
     assert all(ch in "\t\n" or ch.isprintable() or ch == " " for ch in shown), repr(shown)

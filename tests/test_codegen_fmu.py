@@ -1,0 +1,200 @@
+"""`lagcli generate --lang fmu`: the FMI 2.0 FMU, checked by FMPy (an independent FMI
+importer) against `lagcli simulate`.
+
+- Every bundled spec: the FMU passes FMPy's validation, and FMPy's Model Exchange
+  simulation with its own CVode solver agrees with lagcli's Python backend (scipy) to
+  1e-6 over the first SHORT_SPAN seconds of the spec's span (the whole span: `-m slow`).
+  Outputs (multipliers, energy, jacobi, momenta, constraint residual) are compared too.
+- Co-Simulation (lagcli's C integrator inside the FMU) for one unconstrained and one
+  constrained spec.
+- Golden files of the generated text (modelDescription.xml, lagcli_fmu_model.h,
+  buildDescription.xml) for double_pendulum and ex6_9_two_wheels_axle, with the
+  LAGCLI_UPDATE_GOLDEN switch of tests/test_golden_codegen.py.
+- Same bytes: two generations give the same zip (same compiler), and every entry but
+  the binary is the same in another process with another hash seed.
+- No C compiler: exit status 1, a clear message, no file.
+"""
+from __future__ import annotations
+
+import io
+import os
+import subprocess
+import sys
+import zipfile
+from pathlib import Path
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+fmpy = pytest.importorskip("fmpy")
+from fmpy.validation import validate_fmu  # noqa: E402
+
+from lagcli.cli import cli  # noqa: E402
+from test_golden_codegen import GOLDEN, compare_or_update  # noqa: E402
+
+ROOT = Path(__file__).resolve().parent.parent
+SPEC_NAMES = sorted(p.stem for p in (ROOT / "specs").glob("*.yaml"))
+SHORT_SPAN = 0.5          # seconds of each spec simulated in the default run
+TOLERANCE = 1e-6
+GOLDEN_SPECS = ["double_pendulum", "ex6_9_two_wheels_axle"]
+pytestmark = pytest.mark.skipif(
+    __import__("shutil").which("cc") is None, reason="--lang fmu needs a C compiler")
+
+
+def system_of(derived, name: str):
+    from lagcli.layout import layout_of
+    from lagcli.system import System
+
+    d = derived(name)
+    return System(d.model, d, layout_of(d))
+
+
+def write_fmu(system, folder: Path) -> Path:
+    (data,) = system.generate("fmu").values()
+    path = folder / f"{system.name}.fmu"
+    path.write_bytes(data)
+    return path
+
+
+def compare(system, fmu: Path, t_end: float, fmi_type: str) -> None:
+    """FMPy's simulation of `fmu` agrees with `System.simulate` at every output time."""
+    settings = system.layout.settings
+    expected = system.simulate(t_end=t_end)
+    names = [c.name for c in system.layout.columns if c.kind != "time"]
+    options = dict(solver="CVode", relative_tolerance=1e-12) if fmi_type == "ModelExchange" else {}
+    result = fmpy.simulate_fmu(str(fmu), fmi_type=fmi_type, stop_time=expected["t"][-1],
+                               output_interval=settings.dt, output=names, **options)
+    times = result["time"]
+    assert np.allclose(times, expected["t"][: len(times)], atol=1e-12, rtol=0) and len(times) == len(expected["t"])
+    for name in names:
+        got, want = result[name], expected[name]
+        scale = max(1.0, float(np.max(np.abs(want))))
+        worst = float(np.max(np.abs(got - want)))
+        if system.layout.column(name).kind == "residual":   # two different ~1e-10 noises
+            assert float(np.max(got)) < TOLERANCE, name
+            continue
+        assert worst <= TOLERANCE * scale, f"{name}: FMU and lagcli simulate differ by {worst:.3g}"
+
+
+@pytest.mark.parametrize("name", SPEC_NAMES)
+def test_fmu_validates_and_agrees_with_simulate(name, derived, tmp_path):
+    system = system_of(derived, name)
+    fmu = write_fmu(system, tmp_path)
+    assert validate_fmu(str(fmu)) == []
+    description = fmpy.read_model_description(str(fmu), validate=True)
+    assert description.modelExchange is not None and description.coSimulation is not None
+    names = [v.name for v in description.modelVariables]
+    layout = system.layout
+    assert names[: 2 * len(layout.coordinates)] == list(layout.state_names)
+    assert set(layout.header) - {"t"} <= set(names)
+    compare(system, fmu, min(SHORT_SPAN, layout.settings.t_end), "ModelExchange")
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", SPEC_NAMES)
+def test_fmu_agrees_over_the_whole_span(name, derived, tmp_path):
+    system = system_of(derived, name)
+    compare(system, write_fmu(system, tmp_path), system.layout.settings.t_end, "ModelExchange")
+
+
+@pytest.mark.parametrize("name", GOLDEN_SPECS)
+def test_co_simulation_agrees_with_simulate(name, derived, tmp_path):
+    system = system_of(derived, name)
+    compare(system, write_fmu(system, tmp_path), SHORT_SPAN, "CoSimulation")
+
+
+def test_parameters_and_start_values_reach_the_model(derived, tmp_path):
+    """A parameter set through FMI changes the motion as `simulate(parameters=...)` does."""
+    system = system_of(derived, "double_pendulum")
+    fmu = write_fmu(system, tmp_path)
+    name = system.layout.parameter_names[-1]
+    value = system.layout.parameter_defaults[name] * 1.5
+    expected = system.simulate(t_end=0.3, parameters={name: value})
+    result = fmpy.simulate_fmu(str(fmu), stop_time=0.3, output_interval=system.layout.settings.dt,
+                               solver="CVode", relative_tolerance=1e-12, start_values={name: value},
+                               output=list(system.layout.state_names))
+    for state in system.layout.state_names:
+        assert np.max(np.abs(result[state] - expected[state])) < TOLERANCE
+
+
+# -- golden files and bytes ------------------------------------------------------------
+
+def fmu_text_files(name: str) -> dict[str, str]:
+    from lagcli.emit.fmu import fmu_sources
+    from lagcli.simulate.initial import spec_initial_state
+    from lagcli.system import load
+
+    system = load(ROOT / "specs" / f"{name}.yaml")
+    start, _ = spec_initial_state(system.derivation)
+    return fmu_sources(system.derivation, start.values, start.notes)
+
+
+@pytest.mark.parametrize("name", GOLDEN_SPECS)
+def test_golden(name):
+    from lagcli.runtime import c_runtime_files, fmi2_runtime_files
+
+    files = fmu_text_files(name)
+    shipped = {**c_runtime_files(), **fmi2_runtime_files()}
+    for path in list(files):
+        base = path.removeprefix("sources/")
+        if base in shipped or base in (f"{name}.h", f"{name}.c") or path.startswith("documentation/"):
+            files.pop(path)      # the runtime as shipped, the C model: golden files of --lang c
+    assert sorted(files) == ["modelDescription.xml", "sources/buildDescription.xml",
+                             "sources/lagcli_fmu_model.h"]
+    for path, text in files.items():
+        compare_or_update(GOLDEN / "fmu" / name / Path(path).name, text)
+
+
+def test_same_bytes(derived, tmp_path):
+    """Twice in this process: the same zip, binary included; in another process with
+    another hash seed: the same text files (the binary is the compiler's)."""
+    system = system_of(derived, "ex6_9_two_wheels_axle")
+    first, second = tmp_path / "a", tmp_path / "b"
+    for folder in (first, second):
+        folder.mkdir()
+    first, second = write_fmu(system, first), write_fmu(system, second)
+    assert first.read_bytes() == second.read_bytes()
+    with zipfile.ZipFile(first) as fmu:
+        entries = fmu.infolist()
+        assert [e.filename for e in entries] == sorted(e.filename for e in entries)
+        assert {e.date_time for e in entries} == {(1980, 1, 1, 0, 0, 0)}
+        assert {e.external_attr >> 16 for e in entries} == {0o644}
+        texts = {e.filename: fmu.read(e).decode() for e in entries if not e.filename.startswith("binaries/")}
+        assert any(e.filename.startswith("binaries/") for e in entries)
+    script = ("import json, sys; sys.path.insert(0, sys.argv[1]); "
+              "from test_codegen_fmu import fmu_text_files; "
+              "print(json.dumps(fmu_text_files('ex6_9_two_wheels_axle')))")
+    env = {**os.environ, "PYTHONHASHSEED": "4321", "PYTHONPATH": str(ROOT)}
+    done = subprocess.run([sys.executable, "-c", script, str(ROOT / "tests")], capture_output=True, text=True,
+                          env=env, timeout=300)
+    assert done.returncode == 0, done.stderr
+    assert __import__("json").loads(done.stdout) == texts
+
+
+# -- the command line ------------------------------------------------------------------
+
+def test_cli_writes_the_fmu(tmp_path):
+    out = tmp_path / "pendulum.fmu"
+    result = CliRunner().invoke(cli, ["generate", str(ROOT / "specs" / "cartesian_pendulum.yaml"),
+                                      "--lang", "fmu", "-o", str(out)])
+    assert result.exit_code == 0, result.output
+    with zipfile.ZipFile(io.BytesIO(out.read_bytes())) as fmu:
+        assert "modelDescription.xml" in fmu.namelist()
+
+
+def test_cli_needs_an_output_file():
+    result = CliRunner().invoke(cli, ["generate", str(ROOT / "specs" / "cartesian_pendulum.yaml"),
+                                      "--lang", "fmu"])
+    assert result.exit_code == 2 and "-o NAME.fmu" in result.output
+
+
+def test_no_compiler_exit_1_and_nothing_written(tmp_path, monkeypatch):
+    from lagcli.simulate import c_backend
+
+    monkeypatch.setattr(c_backend, "find_compiler", lambda: None)
+    out = tmp_path / "x.fmu"
+    result = CliRunner().invoke(cli, ["generate", str(ROOT / "specs" / "cartesian_pendulum.yaml"),
+                                      "--lang", "fmu", "-o", str(out)])
+    assert result.exit_code == 1 and "'cc' was not found" in result.output
+    assert list(tmp_path.iterdir()) == []
