@@ -118,6 +118,23 @@ def test_parameters_and_start_values_reach_the_model(derived, tmp_path):
         assert np.max(np.abs(result[state] - expected[state])) < TOLERANCE
 
 
+@pytest.mark.slow             # cmake: half a minute
+def test_sources_build_on_their_own(derived, tmp_path):
+    """The FMU without its binary, built from sources/ by FMPy (cmake, all warnings as
+    errors), simulates as the one lagcli built: the sources are complete."""
+    system = system_of(derived, "cartesian_pendulum")
+    fmu = write_fmu(system, tmp_path)
+    stripped = tmp_path / "sources_only.fmu"
+    with zipfile.ZipFile(fmu) as full, zipfile.ZipFile(stripped, "w") as out:
+        for entry in full.infolist():
+            if not entry.filename.startswith("binaries/"):
+                out.writestr(entry, full.read(entry))
+    done = subprocess.run([sys.executable, "-m", "fmpy", "compile", "--all-warnings", "--warning-as-error",
+                           str(stripped)], capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stdout + done.stderr
+    compare(system, stripped, 0.2, "ModelExchange")
+
+
 # -- golden files and bytes ------------------------------------------------------------
 
 def fmu_text_files(name: str) -> dict[str, str]:

@@ -73,9 +73,16 @@ def model_variables(layout: Layout, initial: tuple[float, ...], descriptions: di
               for u in layout.inputs]
     outputs = ([Variable(m.name, 0, f"multiplier of the {m.kind} constraint", "output", "continuous")
                 for m in layout.multipliers]
-               + [Variable(c.name, 0, c.kind, "output", "continuous") for c in layout.invariants])
+               + [Variable(c.name, 0, _invariant_description(c), "output", "continuous")
+                  for c in layout.invariants])
     ordered = states + derivatives + parameters + inputs + outputs
     return tuple(Variable(**{**v.__dict__, "reference": k}) for k, v in enumerate(ordered))
+
+
+def _invariant_description(column) -> str:
+    return {"energy": "total energy T + V", "jacobi": "Jacobi integral h = T2 - T0 + V",
+            "momentum": f"momentum conjugate to the ignorable coordinate {column.of}",
+            "residual": "largest |constraint| (positions and velocities)"}[column.kind]
 
 
 def model_structure(variables: tuple[Variable, ...]) -> dict:

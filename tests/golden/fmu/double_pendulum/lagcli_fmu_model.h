@@ -15,7 +15,7 @@
 #include "double_pendulum.h"
 
 #define LAGCLI_FMU_MODEL double_pendulum_model
-#define LAGCLI_FMU_GUID "{a8ae8550-427a-ce99-31b1-ebb5b512097f}"
+#define LAGCLI_FMU_GUID "{0d69bb1d-7d44-134a-d9e5-37358ac091ad}"
 #define LAGCLI_FMU_NINPUT 0u
 #define LAGCLI_FMU_ALPHA 10.0        /* Baumgarte stabilisation (constrained systems) */
 #define LAGCLI_FMU_BETA 10.0
