@@ -215,3 +215,13 @@ def test_no_compiler_exit_1_and_nothing_written(tmp_path, monkeypatch):
                                       "--lang", "fmu", "-o", str(out)])
     assert result.exit_code == 1 and "'cc' was not found" in result.output
     assert list(tmp_path.iterdir()) == []
+
+
+def test_a_name_that_would_replace_an_fmu_source_is_refused(tmp_path):
+    spec = tmp_path / "clash.yaml"
+    spec.write_text("name: lagcli_fmi2\ncoordinates: [x]\nparameters: {k: 1.0}\n"
+                    "kinetic: x_dot**2/2\npotential: k*x**2/2\n")
+    out = tmp_path / "clash.fmu"
+    result = CliRunner().invoke(cli, ["generate", str(spec), "--lang", "fmu", "-o", str(out)])
+    assert result.exit_code == 2 and "name" in result.output and "lagcli_fmi2.c" in result.output
+    assert not out.exists()

@@ -100,8 +100,7 @@ def fmu_sources(d: Derivation, initial=None, initial_notes=()) -> dict[str, str]
     _check_file_names(d, name)
     context = c_target.c_context(d, initial, initial_notes)
     i = context["i"]
-    model = c_target.c_files(d, initial, initial_notes)
-    c_sources = {f"{name}.h": model[f"{name}.h"], f"{name}.c": model[f"{name}.c"],
+    c_sources = {**c_target.model_sources(context),
                  **{file: c_runtime_files()[file] for file in INTEGRATOR}, **fmi2_runtime_files()}
     compiled = sorted(file for file in c_sources if file.endswith(".c"))
     descriptions = {p.symbol.name: p.description for p in d.model.parameters}
@@ -125,7 +124,7 @@ def fmu_sources(d: Derivation, initial=None, initial_notes=()) -> dict[str, str]
 
 def _check_file_names(d: Derivation, name: str) -> None:
     """The model's <name>.h and <name>.c must not replace one of the FMU's own sources."""
-    taken = {*fmi2_runtime_files(), MODEL_HEADER}
+    taken = {*fmi2_runtime_files(), MODEL_HEADER, *INTEGRATOR}
     if {f"{name}.h", f"{name}.c"} & taken:
         raise SpecError(Problem(Loc(d.model.source, path="name"),
                                 f"the name {name!r} gives a file name of the FMU's own sources "
