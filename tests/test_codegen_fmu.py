@@ -135,6 +135,33 @@ def test_sources_build_on_their_own(derived, tmp_path):
     compare(system, stripped, 0.2, "ModelExchange")
 
 
+def test_inputs_and_units_reach_the_model_description(derived, tmp_path):
+    """Layout.inputs (each an input Real, start 0) and parameter units (a unit of
+    UnitDefinitions), given to the layout by hand: FMPy validates the description."""
+    from dataclasses import replace
+
+    from lagcli.emit import c as c_target
+    from lagcli.emit.fmu import fmu_context
+    from lagcli.emit.templates import render
+    from lagcli.layout import Input
+
+    system = system_of(derived, "cart_pole")
+    layout = system.layout
+    layout = replace(layout, inputs=(Input("F_in"), Input("tau_in")),
+                     parameters=(replace(layout.parameters[0], unit="kg"),) + layout.parameters[1:])
+    context = fmu_context(layout, c_target.c_context(system.derivation), {}, ["cart_pole.c"])
+    xml = tmp_path / "modelDescription.xml"
+    xml.write_text(render("fmu/modelDescription.xml.jinja", guid="{0}", **context), encoding="utf-8")
+    description = fmpy.read_model_description(str(xml), validate=True)
+    variables = {v.name: v for v in description.modelVariables}
+    assert [variables[u].causality for u in ("F_in", "tau_in")] == ["input", "input"]
+    assert variables["F_in"].start == "0.0"
+    assert variables[layout.parameters[0].name].unit == "kg"
+    assert [u.name for u in description.unitDefinitions] == ["kg"]
+    header = render("fmu/lagcli_fmu_model.h.jinja", guid="{0}", **context)
+    assert "#define LAGCLI_FMU_NINPUT 2u" in header
+
+
 # -- golden files and bytes ------------------------------------------------------------
 
 def fmu_text_files(name: str) -> dict[str, str]:

@@ -69,7 +69,8 @@ def model_variables(layout: Layout, initial: tuple[float, ...], descriptions: di
                             derivative=k + 1) for k, s in enumerate(layout.states)]
     parameters = [Variable(p.name, 0, descriptions.get(p.name) or "parameter", "parameter", "fixed", "exact",
                            repr(float(p.default)), unit=p.unit) for p in layout.parameters]
-    inputs = [Variable(u.name, 0, "input", "input", "continuous", start="0.0", unit=getattr(u, "unit", None))
+    inputs = [Variable(u.name, 0, "input", "input", "continuous", start="0.0",
+                       unit=getattr(u, "unit", None))    # inputs have no unit field yet
               for u in layout.inputs]
     outputs = ([Variable(m.name, 0, f"multiplier of the {m.kind} constraint", "output", "continuous")
                 for m in layout.multipliers]
@@ -99,19 +100,10 @@ def fmu_sources(d: Derivation, initial=None, initial_notes=()) -> dict[str, str]
     name = layout.name
     _check_file_names(d, name)
     context = c_target.c_context(d, initial, initial_notes)
-    i = context["i"]
     c_sources = {**c_target.model_sources(context),
                  **{file: c_runtime_files()[file] for file in INTEGRATOR}, **fmi2_runtime_files()}
-    compiled = sorted(file for file in c_sources if file.endswith(".c"))
     descriptions = {p.symbol.name: p.description for p in d.model.parameters}
-    variables = model_variables(layout, i.initial, descriptions)
-    settings = layout.settings
-    fmu = dict(i=i, variables=variables, sources=compiled, settings=settings, baumgarte=i.baumgarte,
-               inputs=[u.name for u in layout.inputs],
-               units=sorted({v.unit for v in variables if v.unit}), literal=context["literal"],
-               method=context["driver_method"],
-               max_step=_c_double(max_step(context["driver_method"], *i.baumgarte, layout.constrained)),
-               **model_structure(variables))
+    fmu = fmu_context(layout, context, descriptions, sorted(f for f in c_sources if f.endswith(".c")))
     guid = _guid(render("fmu/modelDescription.xml.jinja", guid="", **fmu), c_sources)
     return {
         "modelDescription.xml": render("fmu/modelDescription.xml.jinja", guid=guid, **fmu),
@@ -120,6 +112,19 @@ def fmu_sources(d: Derivation, initial=None, initial_notes=()) -> dict[str, str]
         "sources/buildDescription.xml": render("fmu/buildDescription.xml.jinja", **fmu),
         "documentation/licenses/fmi2-headers.txt": fmi2_license(),
     }
+
+
+def fmu_context(layout: Layout, c_context: dict, descriptions: dict, compiled: list[str]) -> dict:
+    """What the templates of templates/fmu/ need: the variables of `layout`, the
+    `Interface` and settings of the C context, the C files to compile."""
+    i = c_context["i"]
+    variables = model_variables(layout, i.initial, descriptions)
+    method = c_context["driver_method"]
+    return dict(i=i, variables=variables, sources=compiled, settings=layout.settings, baumgarte=i.baumgarte,
+                inputs=[u.name for u in layout.inputs], units=sorted({v.unit for v in variables if v.unit}),
+                literal=c_context["literal"], method=method,
+                max_step=_c_double(max_step(method, *i.baumgarte, layout.constrained)),
+                **model_structure(variables))
 
 
 def _check_file_names(d: Derivation, name: str) -> None:
