@@ -30,14 +30,10 @@
 
 #define MODEL (&LAGCLI_FMU_MODEL)
 
-typedef enum { INSTANTIATED, INITIALIZATION, STEPPING, TERMINATED } phase;
-
 typedef struct {
     fmi2CallbackFunctions callbacks;
     const char *name;             /* the instance name, copied */
-    fmi2Type type;
     fmi2Boolean logging;
-    phase phase;
     double t;
     double *y, *p, *u;            /* nstate states, nparam parameters, NINPUT inputs */
     double *dydt, *lambda, *inv;  /* derived values, valid while !stale */
@@ -103,7 +99,6 @@ static void defaults(instance *c)
         memcpy(c->p, MODEL->parameter_defaults, (size_t)MODEL->nparam * sizeof(double));
     memset(c->u, 0, (LAGCLI_FMU_NINPUT ? LAGCLI_FMU_NINPUT : 1) * sizeof(double));
     c->t = 0.0;
-    c->phase = INSTANTIATED;
     c->stale = 1;
 }
 
@@ -127,6 +122,7 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
 {
     instance *c;
     char *name;
+    (void)fmuType;               /* one instance serves both interfaces */
     (void)fmuResourceLocation;
     (void)visible;
     if (functions == NULL || functions->allocateMemory == NULL || functions->freeMemory == NULL)
@@ -148,7 +144,6 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
     strcpy(name, instanceName ? instanceName : "");
     c->callbacks = *functions;
     c->name = name;
-    c->type = fmuType;
     c->logging = loggingOn;
     c->y = (double *)allocate(c, count_states());
     c->p = (double *)allocate(c, (size_t)MODEL->nparam);
@@ -194,22 +189,22 @@ fmi2Status fmi2SetupExperiment(fmi2Component component, fmi2Boolean toleranceDef
     return fmi2OK;
 }
 
+/* The modes change nothing here: every variable is computed from the current values
+ * when asked for. Leaving initialization checks that the model can be evaluated. */
 fmi2Status fmi2EnterInitializationMode(fmi2Component component)
 {
-    ((instance *)component)->phase = INITIALIZATION;
+    (void)component;
     return fmi2OK;
 }
 
 fmi2Status fmi2ExitInitializationMode(fmi2Component component)
 {
-    instance *c = (instance *)component;
-    c->phase = STEPPING;
-    return compute(c);
+    return compute((instance *)component);
 }
 
 fmi2Status fmi2Terminate(fmi2Component component)
 {
-    ((instance *)component)->phase = TERMINATED;
+    (void)component;
     return fmi2OK;
 }
 

@@ -15,7 +15,7 @@
 #include "ex6_9_two_wheels_axle.h"
 
 #define LAGCLI_FMU_MODEL ex6_9_two_wheels_axle_model
-#define LAGCLI_FMU_GUID "{8e3690f1-df53-3a90-2d49-c846dd9f1790}"
+#define LAGCLI_FMU_GUID "{4a18d4af-f082-6cfe-c1f5-ba28607fd6df}"
 #define LAGCLI_FMU_NINPUT 0u
 #define LAGCLI_FMU_ALPHA 10.0        /* Baumgarte stabilisation (constrained systems) */
 #define LAGCLI_FMU_BETA 10.0
