@@ -30,11 +30,14 @@ from click.testing import CliRunner
 fmpy = pytest.importorskip("fmpy")
 from fmpy.validation import validate_fmu  # noqa: E402
 
+from conftest import HEAVY_SPECS  # noqa: E402
 from lagcli.cli import cli  # noqa: E402
 from test_golden_codegen import GOLDEN, compare_or_update  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
-SPEC_NAMES = sorted(p.stem for p in (ROOT / "specs").glob("*.yaml"))
+HEAVY_TIMEOUT = 3600      # s: generating the benchmark bicycle's C takes minutes (slow tests only)
+SPEC_NAMES = [pytest.param(p.stem, marks=pytest.mark.timeout(HEAVY_TIMEOUT)) if p.stem in HEAVY_SPECS
+              else p.stem for p in sorted((ROOT / "specs").glob("*.yaml"))]
 SHORT_SPAN = 0.5          # seconds of each spec simulated in the default run
 TOLERANCE = 1e-6
 GOLDEN_SPECS = ["double_pendulum", "ex6_9_two_wheels_axle"]
@@ -50,10 +53,14 @@ def system_of(derived, name: str):
     return System(d.model, d, layout_of(d))
 
 
-def write_fmu(system, folder: Path) -> Path:
-    (data,) = system.generate("fmu").values()
+_GENERATED: dict[str, bytes] = {}      # spec name -> FMU bytes, made once per session
+
+
+def write_fmu(system, folder: Path, fresh: bool = False) -> Path:
+    if fresh or system.name not in _GENERATED:
+        (_GENERATED[system.name],) = system.generate("fmu").values()
     path = folder / f"{system.name}.fmu"
-    path.write_bytes(data)
+    path.write_bytes(_GENERATED[system.name])
     return path
 
 
@@ -197,7 +204,7 @@ def test_same_bytes(derived, tmp_path):
     first, second = tmp_path / "a", tmp_path / "b"
     for folder in (first, second):
         folder.mkdir()
-    first, second = write_fmu(system, first), write_fmu(system, second)
+    first, second = write_fmu(system, first, fresh=True), write_fmu(system, second, fresh=True)
     assert first.read_bytes() == second.read_bytes()
     with zipfile.ZipFile(first) as fmu:
         entries = fmu.infolist()
