@@ -123,7 +123,7 @@ def fmu_context(layout: Layout, c_context: dict, descriptions: dict, compiled: l
     return dict(i=i, variables=variables, sources=compiled, settings=layout.settings, baumgarte=i.baumgarte,
                 inputs=[u.name for u in layout.inputs], units=sorted({v.unit for v in variables if v.unit}),
                 literal=c_context["literal"], method=method,
-                max_step=_c_double(max_step(method, *i.baumgarte, layout.constrained)),
+                max_step=c_context["literal"](max_step(method, *i.baumgarte, layout.constrained)),
                 **model_structure(variables))
 
 
@@ -195,6 +195,3 @@ def _guid(description: str, sources: dict[str, str]) -> str:
     h = digest.hexdigest()
     return "{" + f"{h[:8]}-{h[8:12]}-{h[12:16]}-{h[16:20]}-{h[20:32]}" + "}"
 
-
-def _c_double(value: float) -> str:
-    return "HUGE_VAL" if value == float("inf") else c_target.CPrinter.literal(value)
