@@ -260,3 +260,31 @@ def test_a_name_that_would_replace_an_fmu_source_is_refused(tmp_path):
     result = CliRunner().invoke(cli, ["generate", str(spec), "--lang", "fmu", "-o", str(out)])
     assert result.exit_code == 2 and "name" in result.output and "lagcli_fmi2.c" in result.output
     assert not out.exists()
+
+
+def test_c_keyword_names(tmp_path):
+    """A model called `int` with a coordinate `double` and parameters `register`, `M_PI`:
+    the names stay as they are in modelDescription.xml, the C uses slots."""
+    from test_codegen_c import KEYWORD_SPEC
+
+    from lagcli.system import load
+
+    spec = tmp_path / "int.yaml"
+    spec.write_text(KEYWORD_SPEC)
+    system = load(spec)
+    fmu = write_fmu(system, tmp_path, fresh=True)
+    assert validate_fmu(str(fmu)) == []
+    compare(system, fmu, 0.2, "ModelExchange")
+
+
+def test_a_singular_model_is_an_fmi_error(derived, tmp_path):
+    """l2 = 0 makes the double pendulum's mass matrix singular: the FMU says so (fmi2Error
+    with the reason logged), as the C driver does."""
+    system = system_of(derived, "double_pendulum")
+    fmu = write_fmu(system, tmp_path)
+    messages = []
+    with pytest.raises(Exception, match="fmi2"):
+        fmpy.simulate_fmu(str(fmu), stop_time=0.1, start_values={"l2": 0.0}, solver="CVode",
+                          logger=lambda *args: messages.append(args))
+    assert any(b"singular mass matrix" in arg for message in messages for arg in message
+               if isinstance(arg, bytes))
