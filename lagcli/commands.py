@@ -88,7 +88,8 @@ def simulate(request, output: str | None = None, plot: str | None = None,
 def generate(path: str, lang: str, output: str | None = None) -> None:
     """`lagcli generate`: code or a document for `path` in `lang` (see lagcli.emit.LANGUAGES).
 
-    One-file languages write to `output` (stdout for None or '-'); C writes its files
+    One-file languages write to `output` (stdout for None or '-'; the FMU's zip needs
+    `output`, '-' for stdout); C writes its files
     into the directory `output` (required; created if only it is missing), each
     atomically, after all are made.  The target is checked before deriving."""
     from lagcli.emit import LANGUAGES
@@ -103,9 +104,13 @@ def generate(path: str, lang: str, output: str | None = None) -> None:
         check_directory_output(output)
         load(Path(path)).generate(lang, output)
         return
-    with open_output(output) as out:
-        (text,) = load(Path(path)).generate(lang).values()
-        out.stream.write(text)
+    binary = language is not None and language.binary
+    if binary and output is None:
+        raise UsageError(f"--lang {lang} writes a zip archive: give its file with -o NAME.{lang} "
+                         "(or -o - for stdout)")
+    with open_output(output, binary=binary) as out:
+        (data,) = load(Path(path)).generate(lang).values()
+        out.stream.write(data)
 
 
 # -- analysis: lagcli linearize / equilibria / hamiltonian / routh (lagcli/analysis/) --

@@ -77,8 +77,8 @@ class System:
             return make(self.derivation, simplify, report_parts(parts))
         raise UsageError(f"report format {format!r}: expected one of {', '.join(REPORT_FORMATS)}")
 
-    def generate(self, target: str, path: str | Path | None = None) -> dict[str, str]:
-        """{file name: text} of `target` (python, c, latex: `lagcli.emit.LANGUAGES`),
+    def generate(self, target: str, path: str | Path | None = None) -> dict[str, str | bytes]:
+        """{file name: text} of `target` (python, c, latex; fmu: bytes: `lagcli.emit.LANGUAGES`),
         embedding the spec's initial state made consistent; written atomically into
         `path` when given (a directory for C, a file otherwise)."""
         from lagcli.emit import LANGUAGES, generate as emit

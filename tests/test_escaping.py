@@ -261,6 +261,14 @@ def test_xml_round_trips(text):
 
 @EXAMPLES
 @given(hostile_text)
+def test_xml_comment_stays_one_comment(text):
+    inside = escape.xml_comment(text)
+    root = ElementTree.fromstring(f"<a><!-- {inside} --><b/></a>")   # parses: no `--` inside
+    assert [child.tag for child in root] == ["b"] and "\n" not in inside
+
+
+@EXAMPLES
+@given(hostile_text)
 def test_terminal_text_has_no_control_characters(text):
     shown = escape.terminal_text(text)
     assert all(ch in "\t\n" or ch.isprintable() or ch == " " for ch in shown), repr(shown)
@@ -281,11 +289,12 @@ def hostile_spec(tmp_path, latex: str = r"\theta"):
     c_payload = f'*\\ int pwn = system("touch {tmp_path}/pwned_c"); /* */ int pwn2 = 1; /*'
     py_payload = f'coding: utf-7 +AAo-__import__("os").system("touch {tmp_path}/pwned_py")'
     tex_payload = r"\immediate\write18{touch pwned_tex}\input{/etc/passwd}}{ ^^5c"
+    xml_payload = '--> <!-- "/><ScalarVariable name="pwn"/> &amp; ]]> <?pi?>'
     description = f"{py_payload} ??/ \\ {c_payload} \"\"\" ''' {tex_payload} \x1b]0;owned\x07\x1b[2J"
     text = ("name: hostile\n"
             f"description: {_yaml_string(description)}\n"
             f"coordinates: [{{name: theta, latex: {_yaml_string(latex)}}}]\n"
-            f"parameters: {{k: {{value: 1.0, description: {_yaml_string(tex_payload)}}}}}\n"
+            f"parameters: {{k: {{value: 1.0, description: {_yaml_string(tex_payload + xml_payload)}}}}}\n"
             "kinetic: theta_dot**2/2\npotential: k*theta**2/2\n"
             "simulate: {t_end: 0.2, dt: 0.1}\n")
     path = tmp_path / "evil *\\ \"q' ??- .yaml"
@@ -329,6 +338,22 @@ def test_hostile_spec_c(tmp_path, run):
     subprocess.run(["./hostile"], cwd=tmp_path / "out", check=True, capture_output=True)
     result = run("simulate", spec, "--backend", "c")
     assert result.exit_code == 0, result.output + result.stderr
+    assert _pwned(tmp_path) == []
+
+
+@pytest.mark.skipif(shutil.which("cc") is None, reason="no C compiler")
+def test_hostile_spec_fmu(tmp_path, run):
+    fmpy = pytest.importorskip("fmpy")
+    from fmpy.validation import validate_fmu
+
+    spec = hostile_spec(tmp_path)
+    result = run("generate", spec, "--lang", "fmu", "-o", tmp_path / "hostile.fmu")
+    assert result.exit_code == 0, result.output
+    assert validate_fmu(str(tmp_path / "hostile.fmu")) == []
+    description = fmpy.read_model_description(str(tmp_path / "hostile.fmu"), validate=True)
+    variables = {v.name: v for v in description.modelVariables}
+    assert "pwn" not in variables
+    assert variables["k"].description.endswith('--> <!-- "/><ScalarVariable name="pwn"/> &amp; ]]> <?pi?>')
     assert _pwned(tmp_path) == []
 
 

@@ -4,6 +4,8 @@
     c        lagcli/emit/c.py        templates/c/model.{h,c}.jinja, main.c  the model and its driver,
                                      plus lagcli/runtime/c/ copied as it is
     latex    lagcli/emit/latex.py    templates/latex/document.tex.jinja     one document
+    fmu      lagcli/emit/fmu.py      templates/fmu/*.jinja                  one FMI 2.0 zip (bytes):
+                                     the C model compiled, lagcli/runtime/fmi2/ beside it
 
 How to add a code target (say Julia) — a printer configuration and templates:
 
@@ -45,6 +47,7 @@ class Language:
     function: str         # module.function(derivation, **options) -> {file name: text}
     directory: bool       # the output is a directory of several files (-o DIR required)
     embeds_initial: bool = True   # the output holds a default initial state (`initial=`)
+    binary: bool = False          # the one output file is bytes, not text (the FMU's zip)
 
 
 def _python_files(d, initial=None, initial_notes=()) -> dict[str, str]:
@@ -63,6 +66,7 @@ LANGUAGES = {
     "python": Language("python", __name__, "_python_files", directory=False),
     "c": Language("c", "lagcli.emit.c", "c_files", directory=True),
     "latex": Language("latex", __name__, "_latex_files", directory=False, embeds_initial=False),
+    "fmu": Language("fmu", "lagcli.emit.fmu", "fmu_files", directory=False, binary=True),
 }
 
 

@@ -66,12 +66,13 @@ def c_files(d: Derivation, initial=None, initial_notes=()) -> dict[str, str]:
         raise SpecError(Problem(Loc(d.model.source, path="name"),
                                 f"the name {name!r} gives a file name of lagcli's C runtime "
                                 f"({', '.join(runtime)})", "set another `name:` in the spec"))
-    return {
-        f"{name}.h": render("c/model.h.jinja", **context),
-        f"{name}.c": render("c/model.c.jinja", **context),
-        f"{name}_main.c": render("c/main.c.jinja", **context),
-        **runtime,
-    }
+    return {**model_sources(context), f"{name}_main.c": render("c/main.c.jinja", **context), **runtime}
+
+
+def model_sources(context: dict) -> dict[str, str]:
+    """`<name>.h` and `<name>.c` from a `c_context` (also the model inside an FMU)."""
+    name = context["prefix"]
+    return {f"{name}.h": render("c/model.h.jinja", **context), f"{name}.c": render("c/model.c.jinja", **context)}
 
 
 def c_context(d: Derivation, initial=None, initial_notes=()) -> dict:

@@ -12,8 +12,9 @@ through exactly one of these functions, chosen by where it lands:
     python_string(text)    a '...' literal, quotes included   Python module constants
     latex_comment(text)    after '%', one line                LaTeX header lines
     latex_text(text)       running text                       LaTeX titles, descriptions
-    xml_text(text)         element content                    (FMI model description)
-    xml_attribute(text)    inside "..." of an attribute        (FMI model description)
+    xml_text(text)         element content                    FMI model description
+    xml_attribute(text)    inside "..." of an attribute        FMI model description
+    xml_comment(text)      inside <!-- ... -->, one line      FMI model description header
     terminal_text(text)    what a terminal prints             text reports, error messages
     plot_text(text)        a matplotlib title or label        --plot
 
@@ -184,6 +185,14 @@ def xml_attribute(text: str) -> str:
                        {'"': "&quot;", "'": "&apos;", "\t": "&#9;", "\n": "&#10;", "\r": "&#13;"})
 
 
+def xml_comment(text: str) -> str:
+    """One line of text for the inside of an XML comment: XML 1.0 2.5 forbids `--`
+    in a comment and a `-` just before its closing `-->`, so every `-` followed by
+    another (or ending the text) gets a space after it; characters XML forbids are
+    dropped."""
+    return re.sub(r"-(?=-|$)", "- ", _NOT_XML_CHAR.sub("", _one_line(text)))
+
+
 # -- terminals -------------------------------------------------------------------------
 
 def terminal_text(text: str) -> str:
@@ -213,5 +222,5 @@ def plot_text(text: str) -> str:
 
 # The Jinja filters of the template environment (lagcli.emit.templates).
 FILTERS = {f.__name__: f for f in (c_comment, c_string, python_comment, python_string,
-                                   latex_comment, latex_text, xml_text, xml_attribute,
+                                   latex_comment, latex_text, xml_text, xml_attribute, xml_comment,
                                    terminal_text, plot_text)}

@@ -113,10 +113,15 @@ def build(files: dict[str, str], key: str, compiler: str, meta: dict) -> Cached:
     return Cached(entry, meta)
 
 
-def _compile(compiler: str, work: Path, sources: list[str]) -> None:
+def compile_library(compiler: str, work: Path, sources: list[str], output: str) -> None:
+    """Compile `sources` (in `work`) into the shared library `output` (an FMU's binary)."""
+    _compile(compiler, work, sources, output, ("-shared", "-fPIC"))
+
+
+def _compile(compiler: str, work: Path, sources: list[str], output: str = BINARY, flags=()) -> None:
     """Run the compiler in its own process group, so that an interruption stops all of it
     (cc, cc1, as, ld) before the work directory is removed."""
-    command = [compiler, *CFLAGS, "-o", BINARY, *sources, "-lm"]
+    command = [compiler, *CFLAGS, *flags, "-o", output, *sources, "-lm"]
     try:
         proc = subprocess.Popen(command, cwd=work, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                                 text=True, start_new_session=True)
