@@ -9,10 +9,9 @@ from pathlib import Path
 
 
 def _derive(path: str):
-    from lagcli.api import load_model
-    from lagcli.derive import derive
+    from lagcli.api import derive_file
 
-    return derive(load_model(path))
+    return derive_file(path)
 
 
 def derive_text(path: str, simplify: bool = True, parts: str | None = None) -> str:
