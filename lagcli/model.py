@@ -129,6 +129,7 @@ class _ModelBuilder:
                               for c in spec.constraints),
             initial=self._initial(parameters),
             settings=self._settings(),
+            locs=_item_locs(spec),
         )
         if self.problems:
             raise SpecError(self.problems)
@@ -202,6 +203,14 @@ class _ModelBuilder:
         if src is not None and value is not None and not value > 0:
             self.problems.append(Problem(src.loc, f"must be positive, got {value:g}"))
         return value
+
+
+def _item_locs(spec: Spec) -> dict:
+    """Where the coordinates and the whole-spec expressions were written, by key path."""
+    locs = {c.loc.path: c.loc for c in spec.coordinates}
+    locs.update({src.loc.path: src.loc for src in (spec.potential, spec.kinetic) if src is not None})
+    locs.update({g.loc.path: g.loc for g in spec.generalized_forces})
+    return locs
 
 
 def _inertia_tensor(values: list[sp.Expr]) -> sp.Matrix:

@@ -110,6 +110,11 @@ class Model:
     constraints: tuple[ConstraintSpec, ...]
     initial: dict = field(default_factory=dict)  # name ("theta", "theta_dot") -> float
     settings: Settings = field(default_factory=Settings)
+    locs: dict = field(default_factory=dict)     # key path ("coordinates[1]", "potential") -> Loc, for messages
+
+    def loc(self, path: str) -> Loc:
+        """Where the spec item at key `path` was written (its path alone when unknown)."""
+        return self.locs.get(path) or Loc(self.source, path=path)
 
     def symbol(self, name: str) -> sp.Symbol:
         """The symbol called `name`: t, a coordinate, velocity, acceleration or parameter."""

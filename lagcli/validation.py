@@ -56,7 +56,7 @@ def check_mass_matrix(derivation) -> None:
     rng = random.Random(SEED)
     everywhere = all(_singular_directions(derivation, _random_state(model, rng)) for _ in range(RANDOM_STATES))
     names = ", ".join(f"'{name}'" for name in singular)
-    where = Loc(model.source, path="coordinates")
+    where = model.loc(f"coordinates[{[q.name for q in model.q].index(singular[0])}]")
     if everywhere:
         raise SpecError(Problem(where, f"the mass matrix is singular: {names} carries no inertia "
                                 "(nothing with mass or a moment of inertia moves when it changes)",
@@ -180,9 +180,9 @@ def _not_finite_at_start(model: Model, values: dict) -> list[Problem]:
     items += [("force", [*(f.force if f.force is not None else []), *(f.torque if f.torque is not None else [])],
                f.loc) for f in model.forces]
     items += [("constraint", [c.expr], c.loc) for c in model.constraints]
-    items += [("potential", [model.potential], Loc(source, path="potential")),
-              ("kinetic", [model.kinetic], Loc(source, path="kinetic"))]
-    items += [(f"generalized force on '{q.name}'", [Q], Loc(source, path=f"generalized_forces.{q.name}"))
+    items += [("potential", [model.potential], model.loc("potential")),
+              ("kinetic", [model.kinetic], model.loc("kinetic"))]
+    items += [(f"generalized force on '{q.name}'", [Q], model.loc(f"generalized_forces.{q.name}"))
               for q, Q in zip(model.q, model.generalized_forces)]
     problems = []
     for what, exprs, loc in items:

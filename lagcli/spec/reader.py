@@ -24,6 +24,7 @@ import yaml
 
 from lagcli.errors import Loc, Problem, SpecError
 from lagcli.spec.files import MAX_BYTES, read_spec_bytes
+from lagcli.spec.slips import toml_line_hint, yaml_scanner_hint
 
 MAX_NODES = 100_000
 MAX_DEPTH = 32
@@ -112,7 +113,9 @@ def _read_yaml(name: str, text: str) -> RawDoc:
         _screen_events(name, text)
         root = yaml.compose(text, Loader=_Loader)
     except yaml.MarkedYAMLError as exc:
-        raise SpecError(_yaml_problem(name, exc)) from None
+        problem = _yaml_problem(name, exc)
+        hint = yaml_scanner_hint(text, problem.loc.line)
+        raise SpecError(Problem(problem.loc, problem.message, hint) if hint else problem) from None
     except yaml.YAMLError as exc:  # e.g. a ReaderError: a control character, no line known
         first_line = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
         raise SpecError(Problem(Loc(name), f"invalid YAML: {first_line}")) from None
@@ -246,7 +249,7 @@ def _read_toml(name: str, text: str) -> RawDoc:
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise SpecError(_toml_problem(name, str(exc))) from None
+        raise SpecError(_toml_problem(name, str(exc), text)) from None
     except RecursionError:
         raise SpecError(Problem(Loc(name), "spec nested too deeply")) from None
     except ValueError:  # an integer over Python's 4300-digit limit
@@ -256,11 +259,11 @@ def _read_toml(name: str, text: str) -> RawDoc:
     return RawDoc(name, "toml", data, texts)
 
 
-def _toml_problem(name: str, message: str) -> Problem:
+def _toml_problem(name: str, message: str, text: str) -> Problem:
     found = _TOML_AT.match(message)
     what, loc = (found[1], Loc(name, int(found[2]), int(found[3]))) if found else (message, Loc(name))
     hint = ("an expression is a quoted string in TOML: potential = \"k*x**2/2\""
-            if what == "Invalid value" else "")
+            if what == "Invalid value" else toml_line_hint(text, loc.line))
     return Problem(loc, f"invalid TOML: {what}", hint)
 
 

@@ -18,6 +18,7 @@ from lagcli.spec.checker import IDENTIFIER, Checker, describe, did_you_mean
 from lagcli.spec.latex_subset import HINT as LATEX_HINT
 from lagcli.spec.latex_subset import latex_problem
 from lagcli.spec.reader import KeyPath, RawDoc
+from lagcli.spec.slips import axis_hint, misplaced_toml_keys
 from lagcli.spec.types import (Body, Constraint, Coordinate, Force, Named, Parameter, Particle,
                                SimulateSettings, Spec, Spring, Src, Vector)
 
@@ -44,7 +45,7 @@ def check(raw: RawDoc) -> tuple[Spec, list]:
     trustworthy when there are none; later stages may still scan it for more problems)."""
     checker = _SpecChecker(raw)
     spec = checker.spec()
-    return spec, checker.problems
+    return spec, checker.problems + misplaced_toml_keys(raw, TOP_KEYS)
 
 
 def default_name(file: str) -> str:
@@ -209,7 +210,7 @@ class _SpecChecker(Checker):
         for i, item in enumerate(value):
             if not (isinstance(item, list) and len(item) == 2 and item[0] in AXES):
                 self.fail(path + (i,), "a rotation is [axis, angle] with axis x, y or z; "
-                          f"got {describe(item)}")
+                          f"got {describe(item)}", axis_hint(item[0] if isinstance(item, list) and item else None))
                 continue
             angle = self.expr(path + (i, 1), item[1])
             if angle is not None:
