@@ -15,7 +15,7 @@ import sympy as sp
 from lagcli.calculus import TimeDerivative, numerically_zero
 from lagcli.errors import Problem, SpecError
 from lagcli.expr import Scope, parse, parse_constant
-from lagcli.model_types import (AppliedForce, ConstraintSpec, LinearSpring, Model, ParameterInfo,
+from lagcli.model_types import (AppliedForce, ConstraintSpec, LinearDamper, LinearSpring, Model, ParameterInfo,
                                 PointMass, RigidBody, Settings)
 from lagcli.spec.types import Body, Spec, Src
 
@@ -129,6 +129,8 @@ class _ModelBuilder:
                               for c in spec.constraints),
             initial=self._initial(parameters),
             settings=self._settings(),
+            dampers=tuple(self._damper(d, where) for d in spec.dampers),
+            dissipation=self.expr(spec.dissipation, sp.S.Zero, self.no_accelerations),
             locs=_item_locs(spec),
         )
         if self.problems:
@@ -184,6 +186,10 @@ class _ModelBuilder:
         return LinearSpring(ends[0], ends[1], self.expr(spring.stiffness, check=self.constant_in_motion),
                             self.expr(spring.rest_length, sp.S.Zero, self.constant_in_motion), spring.loc)
 
+    def _damper(self, damper, where) -> LinearDamper:
+        ends = [where[e] if isinstance(e, str) else self.vector(e, self.no_velocities) for e in damper.ends]
+        return LinearDamper(ends[0], ends[1], self.expr(damper.damping, check=self.constant_in_motion), damper.loc)
+
     def _generalized_forces(self) -> tuple[sp.Expr, ...]:
         given = {g.name: self.expr(g.expr, check=self.no_accelerations) for g in self.spec.generalized_forces}
         return tuple(given.get(q.name, sp.S.Zero) for q in self.q)
@@ -208,7 +214,8 @@ class _ModelBuilder:
 def _item_locs(spec: Spec) -> dict:
     """Where the coordinates and the whole-spec expressions were written, by key path."""
     locs = {c.loc.path: c.loc for c in spec.coordinates}
-    locs.update({src.loc.path: src.loc for src in (spec.potential, spec.kinetic) if src is not None})
+    locs.update({src.loc.path: src.loc for src in (spec.potential, spec.kinetic, spec.dissipation)
+                 if src is not None})
     locs.update({g.loc.path: g.loc for g in spec.generalized_forces})
     return locs
 

@@ -18,6 +18,7 @@ from lagcli.spec.checker import IDENTIFIER, Checker, describe, did_you_mean
 from lagcli.spec.latex_subset import HINT as LATEX_HINT
 from lagcli.spec.latex_subset import latex_problem
 from lagcli.spec.reader import KeyPath, RawDoc
+from lagcli.spec.dissipation import DISSIPATION_KEYS, dissipation_fields
 from lagcli.spec.slips import axis_hint, misplaced_toml_keys
 from lagcli.spec.types import (Body, Constraint, Coordinate, Force, Named, Parameter, Particle,
                                SimulateSettings, Spec, Spring, Src, Vector)
@@ -25,6 +26,7 @@ from lagcli.spec.types import (Body, Constraint, Coordinate, Force, Named, Param
 TOP_KEYS = ("name", "description", "coordinates", "parameters", "known", "definitions",
             "gravity", "particles", "bodies", "forces", "springs", "potential", "kinetic",
             "generalized_forces", "constraints", "initial", "simulate")
+TOP_KEYS += DISSIPATION_KEYS
 BODY_KEYS = ("mass", "inertia", "position", "angle", "orientation")
 FORCE_KEYS = ("at", "point", "body", "force", "torque")
 SIMULATE_KEYS = ("t_end", "dt", "method", "rtol", "atol")
@@ -81,6 +83,7 @@ class _SpecChecker(Checker):
             initial=self.mapping_items(top, "initial",
                                        self.keyed_by(self.state_names(), "coordinate or velocity")),
             simulate=self.simulate(top.get("simulate")),
+            **dissipation_fields(self, top),
             name=self.identifier(("name",), top["name"]) if "name" in top else None,
             description=self.optional_string(top, (), "description") or "",
         )

@@ -98,6 +98,15 @@ class Spring:
 
 
 @dataclass(frozen=True)
+class Damper:
+    """A linear dashpot; each end is a particle/body name or a fixed point (see Spring)."""
+
+    ends: tuple[str | Vector, str | Vector]
+    damping: Src
+    loc: Loc
+
+
+@dataclass(frozen=True)
 class Constraint:
     name: str | None
     expr: Src
@@ -134,3 +143,5 @@ class Spec:
     constraints: tuple[Constraint, ...] = ()
     initial: tuple[Named, ...] = ()
     simulate: SimulateSettings = field(default_factory=SimulateSettings)
+    dampers: tuple[Damper, ...] = ()
+    dissipation: Src | None = None           # a Rayleigh dissipation function R(q, q', t)
