@@ -21,6 +21,7 @@ import random
 import numpy as np
 import sympy as sp
 
+from lagcli.constants import ConstantError, value_at
 from lagcli.errors import Loc, Problem, SpecError, warn_spec
 from lagcli.model_types import Model
 
@@ -69,38 +70,33 @@ def check_mass_matrix(derivation) -> None:
 # --- values -----------------------------------------------------------------------------
 
 def parameter_values(model: Model) -> dict:
-    return {p.symbol: sp.Float(p.value) for p in model.parameters}
+    return {p.symbol: float(p.value) for p in model.parameters}
 
 
 def initial_values(model: Model) -> dict:
     """t = 0 and the spec's `initial:` state (a value not given is 0)."""
-    values = {model.t: sp.Float(0)}
+    values = {model.t: 0.0}
     for symbol in (*model.q, *model.qd):
-        values[symbol] = sp.Float(model.initial.get(symbol.name, 0.0))
-    values.update({a: sp.Float(0) for a in model.qdd})
+        values[symbol] = float(model.initial.get(symbol.name, 0.0))
+    values.update({a: 0.0 for a in model.qdd})
     return values
 
 
 def _random_state(model: Model, rng: random.Random) -> dict:
     values = parameter_values(model)
     for symbol in (model.t, *model.q, *model.qd):
-        values[symbol] = sp.Float(rng.uniform(-1.0, 1.0))
+        values[symbol] = rng.uniform(-1.0, 1.0)
     return values
 
 
-def _number(expr: sp.Expr, values: dict) -> complex | None:
-    """`expr` at `values` as a complex number; None when it cannot be evaluated (nan, oo, a
-    symbol left over)."""
-    try:
-        value = complex(sp.sympify(expr).xreplace(values).evalf())
-    except (TypeError, ValueError, ZeroDivisionError, OverflowError):
-        return None
-    return value if np.isfinite(value) else None
-
-
 def _real(expr: sp.Expr, values: dict) -> float | None:
-    value = _number(expr, values)
-    return value.real if value is not None and abs(value.imag) <= TOLERANCE * max(1.0, abs(value)) else None
+    """`expr` at `values` as a finite real; None when it is not one there. Evaluated in
+    double precision node by node (`constants.value_at`): a tower like exp(exp(exp(x)))
+    overflows instead of sending mpmath after millions of digits."""
+    try:
+        return value_at(sp.sympify(expr), values, {})
+    except ConstantError:
+        return None
 
 
 def _matrix(matrix, values: dict) -> np.ndarray | None:
@@ -181,12 +177,13 @@ def _not_finite_at_start(model: Model, values: dict) -> list[Problem]:
                f.loc) for f in model.forces]
     items += [("constraint", [c.expr], c.loc) for c in model.constraints]
     items += [("potential", [model.potential], model.loc("potential")),
-              ("kinetic", [model.kinetic], model.loc("kinetic"))]
+              ("kinetic", [model.kinetic], model.loc("kinetic")),
+              ("dissipation", [model.dissipation], model.loc("dissipation"))]
     items += [(f"generalized force on '{q.name}'", [Q], model.loc(f"generalized_forces.{q.name}"))
               for q, Q in zip(model.q, model.generalized_forces)]
     problems = []
     for what, exprs, loc in items:
-        if any(_number(e, state) is None for e in exprs):
+        if any(_real(e, state) is None for e in exprs):
             problems.append(Problem(loc or Loc(source), f"the {what} cannot be evaluated at the initial "
                                     "state (not a finite number there)",
                                     "a simulation cannot start there: choose another initial: state, "
