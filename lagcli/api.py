@@ -10,6 +10,7 @@ from lagcli.model_types import Model
 from lagcli.errors import SpecError
 from lagcli.spec.reader import parse_text, read_document
 from lagcli.spec.schema import check
+from lagcli.units import check_model_units
 from lagcli.validation import check_mass_matrix, check_model
 
 
@@ -35,6 +36,7 @@ def _build(raw) -> Model:
     if not problems:
         model = build_model(spec)
         check_model(model)
+        check_model_units(model)
         return model
     raise SpecError(problems + [p for p in _expression_problems(spec) if p not in problems])
 

@@ -40,7 +40,11 @@ def check_summary(path: str) -> str:
     from lagcli.emit.report import check_content
     from lagcli.emit.templates import render
 
-    return render("report/check.txt.jinja", c=check_content(_derive(path)))
+    from lagcli.units import check_derivation_units
+
+    derivation = _derive(path)
+    check_derivation_units(derivation)
+    return render("report/check.txt.jinja", c=check_content(derivation))
 
 
 PLOT_ROWS = 20_000     # --plot draws at most 2 x this many rows (evenly thinned) plus the last

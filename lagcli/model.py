@@ -131,6 +131,8 @@ class _ModelBuilder:
             settings=self._settings(),
             dampers=tuple(self._damper(d, where) for d in spec.dampers),
             dissipation=self.expr(spec.dissipation, sp.S.Zero, self.no_accelerations),
+            units={item.name: (item.unit, item.loc.child("unit")) for item in (*spec.coordinates, *spec.parameters)
+                   if item.unit is not None},
             locs=_item_locs(spec),
         )
         if self.problems:
@@ -214,6 +216,7 @@ class _ModelBuilder:
 def _item_locs(spec: Spec) -> dict:
     """Where the coordinates and the whole-spec expressions were written, by key path."""
     locs = {c.loc.path: c.loc for c in spec.coordinates}
+    locs.update({g.loc.path: g.loc for g in spec.gravity or ()})
     locs.update({src.loc.path: src.loc for src in (spec.potential, spec.kinetic, spec.dissipation)
                  if src is not None})
     locs.update({g.loc.path: g.loc for g in spec.generalized_forces})

@@ -144,7 +144,8 @@ def check_content(d: Derivation) -> dict:
     return {
         "source": m.source, "name": m.name, "description": m.description,
         "coordinates": ", ".join(q.name for q in m.q), "n": len(m.q),
-        "parameters": ", ".join(f"{p.symbol.name} = {p.value:g}" for p in m.parameters) or "none",
+        "parameters": ", ".join(f"{p.symbol.name} = {p.value:g}" + (f" {m.units[p.symbol.name][0]}"
+                                if p.symbol.name in m.units else "") for p in m.parameters) or "none",
         "particles": ", ".join(p.name for p in m.particles) or "none",
         "bodies": ", ".join(b.name for b in m.bodies) or "none",
         "holonomic": d.n_holonomic, "nonholonomic": d.n_nonholonomic,

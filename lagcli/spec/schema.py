@@ -113,21 +113,23 @@ class _SpecChecker(Checker):
         if not isinstance(item, dict):
             self.fail(path, f"expected a coordinate name or {{name, latex}}; got {describe(item)}")
             return None
-        table = self.table(path, item, ("name", "latex"), ("name",))
+        table = self.table(path, item, ("name", "latex", "unit"), ("name",))
         name = self.string(path + ("name",), table["name"], "a name") if "name" in table else None
         latex = self.latex_symbol(table, path)
-        return Coordinate(name, latex, self.raw.loc(path)) if name is not None else None
+        unit = self.optional_string(table, path, "unit")
+        return Coordinate(name, latex, self.raw.loc(path), unit) if name is not None else None
 
     def parameter(self, name: str, path: KeyPath, value: Any) -> Parameter | None:
         self.declare(name, "parameter", path)
         if not isinstance(value, dict):
             src = self.expr(path, value)
             return Parameter(name, src, None, None, self.raw.loc(path, at_key=True)) if src else None
-        table = self.table(path, value, ("value", "latex", "description"), ("value",))
+        table = self.table(path, value, ("value", "latex", "description", "unit"), ("value",))
         src = self.expr(path + ("value",), table["value"]) if "value" in table else None
         latex = self.latex_symbol(table, path)
         description = self.optional_string(table, path, "description")
-        return Parameter(name, src, latex, description, self.raw.loc(path, at_key=True)) if src else None
+        unit = self.optional_string(table, path, "unit")
+        return Parameter(name, src, latex, description, self.raw.loc(path, at_key=True), unit) if src else None
 
     def latex_symbol(self, table: dict, path: KeyPath) -> str | None:
         """The item's `latex:`, when it is in the safe subset of lagcli/spec/latex_subset.py."""

@@ -27,6 +27,7 @@ class Coordinate:
     name: str
     latex: str | None
     loc: Loc
+    unit: str | None = None    # a unit expression (lagcli/units.py); None: dimensionless
 
 
 @dataclass(frozen=True)
@@ -36,6 +37,7 @@ class Parameter:
     latex: str | None
     description: str | None
     loc: Loc
+    unit: str | None = None    # a unit expression (lagcli/units.py); None: dimensionless
 
 
 @dataclass(frozen=True)
