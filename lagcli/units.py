@@ -163,16 +163,18 @@ def _show(expr: sp.Expr) -> str:
 
 
 def expect(expr: sp.Expr, wanted: Dim, dims: dict, loc: Loc, what: str) -> Problem | None:
-    """A located problem when `expr` (the spec's `what`) is not of dimension `wanted`."""
-    try:
-        found = dimension_of(sp.sympify(expr), dims)
-    except Mismatch as exc:
-        return Problem(loc, f"{what} is not dimensionally consistent: {exc.message}", UNIT_HINT)
-    if found != wanted:
-        terms = sp.Add.make_args(sp.expand(expr)) if found else ()
-        culprit = f" (e.g. the term {_show(terms[0])})" if len(terms) > 1 else ""
-        return Problem(loc, f"{what} should be {named(wanted)} but {_show(expr)} is {named(found)}{culprit}",
-                       UNIT_HINT)
+    """A located problem when `expr` (the spec's `what`) is not of dimension `wanted`,
+    naming the first term of it that is not."""
+    expr = sp.sympify(expr)
+    terms = sp.Add.make_args(expr)
+    for term in terms:
+        try:
+            found = dimension_of(term, dims)
+        except Mismatch as exc:
+            return Problem(loc, f"{what} is not dimensionally consistent: {exc.message}", UNIT_HINT)
+        if found != wanted:
+            culprit = f"the term {_show(term)} of {_show(expr)}" if len(terms) > 1 else _show(expr)
+            return Problem(loc, f"{what} should be {named(wanted)} but {culprit} is {named(found)}", UNIT_HINT)
     return None
 
 
