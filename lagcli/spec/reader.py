@@ -3,7 +3,7 @@
 The result, `RawDoc`, holds the parsed data (dicts, lists, str, int, float, bool,
 None), the source text of every scalar (an expression's `Src.text`) and, for
 YAML, the 1-based line/column of every key and value. TOML (`tomllib`) gives no
-positions, so its locations carry the key path only.
+positions: `toml_positions.py` finds the line of each key (a value is located at its key).
 
 A spec is untrusted input: the reader refuses anything but a regular file
 (a FIFO or /dev/zero would block or never end), files over 1 MiB, YAML anchors
@@ -25,6 +25,7 @@ import yaml
 from lagcli.errors import Loc, Problem, SpecError
 from lagcli.spec.files import MAX_BYTES, read_spec_bytes
 from lagcli.spec.slips import toml_line_hint, yaml_scanner_hint
+from lagcli.spec.toml_positions import toml_marks
 
 MAX_NODES = 100_000
 MAX_DEPTH = 32
@@ -256,7 +257,8 @@ def _read_toml(name: str, text: str) -> RawDoc:
         raise SpecError(Problem(Loc(name), "invalid TOML: a number is too long")) from None
     texts: dict[KeyPath, str] = {}
     _toml_texts(name, data, (), texts)
-    return RawDoc(name, "toml", data, texts)
+    marks = toml_marks(text, data)
+    return RawDoc(name, "toml", data, texts, marks, dict(marks))
 
 
 def _toml_problem(name: str, message: str, text: str) -> Problem:
