@@ -33,7 +33,7 @@ def test_keys_are_found_on_their_lines():
     assert marks[("forces", 0)] == (5, 1) and marks[("forces", 0, "force")] == (7, 1)
     assert marks[("forces", 1, "at")] == (10, 1)
     assert marks[("particles", "P", "mass")] == (13, 1)
-    assert marks[("particles", "P", "inner", "mass")] == (14, 33)
+    assert marks[("particles", "P", "inner", "mass")] == (14, 31)
 
 
 def test_a_key_inside_a_multi_line_string_is_not_invented():
