@@ -4,8 +4,10 @@ A spec can be well formed and still describe no real machine. Checked at the
 parameters' default values (every command reads the spec, so every command checks):
 
 - masses are positive (negative: an error; zero: a warning);
-- a spatial inertia tensor is symmetric, positive semi-definite and its principal
-  moments obey the triangle inequality I1 <= I2 + I3 (a planar moment is >= 0);
+- a spatial inertia tensor is symmetric and positive semi-definite (errors: the
+  report, the code and the physics would disagree), and its principal moments obey
+  the triangle inequality I1 <= I2 + I3 (a warning: the equations are still
+  consistent); a planar moment is >= 0;
 - the mass matrix, restricted to the motions the constraints allow, is regular:
   singular everywhere (a coordinate that carries no inertia) is an error naming the
   coordinate; singular only at the initial state (a gimbal lock, a pole) is a warning;
@@ -152,11 +154,11 @@ def _tensor_problems(name: str, tensor: np.ndarray, where: Loc) -> list[Problem]
                         f"(principal moments {_listing(moments)})",
                         "every principal moment of inertia of a real body is >= 0")]
     largest, others = moments[2], moments[0] + moments[1]
-    if largest > others + TOLERANCE * scale:
-        return [Problem(where, f"the inertia tensor of '{name}' is physically impossible: the principal "
-                        f"moments {_listing(moments)} break the triangle inequality "
-                        f"({largest:g} > {moments[0]:g} + {moments[1]:g})",
-                        "for a real body each principal moment is at most the sum of the other two")]
+    if largest > others + TOLERANCE * scale:   # the equations stay consistent: a warning
+        warn_spec(Problem(where, f"the inertia tensor of '{name}' is not that of a real body: the principal "
+                          f"moments {_listing(moments)} break the triangle inequality "
+                          f"({largest:g} > {moments[0]:g} + {moments[1]:g})",
+                          "for a real body each principal moment is at most the sum of the other two"))
     return []
 
 

@@ -60,7 +60,8 @@ bodies:
     ("[I, I, I]", True),                            # a sphere
     ("[0, I, I]", True),                            # a thin rod along x: I1 = 0 is possible
     ("[I, I, 2*I]", True),                          # a thin disc in xy: the equality case
-    ("[I, I, 2.1*I]", False),                       # beyond the triangle inequality
+    ("[I, I, 2.1*I]", True),                        # beyond the triangle inequality: a warning only
+    ("[I, I, -0.1*I]", False),                      # a negative principal moment
     ("[I, I, I, 0.1*I, 0, 0]", True),               # products of inertia, still positive definite
     ("[[I, 0, 0], [0, I, 0], [0, 0.1, I]]", False), # not symmetric
 ])
