@@ -143,8 +143,7 @@ def dimension_of(expr: sp.Expr, dims: dict) -> Dim:
 def _same(terms: Iterable[sp.Expr], dims: dict, what: str) -> Dim:
     terms = list(terms)
     found = [dimension_of(term, dims) for term in terms]
-    majority = max(set(found), key=found.count)
-    majority = found[0] if found.count(found[0]) == found.count(majority) else majority
+    majority = max(found, key=found.count)     # the first of the most common: deterministic
     for term, dim in zip(terms, found):
         if dim != majority:
             raise Mismatch(term, f"the term {_show(term)} is {describe(dim)} but the other terms of "
