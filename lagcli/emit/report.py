@@ -92,6 +92,7 @@ def _content(d: Derivation, shown: Display, p, terms) -> dict:
         "coordinates": [q.name for q in m.q],
         "velocities": [v.name for v in m.qd],
         "parameters": {pi.symbol.name: pi.value for pi in m.parameters},
+        "units": {name: text for name, (text, _) in m.units.items()},
         "known": {name: p(shown.tidy(expr)) for name, expr in m.known},
         "counts": {"coordinates": len(m.q), "holonomic": d.n_holonomic,
                    "nonholonomic": d.n_nonholonomic},
