@@ -12,20 +12,26 @@ a `SpecError` naming the item and the offending term.
 """
 from __future__ import annotations
 
+import functools
 from collections.abc import Iterable
 
 import sympy as sp
-import sympy.physics.units as si_units
-from sympy.physics.units import Dimension, Quantity
-from sympy.physics.units.systems.si import SI, dimsys_SI
 
 from lagcli.errors import Loc, Problem, SpecError
 from lagcli.expr import Scope, parse
 
 Dim = tuple[tuple[str, sp.Rational], ...]    # sorted (base dimension, power); () is dimensionless
-UNIT_NAMES = {name: getattr(si_units, name) for name in sorted(dir(si_units))
-              if isinstance(getattr(si_units, name), Quantity)}
 NONE: Dim = ()
+
+
+@functools.cache
+def unit_names() -> dict:
+    """name -> sympy Quantity for every unit of sympy.physics.units (imported on first
+    use: it takes seconds, and only specs with units need it)."""
+    import sympy.physics.units as si_units
+
+    return {name: getattr(si_units, name) for name in sorted(dir(si_units))
+            if isinstance(getattr(si_units, name), si_units.Quantity)}
 
 
 class Mismatch(Exception):
@@ -55,7 +61,10 @@ def raised(a: Dim, exponent: sp.Rational) -> Dim:
 
 def unit_dimension(text: str, loc: Loc) -> Dim:
     """The dimension of a unit written in the spec (`N*m`, `m/s^2`)."""
-    scope = Scope(dict(UNIT_NAMES), sp.Symbol("_time_"))
+    from sympy.physics.units import Dimension
+    from sympy.physics.units.systems.si import SI, dimsys_SI
+
+    scope = Scope(dict(unit_names()), sp.Symbol("_time_"))
     try:
         value = parse(text, scope, loc)
     except SpecError as exc:
