@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import re
 
-from lagcli.errors import Loc, Problem
+from lagcli.errors import Problem
 
 _LONE_EQUALS = re.compile(r"(?<![=<>!])=(?!=)")
 _NUMBER_THEN_WORD = re.compile(r"^\s*[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?\s+([A-Za-z][A-Za-z0-9_*/^ ]*)\s*$")
