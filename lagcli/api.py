@@ -3,13 +3,15 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from lagcli.derive import derive
+import lagcli.derive
 from lagcli.derive.result import Derivation
 from lagcli.model import build_model
 from lagcli.model_types import Model
 from lagcli.errors import SpecError
 from lagcli.spec.reader import parse_text, read_document
 from lagcli.spec.schema import check
+from lagcli.units import check_model_units
+from lagcli.validation import check_mass_matrix, check_model
 
 
 TEXT_SOURCE = "<string>"      # where problems of a spec given as text are located
@@ -32,7 +34,10 @@ def load_model_text(text: str, toml: bool = False) -> Model:
 def _build(raw) -> Model:
     spec, problems = check(raw)
     if not problems:
-        return build_model(spec)
+        model = build_model(spec)
+        check_model(model)
+        check_model_units(model)
+        return model
     raise SpecError(problems + [p for p in _expression_problems(spec) if p not in problems])
 
 
@@ -47,5 +52,12 @@ def _expression_problems(spec) -> list:
     return []
 
 
+def derive_model(model: Model) -> Derivation:
+    """`derive(model)`, refusing a mass matrix that is singular everywhere (lagcli.validation)."""
+    derivation = lagcli.derive.derive(model)     # looked up at call time (tests patch it)
+    check_mass_matrix(derivation)
+    return derivation
+
+
 def derive_file(path: str | Path) -> Derivation:
-    return derive(load_model(path))
+    return derive_model(load_model(path))

@@ -4,13 +4,14 @@ from __future__ import annotations
 import contextlib
 import sys
 import traceback
+import warnings
 
 import click
 
 from lagcli import __version__, commands
 from lagcli.emit import LANGUAGES
 from lagcli.emit.escape import terminal_text
-from lagcli.errors import LagcliError
+from lagcli.errors import LagcliError, SpecWarning
 from lagcli.numerics import METHODS
 from lagcli.interrupts import interrupt_on_termination
 from lagcli.output import open_output, write_output
@@ -31,12 +32,31 @@ def cli(ctx: click.Context, show_traceback: bool) -> None:
 def _run(ctx: click.Context, action) -> None:
     """Run `action`, mapping lagcli errors to a message on stderr and the exit status."""
     try:
-        action()
+        with _spec_warnings_on_stderr():
+            action()
     except LagcliError as exc:
         if ctx.obj and ctx.obj.get("traceback"):
             traceback.print_exc()
         click.echo(terminal_text(exc.render()), err=True)   # messages quote spec text
         sys.exit(exc.exit_code)
+
+
+@contextlib.contextmanager
+def _spec_warnings_on_stderr():
+    """Show each `SpecWarning` raised while running a command once, on stderr (even when
+    the command then fails); other warnings go their usual way."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", SpecWarning)
+        try:
+            yield
+        finally:
+            shown = set()
+            for item in caught:
+                if not isinstance(item.message, SpecWarning):
+                    warnings.showwarning(item.message, item.category, item.filename, item.lineno)
+                elif str(item.message) not in shown:
+                    shown.add(str(item.message))
+                    click.echo(terminal_text(item.message.render()), err=True)
 
 
 @cli.command()

@@ -9,10 +9,9 @@ from pathlib import Path
 
 
 def _derive(path: str):
-    from lagcli.api import load_model
-    from lagcli.derive import derive
+    from lagcli.api import derive_file
 
-    return derive(load_model(path))
+    return derive_file(path)
 
 
 def derive_text(path: str, simplify: bool = True, parts: str | None = None) -> str:
@@ -41,7 +40,11 @@ def check_summary(path: str) -> str:
     from lagcli.emit.report import check_content
     from lagcli.emit.templates import render
 
-    return render("report/check.txt.jinja", c=check_content(_derive(path)))
+    from lagcli.units import check_derivation_units
+
+    derivation = _derive(path)
+    check_derivation_units(derivation)
+    return render("report/check.txt.jinja", c=check_content(derivation))
 
 
 PLOT_ROWS = 20_000     # --plot draws at most 2 x this many rows (evenly thinned) plus the last

@@ -99,3 +99,27 @@ class EmitError(LagcliError):
 class SimulationError(LagcliError):
     """Integration failed at run time (step size underflow, NaN, singular matrix,
     compiler missing or failing). Exit status 1; partial results are kept."""
+
+
+class SpecWarning(UserWarning):
+    """A spec that is valid but probably not what was meant (a zero mass, a mass matrix
+    singular at the initial state, an expression that is not finite there). Issued with
+    `warnings.warn`; the CLI prints it on stderr as `file:line:col: key: warning: ...`
+    and the command goes on."""
+
+    def __init__(self, problem: Problem):
+        self.problem = problem
+        super().__init__(str(problem))
+
+    def render(self) -> str:
+        loc, hint = self.problem.loc, self.problem.hint
+        text = f"{loc}: warning: {clip_message(self.problem.message)}"
+        return text + (f"\n  hint: {clip_message(hint)}" if hint else "")
+
+
+def warn_spec(problem: Problem) -> None:
+    """Issue `problem` as a `SpecWarning` (Python's warnings: the CLI shows them; a library
+    user can filter them like any other warning)."""
+    import warnings
+
+    warnings.warn(SpecWarning(problem), stacklevel=2)

@@ -25,6 +25,7 @@ import sympy as sp
 
 from lagcli.constants import ConstantError, constant_value
 from lagcli.errors import Loc, Problem, SpecError
+from lagcli.spec.slips import EQUATION_HINT, expression_syntax_hint
 
 MAX_TEXT = 20_000        # characters in one expression
 MAX_NODES = 5_000        # syntax-tree nodes in one expression
@@ -105,7 +106,7 @@ def parse(text: str, scope: Scope, loc: Loc, vector: bool = False) -> sp.Expr:
         tree = ast.parse(source, mode="eval")
     except SyntaxError as exc:
         _fail(loc, f"invalid expression {text!r}: {exc.msg}"
-                   + (f" at column {exc.offset}" if exc.offset else ""))
+                   + (f" at column {exc.offset}" if exc.offset else ""), expression_syntax_hint(text))
     except (RecursionError, MemoryError, ValueError):
         _fail(loc, f"expression is too deeply nested or too large: {_short(text)!r}")
     _check_size(tree, text, loc)
@@ -182,6 +183,7 @@ class _Builder:
             what = _FORBIDDEN_NAMES.get(type(node), f"'{type(node).__name__}' syntax")
             self.fail(f"{what} are not allowed in expressions" if what.endswith("s")
                       else f"{what} is not allowed in expressions",
+                      EQUATION_HINT if isinstance(node, ast.Compare) else
                       "expressions use numbers, names, + - * / ** ^, parentheses and functions "
                       + ", ".join(sorted(FUNCTIONS)))
         return self.guarded(handler(node), node)

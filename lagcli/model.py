@@ -18,7 +18,7 @@ import sympy as sp
 from lagcli.calculus import TimeDerivative, numerically_zero
 from lagcli.errors import Problem, SpecError
 from lagcli.expr import Scope, parse, parse_constant
-from lagcli.model_types import (AppliedForce, ConstraintSpec, LinearSpring, Model, ParameterInfo,
+from lagcli.model_types import (AppliedForce, ConstraintSpec, LinearDamper, LinearSpring, Model, ParameterInfo,
                                 PointMass, RigidBody, Settings)
 from lagcli.kinematics import AXES, Entity, Vector, frame_chains
 from lagcli.rolling import rolling_constraints
@@ -144,6 +144,11 @@ class _ModelBuilder:
                         + tuple(row for item in spec.rolling for row in rolling_constraints(item, self)),
             initial=self._initial(parameters),
             settings=self._settings(),
+            dampers=tuple(self._damper(d, where) for d in spec.dampers),
+            dissipation=self.expr(spec.dissipation, sp.S.Zero, self.no_accelerations),
+            units={item.name: (item.unit, item.loc.child("unit")) for item in (*spec.coordinates, *spec.parameters)
+                   if item.unit is not None},
+            locs=_item_locs(spec),
         )
         if self.problems:
             raise SpecError(self.problems)
@@ -221,6 +226,10 @@ class _ModelBuilder:
         return LinearSpring(ends[0], ends[1], self.expr(spring.stiffness, check=self.constant_in_motion),
                             self.expr(spring.rest_length, sp.S.Zero, self.constant_in_motion), spring.loc)
 
+    def _damper(self, damper, where) -> LinearDamper:
+        ends = [where[e] if isinstance(e, str) else self.vector(e, self.no_velocities) for e in damper.ends]
+        return LinearDamper(ends[0], ends[1], self.expr(damper.damping, check=self.constant_in_motion), damper.loc)
+
     def _generalized_forces(self) -> tuple[sp.Expr, ...]:
         given = {g.name: self.expr(g.expr, check=self.no_accelerations) for g in self.spec.generalized_forces}
         return tuple(given.get(q.name, sp.S.Zero) for q in self.q)
@@ -240,6 +249,16 @@ class _ModelBuilder:
         if src is not None and value is not None and not value > 0:
             self.problems.append(Problem(src.loc, f"must be positive, got {value:g}"))
         return value
+
+
+def _item_locs(spec: Spec) -> dict:
+    """Where the coordinates and the whole-spec expressions were written, by key path."""
+    locs = {c.loc.path: c.loc for c in spec.coordinates}
+    locs.update({g.loc.path: g.loc for g in spec.gravity or ()})
+    locs.update({src.loc.path: src.loc for src in (spec.potential, spec.kinetic, spec.dissipation)
+                 if src is not None})
+    locs.update({g.loc.path: g.loc for g in spec.generalized_forces})
+    return locs
 
 
 def _inertia_tensor(values: list[sp.Expr]) -> sp.Matrix:

@@ -79,6 +79,14 @@ class LinearSpring:
 
 
 @dataclass(frozen=True)
+class LinearDamper:
+    end_a: sp.ImmutableMatrix         # 3 x 1 positions of the two ends
+    end_b: sp.ImmutableMatrix
+    damping: sp.Expr                  # c: force = c x (rate of change of the length)
+    loc: Loc | None = None
+
+
+@dataclass(frozen=True)
 class ConstraintSpec:
     label: str | None
     expr: sp.Expr
@@ -110,6 +118,14 @@ class Model:
     constraints: tuple[ConstraintSpec, ...]
     initial: dict = field(default_factory=dict)  # name ("theta", "theta_dot") -> float
     settings: Settings = field(default_factory=Settings)
+    dampers: tuple[LinearDamper, ...] = ()
+    dissipation: sp.Expr = sp.S.Zero             # Rayleigh R(q, q', t) as written (dampers not included)
+    units: dict = field(default_factory=dict)    # name -> (unit text, Loc) of parameters and coordinates
+    locs: dict = field(default_factory=dict)     # key path ("coordinates[1]", "potential") -> Loc, for messages
+
+    def loc(self, path: str) -> Loc:
+        """Where the spec item at key `path` was written (its path alone when unknown)."""
+        return self.locs.get(path) or Loc(self.source, path=path)
 
     def symbol(self, name: str) -> sp.Symbol:
         """The symbol called `name`: t, a coordinate, velocity, acceleration or parameter."""

@@ -32,12 +32,11 @@ def load(source: str | Path) -> "System":
     """A `System` from a spec file (a `Path`, or a string ending in .yaml/.yml/.toml
     without a newline) or from the spec's YAML text. Raises `lagcli.errors.SpecError`
     with every problem found, each located."""
-    from lagcli.api import load_model, load_model_text
-    from lagcli.derive import derive
+    from lagcli.api import derive_model, load_model, load_model_text
 
     is_path = isinstance(source, Path) or ("\n" not in source and source.endswith(SPEC_SUFFIXES))
     model = load_model(source) if is_path else load_model_text(source)
-    derivation = derive(model)
+    derivation = derive_model(model)
     return System(model, derivation, layout_of(derivation))
 
 

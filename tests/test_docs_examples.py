@@ -96,6 +96,7 @@ def test_docs_transcripts_behave_as_shown(workdir: Path, name, steps):
         if fails:
             assert done.returncode == 2, f"{name}: {command} should fail\n{done.stdout}{done.stderr}"
             assert "Traceback" not in done.stderr
+            assert shown[0] in done.stderr, f"{name}: {command} printed\n{done.stderr}"   # the real message
             continue
         assert done.returncode == 0, f"{name}: {command}\n{done.stderr}"
         if shown and shown[0].startswith("t,"):

@@ -195,10 +195,17 @@ def test_yaml_locations_are_one_based_line_and_column(tmp_path):
     assert spec.coordinates[1].loc.path == "coordinates[1]"
 
 
-def test_toml_locations_have_the_key_path_only(tmp_path):
+def test_toml_locations_have_the_line_of_their_key(tmp_path):
+    # tomllib gives no positions: lagcli/spec/toml_positions.py finds each key's line
     spec = load_spec(write(tmp_path, "a.toml", PLANAR_TOML))
+    lines = PLANAR_TOML.splitlines()
     loc = spec.bodies[0].position[1].loc
-    assert (loc.line, loc.column, loc.path) == (None, None, "bodies.rod.position[1]")
+    assert loc.path == "bodies.rod.position[1]"
+    assert lines[loc.line - 1].lstrip().startswith("position") and loc.column == 1
+    loc = spec.parameters[1].loc                                   # l = {value = 0.5, ...}
+    assert lines[loc.line - 1].startswith("l = {value")
+    loc = spec.constraints[1].loc                                  # in a one-line array: the array's line
+    assert lines[loc.line - 1].startswith("constraints = ")
 
 
 def test_numbers_keep_their_source_text(tmp_path):
@@ -286,10 +293,10 @@ def test_invalid_utf8(tmp_path):
 
 
 @pytest.mark.parametrize("text, expected", [
-    ("coordinates = [\"x\"]\nkinetic = true\n", "spec.toml: kinetic: expected an expression (a number or a string); got a boolean"),
-    ("coordinates = [\"x\"]\n[parameters]\nm = 1979-05-27\n", "spec.toml: parameters.m: expected an expression"),
+    ("coordinates = [\"x\"]\nkinetic = true\n", "spec.toml:2:1: kinetic: expected an expression (a number or a string); got a boolean"),
+    ("coordinates = [\"x\"]\n[parameters]\nm = 1979-05-27\n", "spec.toml:3:1: parameters.m: expected an expression"),
     ("coordinates = [\"x\"]\n[simulate]\nt_end = 1\n[simulate]\n", "spec.toml:4:10: invalid TOML: Cannot declare"),
-    ("coordinates = [\"x\"]\nkinetic = nan\n", "spec.toml: kinetic: a number must be finite"),
+    ("coordinates = [\"x\"]\nkinetic = nan\n", "spec.toml:2:1: kinetic: a number must be finite"),
 ])
 def test_toml_refusals(tmp_path, text, expected):
     found = problems(tmp_path, text, "spec.toml")

@@ -10,6 +10,7 @@ import sympy as sp
 
 from lagcli.calculus import TimeDerivative, almost_everywhere, depends_on, numerically_zero
 from lagcli.derive.constraints import constraint_bias, constraint_matrix, constraint_rows
+from lagcli.derive.dissipation import damper_forces_on
 from lagcli.derive.energy import energies
 from lagcli.derive.forcing import forcing
 from lagcli.derive.forces import applied_generalized_forces
@@ -80,6 +81,7 @@ def _particle_constraint_forces(model: Model, D: TimeDerivative) -> dict:
                     delta = here - there
                     length = sp.sqrt(delta.dot(delta))
                     applied -= spring.stiffness * (1 - spring.rest_length / length) * delta
+        applied += damper_forces_on(model, p.position, D)
         acceleration = D.matrix(D.matrix(p.position))
         result[p.name] = almost_everywhere(p.mass * acceleration - applied)
     return result

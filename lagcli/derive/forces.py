@@ -1,6 +1,7 @@
 """Generalized forces by virtual work, and a potential for them when one exists.
 
-    Q'_j = sum F . dr/dq_j + sum tau . dw/dq'_j + (generalized_forces)_j
+    Q'_j = sum F . dr/dq_j + sum tau . dw/dq'_j + (generalized_forces)_j - dR/dq'_j
+                                            (R: Rayleigh dissipation, derive/dissipation.py)
     Q_j  = Q'_j - dV/dq_j          (gravity, springs and `potential` live in V)
 """
 from __future__ import annotations
@@ -10,6 +11,7 @@ import sympy as sp
 from sympy.integrals.manualintegrate import manualintegrate
 
 from lagcli.calculus import TimeDerivative, depends_on, numerically_zero
+from lagcli.derive.dissipation import dissipative_forces
 from lagcli.derive.energy import body_angular_velocity
 from lagcli.model_types import Model
 
@@ -27,6 +29,7 @@ def applied_generalized_forces(model: Model, D: TimeDerivative) -> sp.ImmutableM
             body = bodies[force.body]
             omega = body.rotation * body_angular_velocity(body, D)
             Q += omega.jacobian(qd).T * force.torque
+    Q += dissipative_forces(model, D)
     return sp.ImmutableMatrix(Q)
 
 

@@ -92,6 +92,7 @@ def _content(d: Derivation, shown: Display, p, terms) -> dict:
         "coordinates": [q.name for q in m.q],
         "velocities": [v.name for v in m.qd],
         "parameters": {pi.symbol.name: pi.value for pi in m.parameters},
+        "units": {name: text for name, (text, _) in m.units.items()},
         "known": {name: p(shown.tidy(expr)) for name, expr in m.known},
         "counts": {"coordinates": len(m.q), "holonomic": d.n_holonomic,
                    "nonholonomic": d.n_nonholonomic},
@@ -144,7 +145,8 @@ def check_content(d: Derivation) -> dict:
     return {
         "source": m.source, "name": m.name, "description": m.description,
         "coordinates": ", ".join(q.name for q in m.q), "n": len(m.q),
-        "parameters": ", ".join(f"{p.symbol.name} = {p.value:g}" for p in m.parameters) or "none",
+        "parameters": ", ".join(f"{p.symbol.name} = {p.value:g}" + (f" {m.units[p.symbol.name][0]}"
+                                if p.symbol.name in m.units else "") for p in m.parameters) or "none",
         "particles": ", ".join(p.name for p in m.particles) or "none",
         "bodies": ", ".join(b.name for b in m.bodies) or "none",
         "holonomic": d.n_holonomic, "nonholonomic": d.n_nonholonomic,

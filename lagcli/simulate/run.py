@@ -103,8 +103,7 @@ def _warm(request: Request, compiler: str, note, progress, sink: RowSink) -> Out
 
 
 def _cold(request: Request, compiler: str | None, note, progress, sink: RowSink) -> Outcome:
-    from lagcli.api import load_model
-    from lagcli.derive import derive
+    from lagcli.api import derive_model, load_model
     from lagcli.simulate.initial import initial_state
 
     model = load_model(request.spec)
@@ -115,7 +114,7 @@ def _cold(request: Request, compiler: str | None, note, progress, sink: RowSink)
     state_names = [s.name for s in model.q + model.qd]
     inits = parse_assignments(request.inits, "--init", state_names, "coordinate or velocity",
                                "coordinates and velocities")
-    d = derive(model)
+    d = derive_model(model)
     params = {**{p.symbol.name: p.value for p in model.parameters}, **sets}
     soft = set(model.initial) - set(inits)        # the spec's values: solved for when nothing else can be
     start = initial_state(d, {**model.initial, **inits}, params, soft=soft)

@@ -3,7 +3,7 @@
 The result, `RawDoc`, holds the parsed data (dicts, lists, str, int, float, bool,
 None), the source text of every scalar (an expression's `Src.text`) and, for
 YAML, the 1-based line/column of every key and value. TOML (`tomllib`) gives no
-positions, so its locations carry the key path only.
+positions: `toml_positions.py` finds the line of each key (a value is located at its key).
 
 A spec is untrusted input: the reader refuses anything but a regular file
 (a FIFO or /dev/zero would block or never end), files over 1 MiB, YAML anchors
@@ -24,6 +24,8 @@ import yaml
 
 from lagcli.errors import Loc, Problem, SpecError
 from lagcli.spec.files import MAX_BYTES, read_spec_bytes
+from lagcli.spec.slips import toml_line_hint, yaml_scanner_hint
+from lagcli.spec.toml_positions import toml_marks
 
 MAX_NODES = 100_000
 MAX_DEPTH = 32
@@ -112,7 +114,9 @@ def _read_yaml(name: str, text: str) -> RawDoc:
         _screen_events(name, text)
         root = yaml.compose(text, Loader=_Loader)
     except yaml.MarkedYAMLError as exc:
-        raise SpecError(_yaml_problem(name, exc)) from None
+        problem = _yaml_problem(name, exc)
+        hint = yaml_scanner_hint(text, problem.loc.line)
+        raise SpecError(Problem(problem.loc, problem.message, hint) if hint else problem) from None
     except yaml.YAMLError as exc:  # e.g. a ReaderError: a control character, no line known
         first_line = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
         raise SpecError(Problem(Loc(name), f"invalid YAML: {first_line}")) from None
@@ -246,21 +250,22 @@ def _read_toml(name: str, text: str) -> RawDoc:
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise SpecError(_toml_problem(name, str(exc))) from None
+        raise SpecError(_toml_problem(name, str(exc), text)) from None
     except RecursionError:
         raise SpecError(Problem(Loc(name), "spec nested too deeply")) from None
     except ValueError:  # an integer over Python's 4300-digit limit
         raise SpecError(Problem(Loc(name), "invalid TOML: a number is too long")) from None
     texts: dict[KeyPath, str] = {}
     _toml_texts(name, data, (), texts)
-    return RawDoc(name, "toml", data, texts)
+    marks = toml_marks(text, data)
+    return RawDoc(name, "toml", data, texts, marks, dict(marks))
 
 
-def _toml_problem(name: str, message: str) -> Problem:
+def _toml_problem(name: str, message: str, text: str) -> Problem:
     found = _TOML_AT.match(message)
     what, loc = (found[1], Loc(name, int(found[2]), int(found[3]))) if found else (message, Loc(name))
     hint = ("an expression is a quoted string in TOML: potential = \"k*x**2/2\""
-            if what == "Invalid value" else "")
+            if what == "Invalid value" else toml_line_hint(text, loc.line))
     return Problem(loc, f"invalid TOML: {what}", hint)
 
 

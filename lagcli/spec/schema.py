@@ -19,12 +19,15 @@ from lagcli.spec.frames import FrameChecks
 from lagcli.spec.latex_subset import HINT as LATEX_HINT
 from lagcli.spec.latex_subset import latex_problem
 from lagcli.spec.reader import KeyPath, RawDoc
+from lagcli.spec.dissipation import DISSIPATION_KEYS, dissipation_fields
+from lagcli.spec.slips import axis_hint, misplaced_toml_keys
 from lagcli.spec.types import (Body, Constraint, Coordinate, Force, Named, Parameter, Particle,
                                SimulateSettings, Spec, Spring, Src, Vector, VectorSrc)
 
 TOP_KEYS = ("name", "description", "coordinates", "parameters", "known", "definitions",
             "gravity", "particles", "bodies", "forces", "springs", "potential", "kinetic",
             "generalized_forces", "constraints", "initial", "simulate", "frames", "rolling")
+TOP_KEYS += DISSIPATION_KEYS
 BODY_KEYS = ("mass", "inertia", "position", "angle", "orientation", "frame")
 FORCE_KEYS = ("at", "point", "body", "force", "torque")
 SIMULATE_KEYS = ("t_end", "dt", "method", "rtol", "atol")
@@ -45,7 +48,7 @@ def check(raw: RawDoc) -> tuple[Spec, list]:
     trustworthy when there are none; later stages may still scan it for more problems)."""
     checker = _SpecChecker(raw)
     spec = checker.spec()
-    return spec, checker.problems
+    return spec, checker.problems + misplaced_toml_keys(raw, TOP_KEYS)
 
 
 def default_name(file: str) -> str:
@@ -83,6 +86,7 @@ class _SpecChecker(FrameChecks, Checker):
             initial=self.mapping_items(top, "initial",
                                        self.keyed_by(self.state_names(), "coordinate or velocity")),
             simulate=self.simulate(top.get("simulate")),
+            **dissipation_fields(self, top),
             name=self.identifier(("name",), top["name"]) if "name" in top else None,
             description=self.optional_string(top, (), "description") or "",
         )
@@ -113,21 +117,23 @@ class _SpecChecker(FrameChecks, Checker):
         if not isinstance(item, dict):
             self.fail(path, f"expected a coordinate name or {{name, latex}}; got {describe(item)}")
             return None
-        table = self.table(path, item, ("name", "latex"), ("name",))
+        table = self.table(path, item, ("name", "latex", "unit"), ("name",))
         name = self.string(path + ("name",), table["name"], "a name") if "name" in table else None
         latex = self.latex_symbol(table, path)
-        return Coordinate(name, latex, self.raw.loc(path)) if name is not None else None
+        unit = self.optional_string(table, path, "unit")
+        return Coordinate(name, latex, self.raw.loc(path), unit) if name is not None else None
 
     def parameter(self, name: str, path: KeyPath, value: Any) -> Parameter | None:
         self.declare(name, "parameter", path)
         if not isinstance(value, dict):
             src = self.expr(path, value)
             return Parameter(name, src, None, None, self.raw.loc(path, at_key=True)) if src else None
-        table = self.table(path, value, ("value", "latex", "description"), ("value",))
+        table = self.table(path, value, ("value", "latex", "description", "unit"), ("value",))
         src = self.expr(path + ("value",), table["value"]) if "value" in table else None
         latex = self.latex_symbol(table, path)
         description = self.optional_string(table, path, "description")
-        return Parameter(name, src, latex, description, self.raw.loc(path, at_key=True)) if src else None
+        unit = self.optional_string(table, path, "unit")
+        return Parameter(name, src, latex, description, self.raw.loc(path, at_key=True), unit) if src else None
 
     def latex_symbol(self, table: dict, path: KeyPath) -> str | None:
         """The item's `latex:`, when it is in the safe subset of lagcli/spec/latex_subset.py."""
@@ -216,7 +222,7 @@ class _SpecChecker(FrameChecks, Checker):
         for i, item in enumerate(value):
             if not (isinstance(item, list) and len(item) == 2 and item[0] in AXES):
                 self.fail(path + (i,), "a rotation is [axis, angle] with axis x, y or z; "
-                          f"got {describe(item)}")
+                          f"got {describe(item)}", axis_hint(item[0] if isinstance(item, list) and item else None))
                 continue
             angle = self.expr(path + (i, 1), item[1])
             if angle is not None:

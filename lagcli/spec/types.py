@@ -32,6 +32,7 @@ class Coordinate:
     name: str
     latex: str | None
     loc: Loc
+    unit: str | None = None    # a unit expression (lagcli/units.py); None: dimensionless
 
 
 @dataclass(frozen=True)
@@ -41,6 +42,7 @@ class Parameter:
     latex: str | None
     description: str | None
     loc: Loc
+    unit: str | None = None    # a unit expression (lagcli/units.py); None: dimensionless
 
 
 @dataclass(frozen=True)
@@ -100,6 +102,15 @@ class Spring:
     ends: tuple[str | Vector, str | Vector]
     stiffness: Src
     rest_length: Src
+    loc: Loc
+
+
+@dataclass(frozen=True)
+class Damper:
+    """A linear dashpot; each end is a particle/body name or a fixed point (see Spring)."""
+
+    ends: tuple[str | Vector, str | Vector]
+    damping: Src
     loc: Loc
 
 
@@ -174,3 +185,5 @@ class Spec:
     simulate: SimulateSettings = field(default_factory=SimulateSettings)
     frames: tuple[Frame, ...] = ()
     rolling: tuple[Rolling, ...] = ()
+    dampers: tuple[Damper, ...] = ()
+    dissipation: Src | None = None           # a Rayleigh dissipation function R(q, q', t)
