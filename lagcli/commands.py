@@ -238,3 +238,23 @@ def hamiltonian(path: str, fmt: str = "text") -> str:
         return report.hamilton_latex(form, d, printer)
     content = report.hamilton_content(d, form, spec_str)
     return report.to_json(content) if fmt == "json" else report.hamilton_text(content)
+
+
+def sweep(spec: str, plan_options: dict, options: dict, note=lambda text: None, progress=None):
+    """`lagcli sweep`: the runs of a grid, samples or a table through the compiled driver;
+    the summary written to options["output"] (docs/sweep.md)."""
+    import lagcli
+    from lagcli.simulate.options import parse_assignments
+    from lagcli.sweep import SweepOptions, make_plan, sweep as run_sweep
+
+    plan = make_plan(**plan_options)                   # option mistakes before deriving
+    system = lagcli.load(Path(spec))
+    names = [*system.layout.parameter_names, *system.layout.state_names]
+    fixed = {key: parse_assignments(options.pop(key), f"--{flag}", names, what, "names")
+             for key, flag, what in (("parameters", "set", "parameter"), ("initial", "init", "initial value"),
+                                     ("exceed", "exceed", "coordinate or velocity"))}
+    result = run_sweep(system, plan, SweepOptions(**options, **fixed), note, progress)
+    statuses = list(result.column("status"))
+    note(f"{len(statuses)} runs: {statuses.count('ok')} ok, {statuses.count('failed')} failed; "
+         f"summary in {result.path}")
+    return result
