@@ -62,7 +62,7 @@ def dask_chunks(address: str, binary: bytes, arguments: list[str], chunks: list[
         futures = client.map(run_on_worker, [shipped] * len(chunks), [arguments] * len(chunks), chunks,
                              range(len(chunks)), retries=DASK_RETRIES, pure=False)
         try:
-            for future, (index, results) in as_completed(futures, with_results=True):
+            for future, (index, results) in as_completed(futures, with_results=True, loop=client.loop):
                 yield index, results
         finally:
             client.cancel(futures)
