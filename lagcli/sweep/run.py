@@ -114,7 +114,7 @@ def sweep(system, plan: Plan, options: SweepOptions, note=lambda text: None, pro
         if journal:
             journal.close()
     if options.output is not None:
-        summary.write_summary(options.output, header, done, plan.names)
+        summary.write_summary(options.output, header, done)
         if journal:
             journal.remove()
     return SweepResult(tuple(header), summary.summary_csv(header, done), options.output)

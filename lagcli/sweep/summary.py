@@ -104,16 +104,16 @@ def summary_csv(header: list[str], lines: dict[int, str]) -> str:
     return ",".join(header) + "\n" + "".join(lines[k] for k in sorted(lines))
 
 
-def write_summary(path: str, header: list[str], lines: dict[int, str], varied) -> None:
+def write_summary(path: str, header: list[str], lines: dict[int, str]) -> None:
     """The summary file: Parquet for a .parquet name (pyarrow needed), else CSV."""
     text = summary_csv(header, lines)
     if not str(path).endswith(".parquet"):
         write_output(path, text)
         return
-    write_output(path, parquet_bytes(text, header, set(varied)))
+    write_output(path, parquet_bytes(text, header))
 
 
-def parquet_bytes(text: str, header: list[str], varied: set[str]) -> bytes:
+def parquet_bytes(text: str, header: list[str]) -> bytes:
     try:
         import pyarrow as pa
         import pyarrow.csv as pacsv
@@ -124,7 +124,7 @@ def parquet_bytes(text: str, header: list[str], varied: set[str]) -> bytes:
     types = {name: pa.float64() for name in header}
     types.update({"run": pa.int64(), "status": pa.string(), "failure": pa.string(),
                   **{name: pa.int64() for name in COUNTS}})
-    options = pacsv.ConvertOptions(column_types=types, strings_can_be_null=False,
+    options = pacsv.ConvertOptions(column_types=types, null_values=[], strings_can_be_null=False,
                                    quoted_strings_can_be_null=False)
     table = pacsv.read_csv(io.BytesIO(text.encode()), convert_options=options)
     buffer = io.BytesIO()
