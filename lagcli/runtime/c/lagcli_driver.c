@@ -442,7 +442,9 @@ int lagcli_driver_main(const lagcli_model *model, int argc, char **argv)
  * output time with |NAME| > VALUE (nan if never). A failed run (bad line, integration
  * failure) still has its line, with the values up to the failure. The initial state is
  * integrated as given (lagcli sweep makes it consistent first). Exit status 0 unless
- * stdin cannot be read; runs never stop the batch. */
+ * stdin cannot be read; runs never stop the batch. With --bench-integration N (any N):
+ * each run is integrated without rows or summary, and the summed clock() time of the
+ * integrations is reported on stderr (bench/sweep.py's bare C cost). */
 
 #define LAGCLI_BATCH_LINE 65536
 #define LAGCLI_DRIFT_ABSOLUTE 1e-12      /* |x(0)| below this: absolute drift (as the plot) */
@@ -455,6 +457,8 @@ typedef struct {
     double exceed[LAGCLI_MAX_EXCEED];
     double t_last;
     long rows;
+    double bench_seconds;                 /* with --bench-integration: integration time, */
+    long bench_runs;                      /* summed over the runs */
 } batch_run;
 
 static int exceed_option(const char *item, const lagcli_model *m, run_settings *s, char *message)
@@ -617,6 +621,14 @@ static void batch_run_line(const run_settings *s, batch_run *b, const double *p0
             break;
         }
     }
+    if (s->bench > 0) {             /* the bare integration cost (bench/sweep.py): no rows, no summary */
+        clock_t start = clock();
+        if (failure[0] == '\0')
+            (void)integrate_windows(s, run, y, no_row, &st);
+        b->bench_seconds += (double)(clock() - start) / CLOCKS_PER_SEC;
+        ++b->bench_runs;
+        return;
+    }
     if (failure[0] == '\0') {
         if (batch_row(0.0, y, run) != 0)
             failure_text(LAGCLI_ODE_ERR_RHS, s, run, &st, failure);
@@ -648,6 +660,8 @@ static int batch_main(const run_settings *s, run_state *run, const double *y0)
     b.drift = b.inv0 + m->ninv;
     b.run = run;
     b.s = s;
+    b.bench_seconds = 0.0;
+    b.bench_runs = 0;
     run->batch = &b;
     memcpy(p0, run->p, (size_t)m->nparam * sizeof *p0);
     setvbuf(stdout, NULL, _IOFBF, 1 << 16);
@@ -662,6 +676,9 @@ static int batch_main(const run_settings *s, run_state *run, const double *y0)
         batch_run_line(s, &b, p0, y0, y, id, rest);
         fflush(stdout);
     }
+    if (s->bench > 0)
+        fprintf(stderr, "integration: method %s, runs %ld, total_s %.9g\n", s->method, b.bench_runs,
+                b.bench_seconds);
     if (ferror(stdin)) {
         fprintf(stderr, "error: cannot read the runs from stdin\n");
         rc = 1;
