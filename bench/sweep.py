@@ -22,7 +22,9 @@ Prints the wall time (median of `repeat`) of
                           cached: initial states, chunks, driver processes, summary
   4. lagcli sweep         the whole command in a fresh process (derivation included)
 
-and the ratios to (1) (target: (3) within 2x of (1)). Then renders the flip-time
+each with its CPU time (this process and its children), and the ratios to (1) (target:
+(3) within 2x of (1)). On a shared machine the wall times depend on the load; the CPU
+ratio is the overhead the sweep adds to the integrations. Then renders the flip-time
 picture: log10 of the time until either rod flips, over the grid of initial angles
 (white: no flip within 10 s), from the summary written by (4).
 """
@@ -44,13 +46,20 @@ SPEC = ROOT / "specs" / "double_pendulum.yaml"
 PI = "3.141592653589793"
 
 
-def median_time(action, repeat: int) -> float:
-    times = []
+def median_time(action, repeat: int) -> tuple[float, float]:
+    """Median (wall, CPU) seconds of `action`; CPU: this process and its waited-for children."""
+    walls, cpus = [], []
     for _ in range(repeat):
-        start = time.perf_counter()
+        start, cpu = time.perf_counter(), _cpu()
         action()
-        times.append(time.perf_counter() - start)
-    return statistics.median(times)
+        walls.append(time.perf_counter() - start)
+        cpus.append(_cpu() - cpu)
+    return statistics.median(walls), statistics.median(cpus)
+
+
+def _cpu() -> float:
+    t = os.times()
+    return t.user + t.system + t.children_user + t.children_system
 
 
 def main() -> None:
@@ -96,11 +105,11 @@ def main() -> None:
         render(summary, args.n, args.png)
     cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
     print(f"double pendulum, {runs} runs of 10 s, {cores} cores, load average {os.getloadavg()[0]:.1f}")
-    print(f"{'':28} {'seconds':>9} {'ms/run':>8} {'/ bare C':>9}")
-    for label, seconds in (("1. bare C integration (CPU)", t_bare), ("   (its wall time)", wall_bare),
-                           ("2. driver batch alone", t_batch), ("3. System.sweep", t_api),
-                           ("4. lagcli sweep (command)", t_cli)):
-        print(f"{label:28} {seconds:9.2f} {1e3 * seconds / runs:8.3f} {seconds / t_bare:9.2f}")
+    print(f"bare C integration: {t_bare:.2f} s of clock() in the driver ({1e3 * t_bare / runs:.3f} ms/run)")
+    print(f"{'':28} {'wall s':>8} {'/ bare':>7} {'CPU s':>8} {'/ bare':>7}")
+    for label, (wall, cpu) in (("1. bare C integration", wall_bare), ("2. driver batch alone", t_batch),
+                               ("3. System.sweep", t_api), ("4. lagcli sweep (command)", t_cli)):
+        print(f"{label:28} {wall:8.2f} {wall / wall_bare[0]:7.2f} {cpu:8.2f} {cpu / wall_bare[1]:7.2f}")
     print(f"flip-time picture: {args.png}")
 
 

@@ -181,6 +181,38 @@ def sweep(ctx, spec, grids, samples, count, seed, runs, sets, inits, exceed, t_e
                                      progress=_count_bar))
 
 
+@cli.command()
+@click.argument("spec", type=SPEC)
+@click.option("--csv", "csv_path", metavar="TRAJ.csv", help="A CSV of `lagcli simulate` (default: run SPEC now).")
+@click.option("--t-end", type=float, help="Without --csv: end time (default: the spec's).")
+@click.option("--dt", type=float, help="Without --csv: output interval (default: the spec's).")
+@click.option("--set", "sets", multiple=True, metavar="NAME=VALUE",
+              help="A parameter (repeatable; with --csv, the values the CSV was made with).")
+@click.option("--init", "inits", multiple=True, metavar="NAME=VALUE", help="Without --csv: an initial value.")
+@click.option("--link", "links", multiple=True, metavar="A:B",
+              help="Draw a rod between two points (particle/body names or 'origin'; repeatable).")
+@click.option("--trace", "traces", multiple=True, metavar="POINT", help="Draw the path of a point (repeatable).")
+@click.option("--fps", type=float, default=25.0, show_default=True, help="Frames per second of simulated time.")
+@click.option("--frame", type=float, metavar="T", help="Only the frame at time T, as a PNG.")
+@click.option("-o", "--output", required=True, help="motion.gif, motion.mp4 (ffmpeg) or frame.png (--frame).")
+@click.pass_context
+def animate(ctx, spec, csv_path, t_end, dt, sets, inits, links, traces, fps, frame, output):
+    """Draw the motion of SPEC: particles, bodies' axes, springs, rods, traces and the time.
+
+    \b
+    Examples:
+      lagcli animate specs/double_pendulum.yaml --link origin:P1 --link P1:P2 --trace P2 -o motion.gif
+      lagcli simulate specs/rolling_disc.yaml -o disc.csv
+      lagcli animate specs/rolling_disc.yaml --csv disc.csv --trace disc --frame 2.5 -o disc.png
+    """
+    from lagcli.simulate.options import Request
+
+    request = Request(spec, t_end, dt, sets=tuple(sets), inits=tuple(inits))
+    drawing = {"links": links, "traces": traces, "fps": fps, "frame": frame}
+    _run(ctx, lambda: commands.animate(spec, csv_path, request, output, drawing,
+                                       note=lambda text: click.echo(text, err=True)))
+
+
 @contextlib.contextmanager
 def _count_bar(total: int):
     """A progress bar over `total` runs on stderr when it is a terminal; yields update(done) or None."""

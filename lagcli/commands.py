@@ -258,3 +258,38 @@ def sweep(spec: str, plan_options: dict, options: dict, note=lambda text: None, 
     note(f"{len(statuses)} runs: {statuses.count('ok')} ok, {statuses.count('failed')} failed; "
          f"summary in {result.path}")
     return result
+
+
+def animate(spec: str, csv_path: str | None, request, output: str, links=(), note=lambda text: None):
+    """`lagcli animate`: the motion of SPEC from a CSV of `lagcli simulate` (--csv) or a
+    run made here with the request's settings (docs/animate.md)."""
+    import numpy as np
+
+    import lagcli
+    from lagcli.animate import Request, animate as draw, parse_links
+    from lagcli.simulate.options import parse_assignments
+    from lagcli.simulate.run import simulate as run
+    from lagcli.simulate.trajectory import parse_csv
+
+    system = lagcli.load(Path(spec))
+    names = list(system.layout.parameter_names)
+    params = {**system.layout.parameter_defaults,
+              **parse_assignments(request.sets, "--set", names, "parameter", "parameters")}
+    if csv_path is not None:
+        try:
+            with open(csv_path, encoding="utf-8") as handle:
+                text = handle.read()
+        except OSError as exc:
+            raise UsageError(f"--csv {csv_path}: cannot read it ({exc.strerror or exc})") from None
+    else:
+        text = run(request, note).trajectory.csv_text()
+    header, rows = parse_csv(text)
+    missing = [n for n in ("t", *system.layout.state_names) if n not in header]
+    if missing or not rows:
+        raise UsageError(f"{csv_path or 'the run'}: expected a CSV of lagcli simulate for {system.name} "
+                         f"(missing columns: {', '.join(missing) or 'none'}; rows: {len(rows)})")
+    data = np.array(rows, dtype=float)
+    states = data[:, [header.index(n) for n in system.layout.state_names]]
+    drawing = Request(parse_links(links.get("links", ())), tuple(links.get("traces", ())),
+                      links.get("fps", 25.0), links.get("frame"))
+    draw(system, data[:, header.index("t")], states, params, output, drawing)

@@ -160,6 +160,19 @@ class System:
             plan = make_plan(grids, samples, count, seed, runs)
         return sweep(self, plan, SweepOptions(output=output, **options))
 
+    def animate(self, path: str | None = None, trajectory=None, links=(), traces=(), fps: float = 25.0,
+                frame: float | None = None, parameters: dict | None = None, **simulate):
+        """Draw the motion (docs/animate.md): `trajectory` (a lagcli.trajectory.Trajectory;
+        default: `self.simulate(parameters=parameters, **simulate)`), `links` [("origin",
+        "P1"), ...], `traces` ["P2"], one PNG `frame` at a time or a .gif/.mp4 `path`.
+        Returns a `lagcli.animate.Drawing` (its `figure` shows in a notebook)."""
+        from lagcli.animate import Request, animate
+
+        if trajectory is None:
+            trajectory = self.simulate(parameters=parameters, **simulate)
+        request = Request(tuple(tuple(link) for link in links), tuple(traces), fps, frame)
+        return animate(self, trajectory.t, trajectory.states, self._parameters(parameters), path, request)
+
     def _module(self):
         """The generated Python module, made once per System."""
         cached = self.__dict__.get("_generated_module")
