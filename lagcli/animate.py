@@ -99,8 +99,12 @@ class Request:
     frame: float | None = None           # one frame (PNG) at this time
 
 
-def check_names(scene: Scene, request: Request) -> None:
-    known = [*scene.points, ORIGIN]
+def point_names(model) -> list[str]:
+    return [p.name for p in model.particles] + [b.name for b in model.bodies]
+
+
+def check_names(model, request: Request) -> None:
+    known = [*point_names(model), ORIGIN]
     for name in [n for link in request.links for n in link] + list(request.traces):
         if name not in known:
             raise UsageError(f"animate: unknown point {name!r}; points are: {', '.join(known)}")
@@ -211,8 +215,8 @@ def animate(system, times, states, parameters: dict, path: str | None, request: 
     if suffix == ".mp4" and shutil.which("ffmpeg") is None:
         raise UsageError("animate: .mp4 needs ffmpeg, which is not installed; write a .gif instead "
                          "(or install ffmpeg)")
+    check_names(system.model, request)
     scene = scene_of(system.model)
-    check_names(scene, request)
     p = [parameters[name] for name in system.layout.parameter_names]
     drawing = Drawing(scene, np.asarray(times, dtype=float), np.asarray(states, dtype=float), p, request,
                       system.name)

@@ -266,7 +266,7 @@ def animate(spec: str, csv_path: str | None, request, output: str, links=(), not
     import numpy as np
 
     import lagcli
-    from lagcli.animate import Request, animate as draw, parse_links
+    from lagcli.animate import Request, animate as draw, check_names, parse_links
     from lagcli.simulate.options import parse_assignments
     from lagcli.simulate.run import simulate as run
     from lagcli.simulate.trajectory import parse_csv
@@ -275,6 +275,9 @@ def animate(spec: str, csv_path: str | None, request, output: str, links=(), not
     names = list(system.layout.parameter_names)
     params = {**system.layout.parameter_defaults,
               **parse_assignments(request.sets, "--set", names, "parameter", "parameters")}
+    drawing = Request(parse_links(links.get("links", ())), tuple(links.get("traces", ())),
+                      links.get("fps", 25.0), links.get("frame"))
+    check_names(system.model, drawing)                # before a run is made
     if csv_path is not None:
         try:
             with open(csv_path, encoding="utf-8") as handle:
@@ -290,6 +293,4 @@ def animate(spec: str, csv_path: str | None, request, output: str, links=(), not
                          f"(missing columns: {', '.join(missing) or 'none'}; rows: {len(rows)})")
     data = np.array(rows, dtype=float)
     states = data[:, [header.index(n) for n in system.layout.state_names]]
-    drawing = Request(parse_links(links.get("links", ())), tuple(links.get("traces", ())),
-                      links.get("fps", 25.0), links.get("frame"))
     draw(system, data[:, header.index("t")], states, params, output, drawing)
