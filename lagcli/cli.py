@@ -122,15 +122,29 @@ def generate(ctx, spec, lang, output):
 @click.option("-o", "--output", default=None, help="CSV file ('-' or none: stdout).")
 @click.option("--plot", default=None, metavar="FILE.png",
               help="Also plot coordinates and drift (needs matplotlib).")
+@click.option("--columns", default=None, metavar="NAME[,NAME...]",
+              help="With --plot: draw these columns, one panel per kind (angles, lengths, velocities, ...).")
+@click.option("--phase", "phase", multiple=True, metavar="Q",
+              help="With --plot: add the phase portrait (Q_dot against Q) of coordinate Q (repeatable).")
 @click.pass_context
-def simulate(ctx, spec, t_end, dt, method, rtol, atol, sets, inits, backend, baumgarte, output, plot):
-    """Integrate the equations of motion of SPEC and write the trajectory as CSV."""
+def simulate(ctx, spec, t_end, dt, method, rtol, atol, sets, inits, backend, baumgarte, output, plot,
+             columns, phase):
+    """Integrate the equations of motion of SPEC and write the trajectory as CSV.
+
+    \b
+    Examples:
+      lagcli simulate specs/double_pendulum.yaml -o traj.csv --plot traj.png
+      lagcli simulate specs/cart_pole.yaml --plot p.png --columns x,theta,x_dot --phase theta -o c.csv
+    """
     from lagcli.simulate.options import Request
 
+    if (columns or phase) and not plot:
+        raise click.UsageError("--columns and --phase choose what --plot draws: give --plot FILE.png")
     request = Request(spec, t_end, dt, method, rtol, atol, tuple(sets), tuple(inits), backend,
                       tuple(baumgarte) if baumgarte else None)
+    chosen = tuple(c.strip() for c in columns.split(",")) if columns else None
     _run(ctx, lambda: commands.simulate(request, output, plot, note=lambda text: click.echo(text, err=True),
-                                        progress=_progress_bar))
+                                        progress=_progress_bar, columns=chosen, phase=tuple(phase)))
 
 
 @cli.command()

@@ -48,7 +48,7 @@ PLOT_ROWS = 20_000     # --plot draws at most 2 x this many rows (evenly thinned
 
 
 def simulate(request, output: str | None = None, plot: str | None = None,
-             note=lambda text: None, progress=None) -> None:
+             note=lambda text: None, progress=None, columns=None, phase=()) -> None:
     """`lagcli simulate`: run `request` (a lagcli.simulate.options.Request), writing the
     CSV to `output` (stdout for None or '-') row by row as it is computed, then the PNG
     to `plot`.  Both targets are checked, and `output` opened, before any work starts.
@@ -71,7 +71,8 @@ def simulate(request, output: str | None = None, plot: str | None = None,
     if plot and sink.rows:
         from lagcli.simulate.plot import plot_png
         try:
-            plot_png(shown.trajectory(), outcome.coordinates, outcome.energy_conserved, plot, request.spec)
+            plot_png(shown.trajectory(), outcome.coordinates, outcome.energy_conserved, plot, request.spec,
+                     _plot_options(request.spec, columns, phase))
         except SimulationError as exc:
             plot_error = exc
     where = "stdout" if output in (None, "-") else output
@@ -83,6 +84,15 @@ def simulate(request, output: str | None = None, plot: str | None = None,
         raise Interrupted(f"{request.spec}: interrupted ({kept})")
     if plot_error:
         raise plot_error
+
+
+def _plot_options(spec: str, columns, phase):
+    """What `--plot` draws: the coordinates split into angles and lengths (the model says
+    which are angles), or the `--columns`; `--phase` portraits."""
+    from lagcli.api import load_model
+    from lagcli.simulate.plot import PlotOptions, angle_coordinates
+
+    return PlotOptions(columns, tuple(phase), angle_coordinates(load_model(spec)))
 
 
 def generate(path: str, lang: str, output: str | None = None) -> None:
