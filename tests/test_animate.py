@@ -110,3 +110,36 @@ def test_bad_animate_options_exit_2(tmp_path, args, expected):
     args = [a if not a.startswith("m.") else str(tmp_path / a) for a in args]
     result = CliRunner().invoke(cli, ["animate", str(spec_path("double_pendulum")), "--csv", str(csv), *args])
     assert result.exit_code == 2 and expected in result.output
+
+
+# --- plots: panels by kind, --columns, --phase (lagcli/simulate/plot.py) -------------------
+
+def test_angles_are_told_from_the_model():
+    from lagcli.api import load_model
+    from lagcli.simulate.plot import angle_coordinates
+
+    assert angle_coordinates(load_model(spec_path("rolling_disc"))) == {"psi", "theta", "phi"}
+    assert angle_coordinates(load_model(spec_path("cart_pole"))) == {"theta"}
+    assert angle_coordinates(load_model(spec_path("cartesian_pendulum"))) == set()
+
+
+def test_simulate_plot_groups_the_chosen_columns_by_kind(tmp_path):
+    png = tmp_path / "p.png"
+    result = CliRunner().invoke(cli, ["simulate", str(spec_path("cart_pole")), "--t-end", "0.5", "-o",
+                                      str(tmp_path / "c.csv"), "--plot", str(png), "--columns",
+                                      "theta_dot,x,theta,energy", "--phase", "theta"])
+    assert result.exit_code == 0, result.output
+    from lagcli.simulate.plot import PlotOptions, build_figure
+    from lagcli.simulate.trajectory import Trajectory
+
+    header, *lines = (tmp_path / "c.csv").read_text().splitlines()
+    figure = build_figure(Trajectory(header.split(","), lines), ["x", "theta"], True, "cart",
+                          PlotOptions(("theta_dot", "x", "theta", "energy"), ("theta",), frozenset({"theta"}),
+                                      {"x": "m"}))
+    labels = [ax.get_ylabel() for ax in figure.axes]
+    assert labels == ["angle (rad)", "coordinates", "velocities", "invariants", "drift / residual", "theta_dot"]
+    assert [t.get_text() for t in figure.axes[1].get_legend().get_texts()] == ["x [m]"]
+    assert figure.axes[-1].get_xlabel() == "theta"
+    bad = CliRunner().invoke(cli, ["simulate", str(spec_path("cart_pole")), "--t-end", "0.1", "-o",
+                                   str(tmp_path / "c2.csv"), "--plot", str(tmp_path / "q.png"), "--columns", "zz"])
+    assert bad.exit_code == 2 and "no column 'zz'" in bad.output

@@ -208,3 +208,18 @@ def test_rolling_disc_sweep_shows_the_stability_boundary(tmp_path):
     assert list(result.column("status")) == ["ok"] * 6
     assert all(lean[:3] > 0.3) and all(lean[3:] < 0.1), lean
     assert all(result.column("drift_energy") < 1e-8)
+
+
+def test_no_flip_where_energy_forbids_it(pendulum):
+    """Released at rest, the double pendulum (unit masses and rods) has energy
+    E = V(start) = -g (2 cos(theta1) + cos(theta2)); any configuration with a rod at
+    |theta| = pi has V >= -g (2 - 1) = -g. So no rod can flip when
+    2 cos(theta1) + cos(theta2) > 1."""
+    result = pendulum.sweep(grid={"theta1": (-2.5, 2.5, 6), "theta2": (-3, 3, 6)}, t_end=3.0,
+                            exceed={"theta1": math.pi, "theta2": math.pi})
+    th1, th2 = result.column("theta1"), result.column("theta2")
+    flip = np.fmin(result.column("exceed_theta1"), result.column("exceed_theta2"))
+    forbidden = 2 * np.cos(th1) + np.cos(th2) > 1
+    assert forbidden.any() and (~forbidden).any()
+    assert np.all(np.isnan(flip[forbidden]))
+    assert np.any(~np.isnan(flip[~forbidden]))
