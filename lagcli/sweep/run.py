@@ -95,6 +95,9 @@ def sweep(system, plan: Plan, options: SweepOptions, note=lambda text: None, pro
     arguments = _arguments(settings, exceed, options.trajectories is not None)
     lines, failed = _run_lines(system, plan, options, kinds)
     metrics = _metric_names(layout, exceed)
+    names, _ = driver.run_batch(program, arguments, [])      # the driver's own #summary line
+    if names != metrics:
+        raise SimulationError(f"lagcli bug: the driver's summary columns {names} are not the layout's {metrics}")
     header = summary.summary_header(plan.names, metrics)
     journal = _journal(system, options, arguments, lines, failed, header)
     done = dict(journal.done) if journal else {}
