@@ -270,9 +270,10 @@ def sweep(spec: str, plan_options: dict, options: dict, note=lambda text: None, 
     return result
 
 
-def animate(spec: str, csv_path: str | None, request, output: str, links=(), note=lambda text: None):
+def animate(spec: str, csv_path: str | None, request, output: str, drawn: dict, note=lambda text: None):
     """`lagcli animate`: the motion of SPEC from a CSV of `lagcli simulate` (--csv) or a
-    run made here with the request's settings (docs/animate.md)."""
+    run made here with the request's settings (docs/animate.md); `drawn`: links,
+    traces, fps, frame (the options of lagcli.animate.Request)."""
     import numpy as np
 
     import lagcli
@@ -285,8 +286,8 @@ def animate(spec: str, csv_path: str | None, request, output: str, links=(), not
     names = list(system.layout.parameter_names)
     params = {**system.layout.parameter_defaults,
               **parse_assignments(request.sets, "--set", names, "parameter", "parameters")}
-    drawing = Request(parse_links(links.get("links", ())), tuple(links.get("traces", ())),
-                      links.get("fps", 25.0), links.get("frame"))
+    drawing = Request(parse_links(drawn.get("links", ())), tuple(drawn.get("traces", ())),
+                      drawn.get("fps", 25.0), drawn.get("frame"))
     check_names(system.model, drawing)                # before a run is made
     if csv_path is not None:
         try:

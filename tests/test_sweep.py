@@ -223,3 +223,36 @@ def test_no_flip_where_energy_forbids_it(pendulum):
     assert forbidden.any() and (~forbidden).any()
     assert np.all(np.isnan(flip[forbidden]))
     assert np.any(~np.isnan(flip[~forbidden]))
+
+
+class _Terminal(io.StringIO):
+    def isatty(self) -> bool:
+        return True
+
+
+@pytest.mark.parametrize("tty", [True, False])
+def test_progress_bar_counts_runs_only_on_a_terminal(monkeypatch, tty):
+    import sys
+
+    from lagcli import cli as cli_module
+
+    stream = _Terminal() if tty else io.StringIO()
+    monkeypatch.setattr(sys, "stderr", stream)
+    with cli_module._count_bar(8) as update:
+        assert (update is not None) == tty
+        if update:
+            for done in (3, 8):
+                update(done)
+    text = stream.getvalue()
+    assert ("runs" in text and "100%" in text) if tty else text == ""
+
+
+def test_sample_sweep_from_the_command_line_matches_the_api(tmp_path, pendulum):
+    out = tmp_path / "mc.csv"
+    result = sweep_cli(DP, "--sample", "m2=uniform(0.5,2)", "--sample", "theta1=normal(1,0.2)", "--count", 5,
+                       "--seed", 7, "--t-end", 0.5, "-o", out)
+    assert result.exit_code == 0, result.output
+    assert "5 runs: 5 ok, 0 failed" in result.stderr
+    api = pendulum.sweep(sample={"m2": ("uniform", 0.5, 2), "theta1": ("normal", 1, 0.2)}, count=5, seed=7,
+                         t_end=0.5)
+    assert out.read_text() == api.csv
