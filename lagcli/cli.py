@@ -183,7 +183,7 @@ def sweep(ctx, spec, grids, samples, count, seed, runs, sets, inits, exceed, t_e
     \b
     Examples:
       lagcli sweep specs/double_pendulum.yaml --grid theta1=-3:3:5 --grid theta2=-3:3:5 -o dp.csv
-      lagcli sweep specs/double_pendulum.yaml --sample m2=uniform(0.5,2) --count 100 --seed 1 -o mc.csv
+      lagcli sweep specs/double_pendulum.yaml --sample 'm2=uniform(0.5,2)' --count 100 --seed 1 -o mc.csv
       lagcli sweep specs/rolling_disc.yaml --runs speeds.csv --scheduler tcp://127.0.0.1:8786 -o disc.parquet
     """
     plan = {"grids": grids, "samples": samples, "count": count, "seed": seed, "runs": runs}
