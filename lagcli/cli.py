@@ -143,15 +143,121 @@ def generate(ctx, spec, lang, output):
 @click.option("-o", "--output", default=None, help="CSV file ('-' or none: stdout).")
 @click.option("--plot", default=None, metavar="FILE.png",
               help="Also plot coordinates and drift (needs matplotlib).")
+@click.option("--columns", default=None, metavar="NAME[,NAME...]",
+              help="With --plot: draw these columns, one panel per kind (angles, lengths, velocities, ...).")
+@click.option("--phase", "phase", multiple=True, metavar="Q",
+              help="With --plot: add the phase portrait (Q_dot against Q) of coordinate Q (repeatable).")
 @click.pass_context
-def simulate(ctx, spec, t_end, dt, method, rtol, atol, sets, inits, backend, baumgarte, output, plot):
-    """Integrate the equations of motion of SPEC and write the trajectory as CSV."""
+def simulate(ctx, spec, t_end, dt, method, rtol, atol, sets, inits, backend, baumgarte, output, plot,
+             columns, phase):
+    """Integrate the equations of motion of SPEC and write the trajectory as CSV.
+
+    \b
+    Examples:
+      lagcli simulate specs/double_pendulum.yaml -o traj.csv --plot traj.png
+      lagcli simulate specs/cart_pole.yaml --plot p.png --columns x,theta,x_dot --phase theta -o c.csv
+    """
     from lagcli.simulate.options import Request
 
+    if (columns or phase) and not plot:
+        raise click.UsageError("--columns and --phase choose what --plot draws: give --plot FILE.png")
     request = Request(spec, t_end, dt, method, rtol, atol, tuple(sets), tuple(inits), backend,
                       tuple(baumgarte) if baumgarte else None)
+    chosen = tuple(c.strip() for c in columns.split(",")) if columns else None
     _run(ctx, lambda: commands.simulate(request, output, plot, note=lambda text: click.echo(text, err=True),
-                                        progress=_progress_bar))
+                                        progress=_progress_bar, columns=chosen, phase=tuple(phase)))
+
+
+@cli.command()
+@click.argument("spec", type=SPEC)
+@click.option("--grid", "grids", multiple=True, metavar="NAME=START:STOP:COUNT",
+              help="COUNT values of a parameter, input or initial value (repeatable: their product).")
+@click.option("--sample", "samples", multiple=True, metavar="NAME=DIST(A,B)",
+              help="Random values: uniform(A,B) or normal(MU,SIGMA) (repeatable; with --count).")
+@click.option("--count", type=int, help="Number of runs of --sample.")
+@click.option("--seed", type=int, help="Seed of --sample's random generator (default 0).")
+@click.option("--runs", metavar="TABLE.csv", help="One run per row; the header names the columns.")
+@click.option("--set", "sets", multiple=True, metavar="NAME=VALUE", help="A parameter for every run (repeatable).")
+@click.option("--init", "inits", multiple=True, metavar="NAME=VALUE",
+              help="An initial value for every run (repeatable).")
+@click.option("--exceed", "exceed", multiple=True, metavar="NAME=VALUE",
+              help="Summary column exceed_NAME: first output time with |NAME| > VALUE (repeatable).")
+@click.option("--t-end", type=float, help="End time (default: the spec's simulate.t_end, else 10).")
+@click.option("--dt", type=float, help="Output interval (default: simulate.dt, else 0.01).")
+@click.option("--method", type=click.Choice(list(METHODS)), help="RK45 or DOP853 (the compiled driver's).")
+@click.option("--rtol", type=float, help="Relative tolerance (default: simulate.rtol, else 1e-9).")
+@click.option("--atol", type=float, help="Absolute tolerance (default: simulate.atol, else 1e-12).")
+@click.option("--baumgarte", nargs=2, type=float, metavar="ALPHA BETA",
+              help="Constraint stabilisation gains (default 10 10).")
+@click.option("--trajectories", metavar="DIR", help="Also write each run's CSV as DIR/run_<id>.csv.")
+@click.option("--workers", type=int, help="Local driver processes (default: every core).")
+@click.option("--scheduler", metavar="ADDRESS", help="Run on a Dask cluster, e.g. tcp://127.0.0.1:8786.")
+@click.option("-o", "--output", required=True, help="Summary file: .csv, or .parquet (pyarrow).")
+@click.pass_context
+def sweep(ctx, spec, grids, samples, count, seed, runs, sets, inits, exceed, t_end, dt, method, rtol, atol,
+          baumgarte, trajectories, workers, scheduler, output):
+    """Run SPEC many times (a grid, random samples or a table) and summarise each run.
+
+    One row per run in the summary: the varied values, ok/failed and why, the final
+    state, extrema, invariant drift. An interrupted sweep resumes when run again.
+
+    \b
+    Examples:
+      lagcli sweep specs/double_pendulum.yaml --grid theta1=-3:3:5 --grid theta2=-3:3:5 -o dp.csv
+      lagcli sweep specs/double_pendulum.yaml --sample 'm2=uniform(0.5,2)' --count 100 --seed 1 -o mc.csv
+      lagcli sweep specs/rolling_disc.yaml --runs speeds.csv --scheduler tcp://127.0.0.1:8786 -o disc.parquet
+    """
+    plan = {"grids": grids, "samples": samples, "count": count, "seed": seed, "runs": runs}
+    options = {"t_end": t_end, "dt": dt, "method": method, "rtol": rtol, "atol": atol,
+               "baumgarte": tuple(baumgarte) if baumgarte else None, "parameters": sets, "initial": inits,
+               "exceed": exceed, "output": output, "trajectories": trajectories, "workers": workers,
+               "scheduler": scheduler}
+    _run(ctx, lambda: commands.sweep(spec, plan, options, note=lambda text: click.echo(text, err=True),
+                                     progress=_count_bar))
+
+
+@cli.command()
+@click.argument("spec", type=SPEC)
+@click.option("--csv", "csv_path", metavar="TRAJ.csv", help="A CSV of `lagcli simulate` (default: run SPEC now).")
+@click.option("--t-end", type=float, help="Without --csv: end time (default: the spec's).")
+@click.option("--dt", type=float, help="Without --csv: output interval (default: the spec's).")
+@click.option("--set", "sets", multiple=True, metavar="NAME=VALUE",
+              help="A parameter (repeatable; with --csv, the values the CSV was made with).")
+@click.option("--init", "inits", multiple=True, metavar="NAME=VALUE", help="Without --csv: an initial value.")
+@click.option("--link", "links", multiple=True, metavar="A:B",
+              help="Draw a rod between two points (particle/body names or 'origin'; repeatable).")
+@click.option("--trace", "traces", multiple=True, metavar="POINT", help="Draw the path of a point (repeatable).")
+@click.option("--fps", type=float, default=25.0, show_default=True, help="Frames per second of simulated time.")
+@click.option("--frame", type=float, metavar="T", help="Only the frame at time T, as a PNG.")
+@click.option("-o", "--output", required=True, help="motion.gif, motion.mp4 (ffmpeg) or frame.png (--frame).")
+@click.pass_context
+def animate(ctx, spec, csv_path, t_end, dt, sets, inits, links, traces, fps, frame, output):
+    """Draw the motion of SPEC: particles, bodies' axes, springs, rods, traces and the time.
+
+    \b
+    Examples:
+      lagcli animate specs/double_pendulum.yaml --link origin:P1 --link P1:P2 --trace P2 -o motion.gif
+      lagcli simulate specs/rolling_disc.yaml -o disc.csv
+      lagcli animate specs/rolling_disc.yaml --csv disc.csv --trace disc --frame 2.5 -o disc.png
+    """
+    from lagcli.simulate.options import Request
+
+    request = Request(spec, t_end, dt, sets=tuple(sets), inits=tuple(inits))
+    drawing = {"links": links, "traces": traces, "fps": fps, "frame": frame}
+    _run(ctx, lambda: commands.animate(spec, csv_path, request, output, drawing,
+                                       note=lambda text: click.echo(text, err=True)))
+
+
+@contextlib.contextmanager
+def _count_bar(total: int):
+    """A progress bar over `total` runs on stderr when it is a terminal; yields update(done) or None."""
+    if not sys.stderr.isatty():
+        yield None
+        return
+    with click.progressbar(length=total, label="runs", file=sys.stderr) as bar:
+        def update(done: int) -> None:
+            bar.update(done - bar.pos)
+        yield update
 
 
 @cli.command()

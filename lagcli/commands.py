@@ -51,7 +51,7 @@ PLOT_ROWS = 20_000     # --plot draws at most 2 x this many rows (evenly thinned
 
 
 def simulate(request, output: str | None = None, plot: str | None = None,
-             note=lambda text: None, progress=None) -> None:
+             note=lambda text: None, progress=None, columns=None, phase=()) -> None:
     """`lagcli simulate`: run `request` (a lagcli.simulate.options.Request), writing the
     CSV to `output` (stdout for None or '-') row by row as it is computed, then the PNG
     to `plot`.  Both targets are checked, and `output` opened, before any work starts.
@@ -74,7 +74,8 @@ def simulate(request, output: str | None = None, plot: str | None = None,
     if plot and sink.rows:
         from lagcli.simulate.plot import plot_png
         try:
-            plot_png(shown.trajectory(), outcome.coordinates, outcome.energy_conserved, plot, request.spec)
+            plot_png(shown.trajectory(), outcome.coordinates, outcome.energy_conserved, plot, request.spec,
+                     _plot_options(request.spec, columns, phase))
         except SimulationError as exc:
             plot_error = exc
     where = "stdout" if output in (None, "-") else output
@@ -86,6 +87,15 @@ def simulate(request, output: str | None = None, plot: str | None = None,
         raise Interrupted(f"{request.spec}: interrupted ({kept})")
     if plot_error:
         raise plot_error
+
+
+def _plot_options(spec: str, columns, phase):
+    """What `--plot` draws: the coordinates split into angles and lengths (the model says
+    which are angles), or the `--columns`; `--phase` portraits."""
+    from lagcli.api import load_model
+    from lagcli.simulate.plot import PlotOptions, angle_coordinates
+
+    return PlotOptions(columns, tuple(phase), angle_coordinates(load_model(spec)))
 
 
 def generate(path: str, lang: str, output: str | None = None) -> None:
@@ -246,3 +256,60 @@ def hamiltonian(path: str, fmt: str = "text") -> str:
         return report.hamilton_latex(form, d, printer)
     content = report.hamilton_content(d, form, spec_str)
     return report.to_json(content) if fmt == "json" else report.hamilton_text(content)
+
+
+def sweep(spec: str, plan_options: dict, options: dict, note=lambda text: None, progress=None):
+    """`lagcli sweep`: the runs of a grid, samples or a table through the compiled driver;
+    the summary written to options["output"] (docs/sweep.md)."""
+    import lagcli
+    from lagcli.simulate.options import parse_assignments
+    from lagcli.sweep import SweepOptions, make_plan, sweep as run_sweep
+
+    plan = make_plan(**plan_options)                   # option mistakes before deriving
+    system = lagcli.load(Path(spec))
+    names = [*system.layout.parameter_names, *system.layout.state_names]
+    fixed = {key: parse_assignments(options.pop(key), f"--{flag}", names, what, "names")
+             for key, flag, what in (("parameters", "set", "parameter"), ("initial", "init", "initial value"),
+                                     ("exceed", "exceed", "coordinate or velocity"))}
+    result = run_sweep(system, plan, SweepOptions(**options, **fixed), note, progress)
+    statuses = list(result.column("status"))
+    note(f"{len(statuses)} runs: {statuses.count('ok')} ok, {statuses.count('failed')} failed; "
+         f"summary in {result.path}")
+    return result
+
+
+def animate(spec: str, csv_path: str | None, request, output: str, drawn: dict, note=lambda text: None):
+    """`lagcli animate`: the motion of SPEC from a CSV of `lagcli simulate` (--csv) or a
+    run made here with the request's settings (docs/animate.md); `drawn`: links,
+    traces, fps, frame (the options of lagcli.animate.Request)."""
+    import numpy as np
+
+    import lagcli
+    from lagcli.animate import Request, animate as draw, check_names, parse_links
+    from lagcli.simulate.options import parse_assignments
+    from lagcli.simulate.run import simulate as run
+    from lagcli.simulate.trajectory import parse_csv
+
+    system = lagcli.load(Path(spec))
+    names = list(system.layout.parameter_names)
+    params = {**system.layout.parameter_defaults,
+              **parse_assignments(request.sets, "--set", names, "parameter", "parameters")}
+    drawing = Request(parse_links(drawn.get("links", ())), tuple(drawn.get("traces", ())),
+                      drawn.get("fps", 25.0), drawn.get("frame"))
+    check_names(system.model, drawing)                # before a run is made
+    if csv_path is not None:
+        try:
+            with open(csv_path, encoding="utf-8") as handle:
+                text = handle.read()
+        except OSError as exc:
+            raise UsageError(f"--csv {csv_path}: cannot read it ({exc.strerror or exc})") from None
+    else:
+        text = run(request, note).trajectory.csv_text()
+    header, rows = parse_csv(text)
+    missing = [n for n in ("t", *system.layout.state_names) if n not in header]
+    if missing or not rows:
+        raise UsageError(f"{csv_path or 'the run'}: expected a CSV of lagcli simulate for {system.name} "
+                         f"(missing columns: {', '.join(missing) or 'none'}; rows: {len(rows)})")
+    data = np.array(rows, dtype=float)
+    states = data[:, [header.index(n) for n in system.layout.state_names]]
+    draw(system, data[:, header.index("t")], states, params, output, drawing)

@@ -138,6 +138,40 @@ class System:
         return from_rows(self.layout, rows, start.notes,
                          d.jacobi_integral is not None and d.energy_is_jacobi)
 
+    def sweep(self, grid: dict | None = None, sample: dict | None = None, count: int | None = None,
+              seed: int | None = None, runs=None, output: str | None = None, **options):
+        """Many runs through the compiled driver, as `lagcli sweep` (docs/sweep.md).
+
+        grid: {name: (start, stop, count)}; sample: {name: ("uniform", a, b) or
+        ("normal", mu, sigma)} with `count` and `seed`; runs: a CSV file name or a list of
+        {name: value}. `options` are the fields of `lagcli.sweep.SweepOptions`
+        (parameters=, initial=, exceed=, trajectories=, workers=, scheduler=, t_end=, ...).
+        Returns a `lagcli.sweep.SweepResult` (written to `output` too when given)."""
+        from lagcli.sweep import Plan, SweepOptions, make_plan, sweep
+        from lagcli.sweep.driver import number
+
+        if isinstance(runs, (list, tuple)):
+            names = tuple(runs[0]) if runs else ()
+            plan = Plan(names, tuple(tuple(float(r[n]) for n in names) for r in runs))
+        else:
+            grids = [f"{k}={number(a)}:{number(b)}:{int(n)}" for k, (a, b, n) in (grid or {}).items()]
+            samples = [f"{k}={kind}({number(a)},{number(b)})" for k, (kind, a, b) in (sample or {}).items()]
+            plan = make_plan(grids, samples, count, seed, runs)
+        return sweep(self, plan, SweepOptions(output=output, **options))
+
+    def animate(self, path: str | None = None, trajectory=None, links=(), traces=(), fps: float = 25.0,
+                frame: float | None = None, parameters: dict | None = None, **simulate):
+        """Draw the motion (docs/animate.md): `trajectory` (a lagcli.trajectory.Trajectory;
+        default: `self.simulate(parameters=parameters, **simulate)`), `links` [("origin",
+        "P1"), ...], `traces` ["P2"], one PNG `frame` at a time or a .gif/.mp4 `path`.
+        Returns a `lagcli.animate.Drawing` (its `figure` shows in a notebook)."""
+        from lagcli.animate import Request, animate
+
+        if trajectory is None:
+            trajectory = self.simulate(parameters=parameters, **simulate)
+        request = Request(tuple(tuple(link) for link in links), tuple(traces), fps, frame)
+        return animate(self, trajectory.t, trajectory.states, self._parameters(parameters), path, request)
+
     def _module(self):
         """The generated Python module, made once per System."""
         cached = self.__dict__.get("_generated_module")

@@ -37,6 +37,7 @@
 #define LAGCLI_BAUMGARTE 10.0             /* default alpha = beta of the constraint stabilisation */
 #define LAGCLI_METHODS "RK45|DOP853"      /* the explicit methods lagcli_ode implements */
 #define LAGCLI_WINDOW 65536               /* output times per integration (see the top) */
+#define LAGCLI_MAX_EXCEED 16              /* --exceed options of a batch */
 
 typedef struct {
     const lagcli_model *model;
@@ -45,12 +46,17 @@ typedef struct {
     double alpha, beta;
     int code;      /* nonzero return of the model function that failed */
     double when;   /* and the time it failed at */
+    void *batch;   /* the batch_run of a --batch run (the output callback's context is run_state) */
 } run_state;
 
 typedef struct {
     double t_end, dt, rtol, atol;
     const char *method;
     long bench;    /* --bench-integration N: time N silent integrations instead of printing */
+    int batch;     /* --batch: many runs read from stdin (batch_main); 2 with --batch-rows */
+    int nexceed;   /* --exceed NAME=VALUE: first time |NAME| > VALUE, in the batch summaries */
+    int exceed_index[LAGCLI_MAX_EXCEED];
+    double exceed_value[LAGCLI_MAX_EXCEED];
 } run_settings;
 
 static const char *reason(int code)
@@ -170,6 +176,9 @@ static const char *option(int argc, char **argv, int *i, const char *name, int *
     return argv[++*i];
 }
 
+static int exceed_option(const char *item, const lagcli_model *m, run_settings *s, char *message);
+static int batch_main(const run_settings *s, run_state *run, const double *y0);
+
 static int parse(int argc, char **argv, run_settings *s, run_state *run, double *y0)
 {
     int i, missing = 0;
@@ -206,6 +215,11 @@ static int parse(int argc, char **argv, run_settings *s, run_state *run, double 
             if (!number(v, &count) || count < 1 || count > 1e6 || count != floor(count))
                 return usage(argv[0], "--bench-integration: expected a count from 1 to 1000000");
             s->bench = (long)count;
+        } else if (strcmp(arg, "--batch") == 0 || strcmp(arg, "--batch-rows") == 0) {
+            s->batch = strcmp(arg, "--batch") == 0 ? 1 : 2;
+        } else if ((v = option(argc, argv, &i, "--exceed", &missing)) != NULL) {
+            if (!exceed_option(v, run->model, s, message))
+                return usage(argv[0], message);
         } else if (strcmp(arg, "--baumgarte") == 0) {
             if (i + 2 >= argc || !number(argv[i + 1], &run->alpha) || !number(argv[i + 2], &run->beta))
                 return usage(argv[0], "--baumgarte: expected two numbers ALPHA BETA");
@@ -385,19 +399,289 @@ int lagcli_driver_main(const lagcli_model *model, int argc, char **argv)
     run.alpha = run.beta = LAGCLI_BAUMGARTE;
     run.code = 0;
     run.when = 0.0;
+    run.batch = NULL;
     s.t_end = model->t_end;
     s.dt = model->dt;
     s.method = model->method;
     s.rtol = model->rtol;
     s.atol = model->atol;
     s.bench = 0;
+    s.batch = 0;
+    s.nexceed = 0;
     if ((rc = parse(argc, argv, &s, &run, y0)) == 0) {
         if (s.t_end / s.dt > 1e8) {
             rc = usage(argv[0], "--dt: more than 1e8 output rows");
+        } else if (s.batch) {
+            rc = batch_main(&s, &run, y0);
         } else {
             check_initial(y0, &run);
             rc = integrate(&s, &run, y0);
         }
+    }
+    free(work);
+    return rc;
+}
+
+/* ---- batch mode: many runs in one process (lagcli sweep, lagcli/sweep/driver.py) -------
+ *
+ *   ./<name> --batch [--batch-rows] [--exceed NAME=VALUE]... [the options above]
+ *
+ * The options set what every run starts from (settings, parameters, initial state).
+ * Then stdin is read one run per line:  ID [NAME=VALUE]...  (ID a run number; NAME a
+ * parameter or a state name; whitespace-separated; at most LAGCLI_BATCH_LINE bytes),
+ * and each run is integrated from the options' values with its own overrides. stdout:
+ *
+ *   #summary t_last,rows,steps,rejected,nfev,final_<column>...,min_<state>...,
+ *            max_<state>...,drift_<invariant>...,exceed_<NAME>...      (once, first)
+ *   <the run's CSV rows, header-less>          (only with --batch-rows)
+ *   @ID<TAB>ok|failed<TAB>reason<TAB>values    (one per run, the columns of #summary)
+ *
+ * final_<column>: the last row reached (state, multipliers, invariants); min_/max_: over
+ * the rows; drift_<invariant>: max |x - x(0)| / |x(0)| over the rows (absolute when
+ * |x(0)| < 1e-12), for constraint_residual its largest value; exceed_<NAME>: the first
+ * output time with |NAME| > VALUE (nan if never). A failed run (bad line, integration
+ * failure) still has its line, with the values up to the failure. The initial state is
+ * integrated as given (lagcli sweep makes it consistent first). Exit status 0 unless
+ * stdin cannot be read; runs never stop the batch. With --bench-integration N (any N):
+ * each run is integrated without rows or summary, and the summed clock() time of the
+ * integrations is reported on stderr (bench/sweep.py's bare C cost). */
+
+#define LAGCLI_BATCH_LINE 65536
+#define LAGCLI_DRIFT_ABSOLUTE 1e-12      /* |x(0)| below this: absolute drift (as the plot) */
+
+typedef struct {
+    run_state *run;
+    const run_settings *s;
+    double *low, *high;                   /* nstate extrema */
+    double *inv0, *drift;                 /* ninv */
+    double exceed[LAGCLI_MAX_EXCEED];
+    double t_last;
+    long rows;
+    double bench_seconds;                 /* with --bench-integration: integration time, */
+    long bench_runs;                      /* summed over the runs */
+} batch_run;
+
+static int exceed_option(const char *item, const lagcli_model *m, run_settings *s, char *message)
+{
+    double *slots;
+    int i, ok;
+    if (s->nexceed >= LAGCLI_MAX_EXCEED) {
+        sprintf(message, "--exceed: at most %d of them", LAGCLI_MAX_EXCEED);
+        return 0;
+    }
+    slots = (double *)malloc((size_t)m->nstate * sizeof *slots);
+    if (slots == NULL) {
+        sprintf(message, "--exceed: out of memory");
+        return 0;
+    }
+    for (i = 0; i < m->nstate; ++i)
+        slots[i] = nan("");
+    ok = assign("--exceed", item, m->state_names, "coordinate or velocity", slots, message);
+    for (i = 0; ok && i < m->nstate; ++i)
+        if (!isnan(slots[i])) {
+            s->exceed_index[s->nexceed] = i;
+            s->exceed_value[s->nexceed++] = slots[i];
+        }
+    free(slots);
+    return ok;
+}
+
+static void batch_header(const run_settings *s, const lagcli_model *m)
+{
+    static const char *const prefixes[2] = {"min_", "max_"};
+    int i, k;
+    printf("#summary t_last,rows,steps,rejected,nfev");
+    for (i = 0; i < m->nstate; ++i)
+        printf(",final_%s", m->state_names[i]);
+    for (i = 0; i < m->nlambda; ++i)
+        printf(",final_%s", m->multiplier_names[i]);
+    for (i = 0; i < m->ninv; ++i)
+        printf(",final_%s", m->invariant_names[i]);
+    for (k = 0; k < 2; ++k)
+        for (i = 0; i < m->nstate; ++i)
+            printf(",%s%s", prefixes[k], m->state_names[i]);
+    for (i = 0; i < m->ninv; ++i)
+        printf(",drift_%s", m->invariant_names[i]);
+    for (i = 0; i < s->nexceed; ++i)
+        printf(",exceed_%s", m->state_names[s->exceed_index[i]]);
+    printf("\n");
+}
+
+/* The output callback of a batch run: extrema, drift and thresholds (and the row itself
+ * with --batch-rows). */
+static int batch_row(double t, const double *y, void *ctx)
+{
+    run_state *run = (run_state *)ctx;
+    batch_run *b = (batch_run *)run->batch;
+    const lagcli_model *m = run->model;
+    int i;
+    if (b->s->batch == 2) {
+        if (row(t, y, run) != 0)
+            return 1;
+    } else {
+        memcpy(run->last, y, (size_t)m->nstate * sizeof *y);
+        (void)m->invariants(t, y, run->p, run->inv);
+    }
+    for (i = 0; i < m->nstate; ++i) {
+        if (b->rows == 0 || y[i] < b->low[i])
+            b->low[i] = y[i];
+        if (b->rows == 0 || y[i] > b->high[i])
+            b->high[i] = y[i];
+    }
+    for (i = 0; i < m->ninv; ++i) {
+        double d, x = run->inv[i];
+        if (b->rows == 0)
+            b->inv0[i] = x;
+        if (i == m->residual_column)
+            d = x;
+        else if (fabs(b->inv0[i]) < LAGCLI_DRIFT_ABSOLUTE)
+            d = fabs(x - b->inv0[i]);
+        else
+            d = fabs(x - b->inv0[i]) / fabs(b->inv0[i]);
+        if (b->rows == 0 || d > b->drift[i] || isnan(d))
+            b->drift[i] = d;
+    }
+    for (i = 0; i < b->s->nexceed; ++i)
+        if (isnan(b->exceed[i]) && fabs(y[b->s->exceed_index[i]]) > b->s->exceed_value[i])
+            b->exceed[i] = t;
+    b->t_last = t;
+    ++b->rows;
+    return 0;
+}
+
+/* The reason of a failed run, as `integrate` prints it (without "error: "). */
+static void failure_text(int rc, const run_settings *s, const run_state *run, const lagcli_ode_stats *st,
+                         char *text)
+{
+    if (rc == LAGCLI_ODE_ERR_RHS || rc == LAGCLI_ODE_INTERRUPTED)
+        sprintf(text, "at t = %.10g: %s", run->when, reason(run->code));
+    else if (rc == LAGCLI_ODE_ERR_NONFINITE)
+        sprintf(text, "at t = %.10g: the state is no longer finite (inf/nan): the solution blows up", st->t);
+    else
+        sprintf(text, "at t = %.10g: the %s integrator failed: %s", st->t, s->method, st->message);
+}
+
+static void batch_summary(const char *id, const char *failure, const batch_run *b, const lagcli_ode_stats *st)
+{
+    const run_state *run = b->run;
+    const lagcli_model *m = run->model;
+    int i;
+    printf("@%s\t%s\t%s\t%.17g,%ld,%ld,%ld,%ld", id, failure[0] ? "failed" : "ok", failure, b->t_last, b->rows,
+           st->n_accepted, st->n_rejected, st->nfev);
+    for (i = 0; i < m->nstate; ++i)
+        printf(",%.17g", b->rows ? run->last[i] : nan(""));
+    for (i = 0; i < m->nlambda; ++i)
+        printf(",%.17g", b->rows ? run->lambda[i] : nan(""));
+    for (i = 0; i < m->ninv; ++i)
+        printf(",%.17g", b->rows ? run->inv[i] : nan(""));
+    for (i = 0; i < m->nstate; ++i)
+        printf(",%.17g", b->rows ? b->low[i] : nan(""));
+    for (i = 0; i < m->nstate; ++i)
+        printf(",%.17g", b->rows ? b->high[i] : nan(""));
+    for (i = 0; i < m->ninv; ++i)
+        printf(",%.17g", b->rows ? b->drift[i] : nan(""));
+    for (i = 0; i < b->s->nexceed; ++i)
+        printf(",%.17g", b->exceed[i]);
+    printf("\n");
+}
+
+/* Whether NAME=VALUE `item` names one of `names`. */
+static int is_named(const char *item, const char *const *names)
+{
+    size_t len = strcspn(item, "=");
+    int i;
+    for (i = 0; names[i] != NULL; ++i)
+        if (strlen(names[i]) == len && strncmp(names[i], item, len) == 0)
+            return 1;
+    return 0;
+}
+
+/* One run of a batch line (already split off its ID): overrides, integration, summary. */
+static void batch_run_line(const run_settings *s, batch_run *b, const double *p0, const double *y0,
+                           double *y, const char *id, char *rest)
+{
+    run_state *run = b->run;
+    const lagcli_model *m = run->model;
+    lagcli_ode_stats st;
+    char failure[800] = "", *token;
+    int i, rc = LAGCLI_ODE_OK;
+    memcpy(run->p, p0, (size_t)m->nparam * sizeof *p0);
+    memcpy(y, y0, (size_t)m->nstate * sizeof *y0);
+    memset(&st, 0, sizeof st);
+    b->rows = 0;
+    b->t_last = nan("");
+    for (i = 0; i < s->nexceed; ++i)
+        b->exceed[i] = nan("");
+    run->code = 0;
+    for (token = strtok(rest, " \t\r\n"); token != NULL; token = strtok(NULL, " \t\r\n")) {
+        char message[720];
+        if (!assign("run", token, is_named(token, m->parameter_names) ? m->parameter_names : m->state_names,
+                    "parameter or state name", is_named(token, m->parameter_names) ? run->p : y, message)) {
+            sprintf(failure, "%.790s", message);
+            break;
+        }
+    }
+    if (s->bench > 0) {             /* the bare integration cost (bench/sweep.py): no rows, no summary */
+        clock_t start = clock();
+        if (failure[0] == '\0')
+            (void)integrate_windows(s, run, y, no_row, &st);
+        b->bench_seconds += (double)(clock() - start) / CLOCKS_PER_SEC;
+        ++b->bench_runs;
+        return;
+    }
+    if (failure[0] == '\0') {
+        if (batch_row(0.0, y, run) != 0)
+            failure_text(LAGCLI_ODE_ERR_RHS, s, run, &st, failure);
+        else if ((rc = integrate_windows(s, run, y, batch_row, &st)) != LAGCLI_ODE_OK)
+            failure_text(rc, s, run, &st, failure);
+    }
+    if (b->rows > 0)     /* the multipliers at the last row reached */
+        (void)m->rhs_stabilized(b->t_last, run->last, run->p, run->alpha, run->beta, run->dydt, run->lambda);
+    batch_summary(id, failure, b, &st);
+}
+
+static int batch_main(const run_settings *s, run_state *run, const double *y0)
+{
+    const lagcli_model *m = run->model;
+    size_t n = (size_t)(m->nparam + 4 * m->nstate + 2 * m->ninv) + 1;
+    double *work = (double *)calloc(n, sizeof *work), *p0, *y;
+    static char line[LAGCLI_BATCH_LINE];
+    batch_run b;
+    int rc = 0;
+    if (work == NULL) {
+        fprintf(stderr, "error: out of memory\n");
+        return 1;
+    }
+    p0 = work;
+    y = p0 + m->nparam;
+    b.low = y + m->nstate;
+    b.high = b.low + m->nstate;
+    b.inv0 = b.high + m->nstate;
+    b.drift = b.inv0 + m->ninv;
+    b.run = run;
+    b.s = s;
+    b.bench_seconds = 0.0;
+    b.bench_runs = 0;
+    run->batch = &b;
+    memcpy(p0, run->p, (size_t)m->nparam * sizeof *p0);
+    setvbuf(stdout, NULL, _IOFBF, 1 << 16);
+    batch_header(s, m);
+    while (fgets(line, sizeof line, stdin) != NULL) {
+        char *id = strtok(line, " \t\r\n"), *rest;
+        if (id == NULL)
+            continue;                       /* a blank line */
+        rest = id + strlen(id);
+        if (rest < line + sizeof line - 1 && rest[1] != '\0')
+            ++rest;                         /* past the '\0' strtok wrote: the overrides */
+        batch_run_line(s, &b, p0, y0, y, id, rest);
+        fflush(stdout);
+    }
+    if (s->bench > 0)
+        fprintf(stderr, "integration: method %s, runs %ld, total_s %.9g\n", s->method, b.bench_runs,
+                b.bench_seconds);
+    if (ferror(stdin)) {
+        fprintf(stderr, "error: cannot read the runs from stdin\n");
+        rc = 1;
     }
     free(work);
     return rc;

@@ -1,0 +1,145 @@
+"""`lagcli animate` / `System.animate`: frames put the bodies where the coordinates say.
+
+The expected positions are computed here independently of the model's expressions:
+the double pendulum's bobs from (l sin theta, -l cos theta), the rolling disc's centre
+(x, y, r cos theta) and its axes from scipy's Rotation of the body-fixed z-x-y angles
+(psi, theta, phi). The double pendulum's frame is also checked in pixels: the PNG has
+the marker's colour where the axes' transform puts the bob.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+import lagcli
+from lagcli.cli import cli
+
+from conftest import spec_path
+
+pytest.importorskip("matplotlib")
+BLUE = np.array([31, 119, 180]) / 255          # matplotlib's tab:blue, the particles' markers
+
+
+@pytest.fixture(autouse=True)
+def _shared_cache(tmp_path_factory, monkeypatch):
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path_factory.getbasetemp() / "xdg-cache"))
+
+
+@pytest.fixture(scope="module")
+def pendulum():
+    system = lagcli.load(spec_path("double_pendulum"))
+    return system, system.simulate(t_end=1.0)
+
+
+def test_double_pendulum_frame_has_the_bobs_where_the_angles_say(pendulum, tmp_path):
+    system, traj = pendulum
+    png = tmp_path / "frame.png"
+    drawing = system.animate(png, trajectory=traj, links=[("origin", "P1"), ("P1", "P2")], traces=["P2"],
+                             frame=0.73)
+    row = int(np.argmin(np.abs(traj.t - 0.73)))
+    th1, th2 = traj["theta1"][row], traj["theta2"][row]
+    p1 = np.array([math.sin(th1), -math.cos(th1)])                   # l1 = l2 = 1
+    p2 = p1 + np.array([math.sin(th2), -math.cos(th2)])
+    for name, expected in (("P1", p1), ("P2", p2)):
+        np.testing.assert_allclose(np.ravel(drawing.markers[name].get_data()), expected, atol=1e-12)
+    np.testing.assert_allclose(np.array(drawing.links[1].get_data()).T, [p1, p2], atol=1e-12)
+    assert drawing.clock.get_text() == f"t = {traj.t[row]:.2f}"
+    image = __import__("matplotlib.image", fromlist=["imread"]).imread(png)
+    height = image.shape[0]
+    for point in (p1, p2):
+        x, y = drawing.ax.transData.transform(point)
+        pixel = image[int(round(height - y)), int(round(x)), :3]
+        np.testing.assert_allclose(pixel, BLUE, atol=0.08)
+    x, y = drawing.ax.transData.transform(p2 + [0.3, 0.3])                # away from every artist
+    assert not np.allclose(image[int(round(height - y)), int(round(x)), :3], BLUE, atol=0.08)
+
+
+def test_rolling_disc_frame_has_its_centre_and_axes_where_the_angles_say():
+    from scipy.spatial.transform import Rotation
+
+    system = lagcli.load(spec_path("rolling_disc"))
+    traj = system.simulate(t_end=0.6)
+    drawing = system.animate(trajectory=traj, traces=["disc"], frame=0.5)
+    row = int(np.argmin(np.abs(traj.t - 0.5)))
+    x, y, psi, theta, phi = (traj[n][row] for n in ("x", "y", "psi", "theta", "phi"))
+    r = system.layout.parameter_defaults["r"]
+    centre = np.array([x, y, r * math.cos(theta)])
+    np.testing.assert_allclose(np.ravel(drawing.markers["disc"].get_data_3d()), centre, atol=1e-12)
+    R = Rotation.from_euler("ZXY", [psi, theta, phi]).as_matrix()        # intrinsic z, then x, then y
+    half = [math.sqrt(3) / 2 * r, 0.0, math.sqrt(3) / 2 * r]           # a uniform disc's box: sqrt(3/4) r
+    for k, line in enumerate(drawing.axes["disc"]):
+        ends = np.array(line.get_data_3d()).T
+        np.testing.assert_allclose(ends, [centre - half[k] * R[:, k], centre + half[k] * R[:, k]], atol=1e-12)
+    # the contact point, centre - r b_z with b_z the leaned (not spun) frame's z axis, is on the ground
+    b_z = Rotation.from_euler("ZX", [psi, theta]).as_matrix()[:, 2]
+    assert abs((centre - r * b_z)[2]) < 1e-12
+
+
+def test_gif_has_one_frame_per_output_step(pendulum, tmp_path):
+    from PIL import Image
+
+    system, traj = pendulum
+    gif = tmp_path / "motion.gif"
+    system.animate(gif, trajectory=traj, links=[("origin", "P1"), ("P1", "P2")], fps=10)
+    with Image.open(gif) as image:
+        assert image.format == "GIF" and image.n_frames == 11          # t = 0, 0.1, ..., 1.0
+
+
+def test_cli_animates_a_csv_of_simulate(tmp_path):
+    csv = tmp_path / "traj.csv"
+    spec = str(spec_path("double_pendulum"))
+    assert CliRunner().invoke(cli, ["simulate", spec, "--t-end", "0.5", "-o", str(csv)]).exit_code == 0
+    result = CliRunner().invoke(cli, ["animate", spec, "--csv", str(csv), "--link", "origin:P1",
+                                      "--frame", "0.2", "-o", str(tmp_path / "f.png")])
+    assert result.exit_code == 0, result.output
+    assert (tmp_path / "f.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+@pytest.mark.parametrize("args, expected", [
+    (["-o", "m.avi"], "expected a .gif, .mp4 or .png"),
+    (["-o", "m.png"], "give --frame T"),
+    (["--link", "origin:P9", "--frame", "0", "-o", "m.png"], "unknown point 'P9'"),
+    (["--link", "P1", "-o", "m.gif"], "expected A:B"),
+])
+def test_bad_animate_options_exit_2(tmp_path, args, expected):
+    csv = tmp_path / "traj.csv"
+    csv.write_text("t,theta1,theta2,theta1_dot,theta2_dot\n0,1,0.5,0,0\n")
+    args = [a if not a.startswith("m.") else str(tmp_path / a) for a in args]
+    result = CliRunner().invoke(cli, ["animate", str(spec_path("double_pendulum")), "--csv", str(csv), *args])
+    assert result.exit_code == 2 and expected in result.output
+
+
+# --- plots: panels by kind, --columns, --phase (lagcli/simulate/plot.py) -------------------
+
+def test_angles_are_told_from_the_model():
+    from lagcli.api import load_model
+    from lagcli.simulate.plot import angle_coordinates
+
+    assert angle_coordinates(load_model(spec_path("rolling_disc"))) == {"psi", "theta", "phi"}
+    assert angle_coordinates(load_model(spec_path("cart_pole"))) == {"theta"}
+    assert angle_coordinates(load_model(spec_path("cartesian_pendulum"))) == set()
+
+
+def test_simulate_plot_groups_the_chosen_columns_by_kind(tmp_path):
+    png = tmp_path / "p.png"
+    result = CliRunner().invoke(cli, ["simulate", str(spec_path("cart_pole")), "--t-end", "0.5", "-o",
+                                      str(tmp_path / "c.csv"), "--plot", str(png), "--columns",
+                                      "theta_dot,x,theta,energy", "--phase", "theta"])
+    assert result.exit_code == 0, result.output
+    from lagcli.simulate.plot import PlotOptions, build_figure
+    from lagcli.simulate.trajectory import Trajectory
+
+    header, *lines = (tmp_path / "c.csv").read_text().splitlines()
+    figure = build_figure(Trajectory(header.split(","), lines), ["x", "theta"], True, "cart",
+                          PlotOptions(("theta_dot", "x", "theta", "energy"), ("theta",), frozenset({"theta"}),
+                                      {"x": "m"}))
+    labels = [ax.get_ylabel() for ax in figure.axes]
+    assert labels == ["angle (rad)", "coordinates", "velocities", "invariants", "drift / residual", "theta_dot"]
+    assert [t.get_text() for t in figure.axes[1].get_legend().get_texts()] == ["x [m]"]
+    assert figure.axes[-1].get_xlabel() == "theta"
+    bad = CliRunner().invoke(cli, ["simulate", str(spec_path("cart_pole")), "--t-end", "0.1", "-o",
+                                   str(tmp_path / "c2.csv"), "--plot", str(tmp_path / "q.png"), "--columns", "zz"])
+    assert bad.exit_code == 2 and "no column 'zz'" in bad.output
