@@ -150,11 +150,6 @@ def _symbolic_linear(d, points, inputs, fmt: str) -> str:
     from lagcli.emit.latex_printer import LatexPrinter
     from lagcli.spec_printer import spec_str
 
-    params = [p.symbol.name for p in d.model.parameters]
-    unknown = [name for name in inputs if name not in params]
-    if unknown:
-        from lagcli.errors import UsageError
-        raise UsageError(f"--input {unknown[0]!r}: not a parameter")
     lin = symbolic_linear(d, points, inputs)
     if fmt == "latex":
         return report.symbolic_latex(lin, LatexPrinter(d.model))
@@ -171,12 +166,13 @@ def _latex_names(d):
 
 
 def _parameters(d, sets) -> dict:
-    """Every parameter's value by name: the spec's, overridden by `--set NAME=VALUE`."""
+    """Every parameter's and input's value by name: the spec's, overridden by `--set NAME=VALUE`."""
     from lagcli.simulate.options import parse_assignments as assignments
 
-    names = [p.symbol.name for p in d.model.parameters]
-    return {p.symbol.name: float(p.value) for p in d.model.parameters} | assignments(
-        tuple(sets), "--set", names, "parameter", "parameters")
+    constants = (*d.model.parameters, *d.model.inputs)
+    names = [p.symbol.name for p in constants]
+    return {p.symbol.name: float(p.value) for p in constants} | assignments(
+        tuple(sets), "--set", names, "parameter or input", "parameters and inputs")
 
 
 def _guesses(d, guesses) -> list[dict]:

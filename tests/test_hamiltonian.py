@@ -23,7 +23,7 @@ T_END = 1.0
 
 def lagrangian_rhs(d, params):
     model = d.model
-    values = {p.symbol: params[p.symbol.name] for p in model.parameters}
+    values = {p.symbol: params[p.symbol.name] for p in (*model.parameters, *model.inputs)}
     args = [model.t, list(model.q), list(model.qd)]
     M = sp.lambdify(args, sp.Matrix(d.mass_matrix).xreplace(values), "numpy", cse=True)
     F = sp.lambdify(args, sp.Matrix(d.forcing).xreplace(values), "numpy", cse=True)
@@ -41,11 +41,11 @@ def test_hamilton_equations_agree_with_lagrange(derived, name):
     d = derived(name)
     model = d.model
     n = len(model.q)
-    params = {p.symbol.name: p.value for p in model.parameters}
+    params = {p.symbol.name: p.value for p in (*model.parameters, *model.inputs)}   # inputs held
     y0 = np.array([model.initial.get(s.name, 0.0) for s in (*model.q, *model.qd)], dtype=float)
     y0[:n] += 0.1      # away from symmetric starts, so every coordinate moves
     ham = HamiltonRhs(d, params)
-    values = {p.symbol: params[p.symbol.name] for p in model.parameters}
+    values = {p.symbol: params[p.symbol.name] for p in (*model.parameters, *model.inputs)}
     momentum = sp.lambdify([model.t, list(model.q), list(model.qd)],
                            (sp.Matrix(d.mass_matrix) * sp.Matrix(model.qd) + sp.Matrix(d.t1_coefficients)).xreplace(values))
     p0 = np.asarray(momentum(0.0, y0[:n], y0[n:]), float).reshape(n)

@@ -94,7 +94,7 @@ def steady_motions(d, routh: Routhian, momenta: dict, parameters: dict, guesses)
     from lagcli.analysis.stability import sorted_eigenvalues
 
     model = d.model
-    values = {p.symbol: parameters[p.symbol.name] for p in model.parameters}
+    values = {p.symbol: parameters[p.symbol.name] for p in (*model.parameters, *model.inputs)}
     values.update({p: momenta[p.name] for p in routh.momenta})
     values[model.t] = 0.0
     q_r = list(routh.reduced)
