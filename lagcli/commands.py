@@ -85,16 +85,25 @@ def simulate(request, output: str | None = None, plot: str | None = None,
         raise plot_error
 
 
-def generate(path: str, lang: str, output: str | None = None) -> None:
+def generate(path: str, lang: str, output: str | None = None, form: str = "lagrangian") -> None:
     """`lagcli generate`: code or a document for `path` in `lang` (see lagcli.emit.LANGUAGES).
 
     One-file languages write to `output` (stdout for None or '-'); C writes its files
     into the directory `output` (required; created if only it is missing), each
-    atomically, after all are made.  The target is checked before deriving."""
+    atomically, after all are made.  The target is checked before deriving.
+    `form="hamiltonian"`: the Python module in (q, p) of lagcli/emit/hamilton.py."""
     from lagcli.emit import LANGUAGES
     from lagcli.errors import UsageError
     from lagcli.output import check_directory_output, open_output
     from lagcli.system import load
+
+    if form == "hamiltonian":
+        if lang != "python":
+            raise UsageError(f"--form hamiltonian: generated for --lang python only (not {lang})")
+        from lagcli.emit.hamilton import hamilton_module
+        with open_output(output) as out:
+            out.stream.write(hamilton_module(_derive(path)))
+        return
 
     language = LANGUAGES.get(lang)
     if language is not None and language.directory:
