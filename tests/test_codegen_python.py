@@ -80,7 +80,7 @@ def _numbers(d, case: dict) -> dict:
     values = {model.t: case["t"]}
     values.update(zip(model.q + model.qd, case["y"]))
     values.update(zip(model.parameter_symbols, case["p"]))
-    values.update(zip(model.input_symbols, case["u"]))
+    values.update(zip(model.input_symbols, case.get("u", ())))
     return {s: sp.Float(v, 30) for s, v in values.items()}
 
 
