@@ -118,10 +118,21 @@ def check(ctx, spec):
 @click.option("-o", "--output", default=None,
               help="Output file ('-' or none: stdout); for --lang c the directory (required); "
                    "for --lang fmu the .fmu file (required).")
+@click.option("--form", type=click.Choice(["lagrangian", "hamiltonian"]), default="lagrangian",
+              show_default=True,
+              help="hamiltonian: a Python module whose state is (q, p), rhs = Hamilton's equations "
+                   "(unconstrained systems).")
 @click.pass_context
-def generate(ctx, spec, lang, output):
-    """Generate code (Python, C) or a LaTeX document from SPEC's equations of motion."""
-    _run(ctx, lambda: commands.generate(spec, lang, output))
+def generate(ctx, spec, lang, output, form):
+    """Generate code (Python, C) or a LaTeX document from SPEC's equations of motion.
+
+    \b
+    Examples:
+      lagcli generate specs/double_pendulum.yaml --lang python -o double_pendulum.py
+      lagcli generate specs/double_pendulum.yaml --lang c -o double_pendulum/
+      lagcli generate specs/spherical_pendulum.yaml --lang python --form hamiltonian -o sp_h.py
+    """
+    _run(ctx, lambda: commands.generate(spec, lang, output, form))
 
 
 @cli.command()

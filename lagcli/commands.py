@@ -98,17 +98,26 @@ def _plot_options(spec: str, columns, phase):
     return PlotOptions(columns, tuple(phase), angle_coordinates(load_model(spec)))
 
 
-def generate(path: str, lang: str, output: str | None = None) -> None:
+def generate(path: str, lang: str, output: str | None = None, form: str = "lagrangian") -> None:
     """`lagcli generate`: code or a document for `path` in `lang` (see lagcli.emit.LANGUAGES).
 
     One-file languages write to `output` (stdout for None or '-'; the FMU's zip needs
     `output`, '-' for stdout); C writes its files
     into the directory `output` (required; created if only it is missing), each
-    atomically, after all are made.  The target is checked before deriving."""
+    atomically, after all are made.  The target is checked before deriving.
+    `form="hamiltonian"`: the Python module in (q, p) of lagcli/emit/hamilton.py."""
     from lagcli.emit import LANGUAGES
     from lagcli.errors import UsageError
     from lagcli.output import check_directory_output, open_output
     from lagcli.system import load
+
+    if form == "hamiltonian":
+        if lang != "python":
+            raise UsageError(f"--form hamiltonian: generated for --lang python only (not {lang})")
+        from lagcli.emit.hamilton import hamilton_module
+        with open_output(output) as out:
+            out.stream.write(hamilton_module(_derive(path)))
+        return
 
     language = LANGUAGES.get(lang)
     if language is not None and language.directory:
@@ -168,11 +177,6 @@ def _symbolic_linear(d, points, inputs, fmt: str) -> str:
     from lagcli.emit.latex_printer import LatexPrinter
     from lagcli.spec_printer import spec_str
 
-    params = [p.symbol.name for p in d.model.parameters]
-    unknown = [name for name in inputs if name not in params]
-    if unknown:
-        from lagcli.errors import UsageError
-        raise UsageError(f"--input {unknown[0]!r}: not a parameter")
     lin = symbolic_linear(d, points, inputs)
     if fmt == "latex":
         return report.symbolic_latex(lin, LatexPrinter(d.model))
@@ -189,12 +193,13 @@ def _latex_names(d):
 
 
 def _parameters(d, sets) -> dict:
-    """Every parameter's value by name: the spec's, overridden by `--set NAME=VALUE`."""
+    """Every parameter's and input's value by name: the spec's, overridden by `--set NAME=VALUE`."""
     from lagcli.simulate.options import parse_assignments as assignments
 
-    names = [p.symbol.name for p in d.model.parameters]
-    return {p.symbol.name: float(p.value) for p in d.model.parameters} | assignments(
-        tuple(sets), "--set", names, "parameter", "parameters")
+    constants = (*d.model.parameters, *d.model.inputs)
+    names = [p.symbol.name for p in constants]
+    return {p.symbol.name: float(p.value) for p in constants} | assignments(
+        tuple(sets), "--set", names, "parameter or input", "parameters and inputs")
 
 
 def _guesses(d, guesses) -> list[dict]:

@@ -4,7 +4,7 @@ A `Layout` says, in spec order, what a run of a system is made of:
 
     states        q..., then q'... (`<q>_dot`)                       y = [q, q']
     parameters    name, default (and room for a unit)                p
-    inputs        none yet: room for time-varying inputs u(t)
+    inputs        name, default, latex, description (spec `inputs:`)  u
     multipliers   lambda_<j> (1-based) or lambda_<name>, one per constraint row
     columns       the CSV columns, each with its kind:
                     t                        time
@@ -107,9 +107,13 @@ class Parameter:
 
 @dataclass(frozen=True)
 class Input:
-    """Room for inputs u(t) given at run time; no spec declares any yet."""
+    """An input signal u_k (spec `inputs:`), in spec order; `default` is the value
+    generated code and simulate use when a run does not set it."""
 
     name: str
+    default: float = 0.0
+    latex: str | None = None
+    description: str | None = None
 
 
 @dataclass(frozen=True)
@@ -170,6 +174,14 @@ class Layout:
         return {p.name: p.default for p in self.parameters}
 
     @property
+    def input_names(self) -> tuple[str, ...]:
+        return tuple(u.name for u in self.inputs)
+
+    @property
+    def input_defaults(self) -> dict[str, float]:
+        return {u.name: u.default for u in self.inputs}
+
+    @property
     def multiplier_names(self) -> tuple[str, ...]:
         return tuple(m.name for m in self.multipliers)
 
@@ -224,7 +236,9 @@ def layout_of(d) -> Layout:
         columns.append(Column(RESIDUAL, "residual"))
     layout = Layout(model.name, tuple(states),
                     tuple(Parameter(p.symbol.name, float(p.value)) for p in model.parameters),
-                    multipliers, tuple(columns), model.settings)
+                    multipliers, tuple(columns), model.settings,
+                    tuple(Input(u.symbol.name, float(u.value), u.latex, u.description)
+                          for u in model.inputs))
     require_unique(layout)
     return layout
 
@@ -235,7 +249,8 @@ def require_unique(layout: Layout) -> None:
     (`reserved_reason`, `column_clash`), so a clash here is a lagcli bug."""
     from lagcli.errors import EmitError
 
-    for what, names in (("CSV column", layout.header), ("parameter", layout.parameter_names)):
+    for what, names in (("CSV column", layout.header),
+                        ("parameter or input", layout.parameter_names + layout.input_names)):
         seen = set()
         for name in names:
             if name in seen:

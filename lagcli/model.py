@@ -18,8 +18,8 @@ import sympy as sp
 from lagcli.calculus import TimeDerivative, numerically_zero
 from lagcli.errors import Problem, SpecError
 from lagcli.expr import Scope, parse, parse_constant
-from lagcli.model_types import (AppliedForce, ConstraintSpec, LinearDamper, LinearSpring, Model, ParameterInfo,
-                                PointMass, RigidBody, Settings)
+from lagcli.model_types import (AppliedForce, ConstraintSpec, InputInfo, LinearDamper, LinearSpring,
+                                Model, ParameterInfo, PointMass, RigidBody, Settings)
 from lagcli.kinematics import AXES, Entity, Vector, frame_chains
 from lagcli.rolling import rolling_constraints
 from lagcli.spec.types import Body, Spec, Src, VectorSrc
@@ -40,6 +40,7 @@ class _ModelBuilder:
         self.q = tuple(sp.Symbol(n, real=True) for n in names)
         self.qd = tuple(sp.Symbol(f"{n}_dot", real=True) for n in names)
         self.qdd = tuple(sp.Symbol(f"{n}_ddot", real=True) for n in names)
+        self.u = tuple(sp.Symbol(u.name, real=True) for u in spec.inputs)
         self.D = TimeDerivative(self.t, self.q, self.qd, self.qdd)
         self.scope = Scope({"pi": sp.pi}, self.t, self._time_derivative, VectorBuilder)
         self.frames: dict[str, tuple] = {}  # frame name -> its whole rotation chain
@@ -83,13 +84,25 @@ class _ModelBuilder:
             self.problems.extend(exc.problems)
             return default
 
+    def no_inputs(self, value: sp.Expr, src: Src) -> None:
+        """Inputs are applied loads: only forces, torques and generalized forces take them."""
+        used = value.free_symbols & set(self.u)
+        if used:
+            raise SpecError(Problem(src.loc, f"{src.text!r} uses the input(s) "
+                                    f"{', '.join(sorted(map(str, used)))}, but inputs may appear only in "
+                                    "forces, torques and generalized_forces",
+                                    "declare a constant as a parameter; a prescribed motion of t as "
+                                    "a known function"))
+
     def no_velocities(self, value: sp.Expr, src: Src) -> None:
+        self.no_inputs(value, src)
         used = value.free_symbols & (set(self.qd) | set(self.qdd))
         if used:
             raise SpecError(Problem(src.loc, f"{src.text!r} must not depend on velocities or "
                                     f"accelerations (uses {', '.join(sorted(map(str, used)))})"))
 
     def constant_in_motion(self, value: sp.Expr, src: Src) -> None:
+        self.no_inputs(value, src)
         used = value.free_symbols & ({self.t} | set(self.q) | set(self.qd) | set(self.qdd))
         if used:
             raise SpecError(Problem(src.loc, f"{src.text!r} must be constant (uses "
@@ -98,6 +111,7 @@ class _ModelBuilder:
 
     def at_most_quadratic(self, value: sp.Expr, src: Src) -> None:
         """The extra kinetic energy must split as T2 + T1 + T0: a polynomial of degree <= 2 in q'."""
+        self.no_inputs(value, src)
         self.no_accelerations(value, src)
         velocities = set(self.qd)
         hessian = [value.diff(u).diff(v) for u in self.qd for v in self.qd]
@@ -107,6 +121,7 @@ class _ModelBuilder:
                                     "in the velocities (T = T2 + T1 + T0)"))
 
     def no_accelerations(self, value: sp.Expr, src: Src) -> None:
+        """Forces, torques and generalized forces: anything but accelerations (inputs too)."""
         if value.free_symbols & set(self.qdd):
             raise SpecError(Problem(src.loc, f"{src.text!r} must not contain accelerations"))
 
@@ -115,7 +130,9 @@ class _ModelBuilder:
         spec = self.spec
         parameters = self._parameters()
         self.parameter_values = {p.symbol: p.value for p in parameters}
+        inputs = self._inputs()
         self.scope.names.update({p.symbol.name: p.symbol for p in parameters})
+        self.scope.names.update({u.symbol.name: u.symbol for u in inputs})
         self.scope.names.update({q.name: q for q in self.q})
         self.scope.names.update({v.name: v for v in self.qd})
         known = self._named(spec.known, self._only_time)
@@ -139,7 +156,7 @@ class _ModelBuilder:
             potential=self.expr(spec.potential, sp.S.Zero, self.no_velocities),
             kinetic=self.expr(spec.kinetic, sp.S.Zero, self.at_most_quadratic),
             generalized_forces=self._generalized_forces(),
-            constraints=tuple(ConstraintSpec(c.name, self.expr(c.expr, check=self.no_accelerations), c.loc)
+            constraints=tuple(ConstraintSpec(c.name, self.expr(c.expr, check=self.constraint_expr), c.loc)
                               for c in spec.constraints)
                         + tuple(row for item in spec.rolling for row in rolling_constraints(item, self)),
             initial=self._initial(parameters),
@@ -149,6 +166,7 @@ class _ModelBuilder:
             units={item.name: (item.unit, item.loc.child("unit")) for item in (*spec.coordinates, *spec.parameters)
                    if item.unit is not None},
             locs=_item_locs(spec),
+            inputs=inputs,
         )
         if self.problems:
             raise SpecError(self.problems)
@@ -158,8 +176,16 @@ class _ModelBuilder:
         return tuple(ParameterInfo(sp.Symbol(p.name, real=True), self.constant(p.value, 0.0),
                                    p.latex, p.description) for p in self.spec.parameters)
 
+    def _inputs(self) -> tuple[InputInfo, ...]:
+        return tuple(InputInfo(symbol, self.constant(u.value, 0.0), u.latex, u.description)
+                     for symbol, u in zip(self.u, self.spec.inputs))
+
+    def constraint_expr(self, value: sp.Expr, src: Src) -> None:
+        self.no_inputs(value, src)
+        self.no_accelerations(value, src)
+
     def _only_time(self, value: sp.Expr, src: Src) -> None:
-        used = value.free_symbols & (set(self.q) | set(self.qd) | set(self.qdd))
+        used = value.free_symbols & (set(self.q) | set(self.qd) | set(self.qdd) | set(self.u))
         if used:
             raise SpecError(Problem(src.loc, f"known function {src.text!r} may depend on t and "
                                     f"parameters only (uses {', '.join(sorted(map(str, used)))})"))

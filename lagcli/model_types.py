@@ -25,6 +25,17 @@ class ParameterInfo:
 
 
 @dataclass(frozen=True)
+class InputInfo:
+    """An input signal u_k (spec `inputs:`): appears only in applied forces, torques
+    and generalized forces; `value` is its default (held constant by simulate)."""
+
+    symbol: sp.Symbol
+    value: float
+    latex: str | None
+    description: str | None
+
+
+@dataclass(frozen=True)
 class PointMass:
     name: str
     mass: sp.Expr
@@ -126,10 +137,11 @@ class Model:
     def loc(self, path: str) -> Loc:
         """Where the spec item at key `path` was written (its path alone when unknown)."""
         return self.locs.get(path) or Loc(self.source, path=path)
+    inputs: tuple[InputInfo, ...] = ()
 
     def symbol(self, name: str) -> sp.Symbol:
         """The symbol called `name`: t, a coordinate, velocity, acceleration or parameter."""
-        for s in (self.t, *self.q, *self.qd, *self.qdd, *self.parameter_symbols):
+        for s in (self.t, *self.q, *self.qd, *self.qdd, *self.parameter_symbols, *self.input_symbols):
             if s.name == name:
                 return s
         raise KeyError(name)
@@ -142,6 +154,10 @@ class Model:
     @property
     def parameter_symbols(self) -> tuple[sp.Symbol, ...]:
         return tuple(p.symbol for p in self.parameters)
+
+    @property
+    def input_symbols(self) -> tuple[sp.Symbol, ...]:
+        return tuple(u.symbol for u in self.inputs)
 
     @property
     def parameter_values(self) -> dict:

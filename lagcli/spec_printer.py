@@ -51,7 +51,8 @@ def spec_str(expr) -> str:
 
 def output_names(model, multipliers=()) -> dict:
     """Names an output expression may use: inputs plus q_ddot and the multipliers."""
-    names = {s.name: s for s in (*model.q, *model.qd, *model.qdd, *model.parameter_symbols, *multipliers)}
+    names = {s.name: s for s in (*model.q, *model.qd, *model.qdd, *model.parameter_symbols,
+                                 *model.input_symbols, *multipliers)}
     return {"pi": sp.pi, **names}
 
 

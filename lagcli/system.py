@@ -118,11 +118,13 @@ class System:
 
     def simulate(self, t_end: float | None = None, dt: float | None = None, method: str | None = None,
                  rtol: float | None = None, atol: float | None = None, parameters: dict | None = None,
-                 initial: dict | None = None, baumgarte: tuple[float, float] | None = None):
+                 initial: dict | None = None, baumgarte: tuple[float, float] | None = None,
+                 inputs: dict | None = None):
         """Integrate with the Python backend (scipy) as `lagcli simulate --backend python`
         does; None takes the spec's `simulate:` value, else lagcli's default. Returns a
         `lagcli.trajectory.Trajectory`; a failed integration keeps its rows and says
-        why in `failure`."""
+        why in `failure`. `inputs`: {name: value} of the spec's `inputs:`, held constant
+        (missing ones at their defaults)."""
         from lagcli.simulate.options import Request, resolve_settings
         from lagcli.simulate.python_backend import integrate_module
         from lagcli.trajectory import from_rows
@@ -132,8 +134,10 @@ class System:
         params = self._parameters(parameters)
         start = self.initial_state(parameters, initial)
         module = self._module()
+        u = self._inputs(inputs)
         rows = integrate_module(module, [params[name] for name in self.layout.parameter_names],
-                                list(start.values), settings)
+                                list(start.values), settings,
+                                u=[u[name] for name in self.layout.input_names] if u else None)
         d = self.derivation
         return from_rows(self.layout, rows, start.notes,
                          d.jacobi_integral is not None and d.energy_is_jacobi)
@@ -186,6 +190,11 @@ class System:
         given = dict(parameters or {})
         self._known("parameters", given, self.layout.parameter_names, "parameter")
         return {**self.layout.parameter_defaults, **{k: float(v) for k, v in given.items()}}
+
+    def _inputs(self, inputs: dict | None) -> dict[str, float]:
+        given = dict(inputs or {})
+        self._known("inputs", given, self.layout.input_names, "input")
+        return {**self.layout.input_defaults, **{k: float(v) for k, v in given.items()}}
 
     def _known(self, argument: str, given: dict, allowed, what: str) -> None:
         unknown = [name for name in given if name not in allowed]

@@ -113,12 +113,14 @@ def call(c: Built, d, case: dict) -> dict:
     ninv = len(c.strings("invariant_names"))
     inv = doubles([0.0] * ninv)
     t, alpha, beta = (ctypes.c_double(case[k]) for k in ("t", "alpha", "beta"))
-    assert c.function("rhs_stabilized")(t, y, p, alpha, beta, dydt, lam) == 0
+    u = (doubles(case["u"]),) if d.model.inputs else ()     # a spec with inputs: the _u functions
+    suffix = "_u" if u else ""
+    assert c.function("rhs_stabilized" + suffix)(t, y, p, *u, alpha, beta, dydt, lam) == 0
     assert c.function("invariants")(t, y, p, inv) == 0
     assert c.function("mass_matrix")(t, y, p, M) == 0
-    assert c.function("forcing")(t, y, p, F) == 0
+    assert c.function("forcing" + suffix)(t, y, p, *u, F) == 0
     plain = doubles([0.0] * 2 * n)
-    assert c.function("rhs")(t, y, p, plain) == 0
+    assert c.function("rhs" + suffix)(t, y, p, *u, plain) == 0
     names = c.strings("invariant_names")
     return {"qdd": list(dydt)[n:], "lam": list(lam)[:m], "M": list(M), "F": list(F),
             "inv": dict(zip(names, list(inv))), "rhs": list(plain), "dydt": list(dydt)}

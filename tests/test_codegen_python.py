@@ -39,13 +39,15 @@ cases = json.load(sys.stdin)
 out = []
 for case in cases:
     t, y, p, a, b = case["t"], case["y"], case["p"], case["alpha"], case["beta"]
-    qdd, lam = module.accelerations(t, y, p, a, b)
+    u = (case["u"],) if hasattr(module, "INPUTS") else ()   # a spec with inputs: u given
+    qdd, lam = module.accelerations(t, y, p, a, b, *u)
     out.append({
-        "rhs": [float(v) for v in module.rhs(t, y, p)],
+        "rhs": [float(v) for v in module.rhs(t, y, p, *u)],
         "qdd": [float(v) for v in qdd], "lam": [float(v) for v in lam],
-        "M": module.mass_matrix(t, y, p).tolist(), "F": module.forcing(t, y, p).tolist(),
+        "M": module.mass_matrix(t, y, p).tolist(), "F": module.forcing(t, y, p, *u).tolist(),
         "inv": {k: float(v) for k, v in module.invariants(t, y, p).items()},
-        "dict_rhs": [float(v) for v in module.rhs(t, y, dict(zip(module.PARAMETERS, p)))],
+        "dict_rhs": [float(v) for v in module.rhs(t, y, dict(zip(module.PARAMETERS, p)),
+                                                  *(dict(zip(module.INPUTS, case["u"])),) if u else ())],
     })
 print(json.dumps({"cases": out, "names": [module.COORDINATES, module.STATE, list(module.PARAMETERS),
                                           module.MULTIPLIERS, module.INVARIANTS]}))
@@ -57,7 +59,7 @@ def spec_id(path: Path) -> str:
 
 
 def random_inputs(d, rng, count: int = STATES) -> list[dict]:
-    """Seeded random (t, y, p) with Baumgarte gains: the first half exact (alpha = beta = 0)."""
+    """Seeded random (t, y, p, u) with Baumgarte gains: the first half exact (alpha = beta = 0)."""
     n, k = d.n, len(d.model.parameters)
     cases = []
     for i in range(count):
@@ -68,6 +70,7 @@ def random_inputs(d, rng, count: int = STATES) -> list[dict]:
             "p": [float(v) for v in rng.uniform(0.5, 2.0, k)],
             "alpha": float(rng.uniform(1, 10)) if stabilized else 0.0,
             "beta": float(rng.uniform(1, 10)) if stabilized else 0.0,
+            "u": [float(v) for v in rng.uniform(-2.0, 2.0, len(d.model.inputs))],
         })
     return cases
 
@@ -77,6 +80,7 @@ def _numbers(d, case: dict) -> dict:
     values = {model.t: case["t"]}
     values.update(zip(model.q + model.qd, case["y"]))
     values.update(zip(model.parameter_symbols, case["p"]))
+    values.update(zip(model.input_symbols, case.get("u", ())))
     return {s: sp.Float(v, 30) for s, v in values.items()}
 
 

@@ -59,7 +59,7 @@ def test_augmented_system_reproduces_equations_and_constraints(derivation):
     m = d.model
     rng = np.random.default_rng(7)
     # xreplace, not subs: the same values, minutes faster on the bicycle's large expressions
-    values = {s: float(rng.uniform(0.3, 1.3)) for s in (m.t, *m.q, *m.qd, *m.parameter_symbols)}
+    values = {s: float(rng.uniform(0.3, 1.3)) for s in (m.t, *m.q, *m.qd, *m.parameter_symbols, *m.input_symbols)}
     K = np.array(d.augmented_matrix.xreplace(values).evalf(), dtype=float)
     b = np.array(d.augmented_rhs.xreplace(values).evalf(), dtype=float).ravel()
     solution = np.linalg.solve(K, b)

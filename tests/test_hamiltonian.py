@@ -23,7 +23,7 @@ T_END = 1.0
 
 def lagrangian_rhs(d, params):
     model = d.model
-    values = {p.symbol: params[p.symbol.name] for p in model.parameters}
+    values = {p.symbol: params[p.symbol.name] for p in (*model.parameters, *model.inputs)}
     args = [model.t, list(model.q), list(model.qd)]
     M = sp.lambdify(args, sp.Matrix(d.mass_matrix).xreplace(values), "numpy", cse=True)
     F = sp.lambdify(args, sp.Matrix(d.forcing).xreplace(values), "numpy", cse=True)
@@ -41,11 +41,11 @@ def test_hamilton_equations_agree_with_lagrange(derived, name):
     d = derived(name)
     model = d.model
     n = len(model.q)
-    params = {p.symbol.name: p.value for p in model.parameters}
+    params = {p.symbol.name: p.value for p in (*model.parameters, *model.inputs)}   # inputs held
     y0 = np.array([model.initial.get(s.name, 0.0) for s in (*model.q, *model.qd)], dtype=float)
     y0[:n] += 0.1      # away from symmetric starts, so every coordinate moves
     ham = HamiltonRhs(d, params)
-    values = {p.symbol: params[p.symbol.name] for p in model.parameters}
+    values = {p.symbol: params[p.symbol.name] for p in (*model.parameters, *model.inputs)}
     momentum = sp.lambdify([model.t, list(model.q), list(model.qd)],
                            (sp.Matrix(d.mass_matrix) * sp.Matrix(model.qd) + sp.Matrix(d.t1_coefficients)).xreplace(values))
     p0 = np.asarray(momentum(0.0, y0[:n], y0[n:]), float).reshape(n)
@@ -63,6 +63,62 @@ def test_hamilton_equations_agree_with_lagrange(derived, name):
         jacobi = [h(t, y[:n], v) for t, y, v in zip(times, hamilton.y.T, velocities.T)]
         np.testing.assert_allclose(H, jacobi, rtol=1e-10, atol=1e-10)
         assert np.ptp(H) < 1e-8 * max(1.0, abs(H[0]))
+
+
+@pytest.mark.parametrize("name", UNCONSTRAINED)
+def test_generated_hamiltonian_module_agrees_with_lagrange(derived, name, tmp_path):
+    """`lagcli generate --lang python --form hamiltonian`: its rhs(t, x, p) integrated in
+    (q, p) follows the Lagrangian integration of M q'' = F (from the Derivation, not from
+    any emitter) to 1e-8, and its hamiltonian(t, x, p) equals the Jacobi integral."""
+    import importlib.util
+
+    from lagcli.emit.hamilton import hamilton_module
+
+    d = derived(name)
+    model = d.model
+    n = len(model.q)
+    path = tmp_path / f"{name}_hamiltonian.py"
+    path.write_text(hamilton_module(d))     # what `generate --form hamiltonian` writes
+    spec = importlib.util.spec_from_file_location(f"{name}_hamiltonian", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    assert module.STATE == [q.name for q in model.q] + [f"p_{q.name}" for q in model.q]
+    params = {p.symbol.name: p.value for p in (*model.parameters, *model.inputs)}
+    y0 = np.array([model.initial.get(s.name, 0.0) for s in (*model.q, *model.qd)], dtype=float)
+    y0[:n] += 0.1
+    x0 = module.from_lagrangian(0.0, y0, None)
+    times = np.linspace(0, T_END, 11)
+    tol = dict(rtol=1e-12, atol=1e-12, method="DOP853", t_eval=times)
+    lag = solve_ivp(lagrangian_rhs(d, params), (0, T_END), y0, **tol)
+    ham = solve_ivp(lambda t, x: module.rhs(t, x, None), (0, T_END), x0, **tol)
+    assert lag.success and ham.success
+    velocities = np.array([module.velocities(t, x, None) for t, x in zip(times, ham.y.T)]).T
+    np.testing.assert_allclose(ham.y[:n], lag.y[:n], atol=1e-8, rtol=0)
+    np.testing.assert_allclose(velocities, lag.y[n:], atol=1e-8 * max(1.0, np.max(np.abs(lag.y[n:]))), rtol=0)
+    if d.jacobi_integral is not None:
+        values = {p.symbol: params[p.symbol.name] for p in (*model.parameters, *model.inputs)}
+        h = sp.lambdify([model.t, list(model.q), list(model.qd)], d.jacobi_integral.xreplace(values))
+        H = [module.hamiltonian(t, x, None) for t, x in zip(times, ham.y.T)]
+        jacobi = [h(t, y[:n], y[n:]) for t, y in zip(times, lag.y.T)]
+        np.testing.assert_allclose(H, jacobi, rtol=1e-9, atol=1e-9)
+
+
+def test_generated_hamiltonian_module_refusals(tmp_path):
+    from click.testing import CliRunner
+
+    from lagcli.cli import cli
+
+    runner = CliRunner()
+    constrained = runner.invoke(cli, ["generate", str(SPECS / "cartesian_pendulum.yaml"), "--lang", "python",
+                                      "--form", "hamiltonian"])
+    assert constrained.exit_code == 2 and "unconstrained systems" in constrained.output
+    c = runner.invoke(cli, ["generate", str(SPECS / "cart_pole.yaml"), "--lang", "c", "--form", "hamiltonian",
+                            "-o", str(tmp_path / "c")])
+    assert c.exit_code == 2 and "--lang python only" in c.output
+    path = tmp_path / "sp.py"
+    done = runner.invoke(cli, ["generate", str(SPECS / "spherical_pendulum.yaml"), "--lang", "python",
+                               "--form", "hamiltonian", "-o", str(path)])
+    assert done.exit_code == 0 and "def rhs(t, x, p):" in path.read_text()
 
 
 def test_spherical_pendulum_hamiltonian_closed_form(derived, assert_zero):

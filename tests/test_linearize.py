@@ -99,6 +99,32 @@ def test_cart_pole_at_other_parameters(derived):
     np.testing.assert_allclose(lm.B, B, atol=1e-12)
 
 
+def test_declared_input_is_the_column_of_B_without_any_option(derived):
+    """cart_pole declares `inputs: [F]`: B has its column with no --input; --input of a
+    parameter adds that column after the declared inputs (B's m column: df/dm at the point,
+    compared with a central difference of the closed form)."""
+    d = derived("cart_pole")
+    lm = linear(d)
+    A, B = cart_pole_closed_form(1.0, 0.1, 0.5, 9.81)
+    assert lm.inputs == ("F",)
+    np.testing.assert_allclose(lm.B, B, atol=1e-12)
+    theta, F = 0.2, 0.7
+    lm = linear(d, [f"theta={theta}", f"F={F}"], inputs=["m", "F"])
+    assert lm.inputs == ("F", "m")
+
+    def accelerations(m, mc=1.0, l=0.5, g=9.81):   # the textbook's nonlinear cart-pole, at rest
+        s, c = np.sin(theta), np.cos(theta)
+        den = mc + m * s * s
+        return np.array([(F - m * g * s * c) / den, ((mc + m) * g * s - F * c) / (l * den)])
+
+    h = 1e-6
+    dm = (accelerations(0.1 + h) - accelerations(0.1 - h)) / (2 * h)
+    np.testing.assert_allclose(lm.B[2:, 1], dm, rtol=1e-7)
+    np.testing.assert_allclose(lm.B[2:, 0],
+                               [1 / (1.0 + 0.1 * np.sin(theta) ** 2),
+                                -np.cos(theta) / (0.5 * (1.0 + 0.1 * np.sin(theta) ** 2))], rtol=1e-12)
+
+
 # -- rolling disc: upright rolling stable iff spin^2 > g/(3 r) -------------------
 
 @pytest.mark.parametrize("spin", [2.0, 3.2, 3.4, 6.0])
@@ -144,7 +170,7 @@ def test_cli_text_latex_and_errors():
     bad = runner.invoke(cli, ["linearize", path, "--at", "tehta=1"])
     assert bad.exit_code == 2 and "did you mean 'theta'" in bad.output
     bad = runner.invoke(cli, ["linearize", path, "--input", "G"])
-    assert bad.exit_code == 2 and "not a parameter" in bad.output
+    assert bad.exit_code == 2 and "not an input or a parameter" in bad.output
     bad = runner.invoke(cli, ["linearize", path, "--find-critical"])
     assert bad.exit_code == 2
     help_text = runner.invoke(cli, ["linearize", "--help"])

@@ -56,3 +56,55 @@ def test_cli_routh_json_and_errors():
     assert bad.exit_code == 2 and "did you mean 'p_phi'" in bad.output
     bad = runner.invoke(cli, ["routh", str(spec_path("double_pendulum"))])
     assert bad.exit_code == 2 and "no ignorable coordinate" in bad.output
+
+
+POLAR_SPHERICAL_PENDULUM = """\
+name: spherical_pendulum_polar
+coordinates: [r, theta, phi]
+parameters: {m: 1.0, L: 1.0, g: 9.81}
+gravity: [0, 0, -g]
+particles:
+  bob: {mass: m, position: ['r*sin(theta)*cos(phi)', 'r*sin(theta)*sin(phi)', '-r*cos(theta)']}
+constraints:
+  - {name: rod, expr: r - L}
+"""
+
+
+def test_routh_reduction_of_a_constrained_system():
+    """phi appears in no constraint of the spherical pendulum written in (r, theta, phi)
+    with the rod r = L as a constraint: the Routhian is the textbook one on r = L, and
+    the reduced equations keep the multiplier (the rod's tension) in the r row."""
+    import lagcli
+    from lagcli.calculus import numerically_zero
+    from lagcli.errors import UsageError
+
+    d = lagcli.load(POLAR_SPHERICAL_PENDULUM).derivation
+    reduction = routhian(d)
+    s = {n: d.model.symbol(n) for n in ("r", "theta", "m", "L", "g", "r_dot", "theta_dot", "r_ddot", "theta_ddot")}
+    p, lam = reduction.momenta[0], d.multipliers[0]
+    r, th, m, L, g = s["r"], s["theta"], s["m"], s["L"], s["g"]
+    on_rod = {r: L, s["r_dot"]: 0, s["r_ddot"]: 0}
+    textbook_R = (m * L**2 * s["theta_dot"]**2 / 2 - p**2 / (2 * m * L**2 * sp.sin(th)**2)
+                  + m * g * L * sp.cos(th))
+    radial, polar = reduction.equations
+    assert numerically_zero([reduction.R.xreplace(on_rod) - textbook_R])
+    assert numerically_zero([polar.xreplace(on_rod) - (m * L**2 * s["theta_ddot"]
+                             - p**2 * sp.cos(th) / (m * L**2 * sp.sin(th)**3) + m * g * L * sp.sin(th))])
+    # r row: m r'' - m r theta'^2 - p^2/(m r^3 sin^2) - m g cos(theta) = lambda_rod
+    assert numerically_zero([radial - (m * s["r_ddot"] - m * r * s["theta_dot"]**2
+                                       - p**2 / (m * r**3 * sp.sin(th)**2) - m * g * sp.cos(th) - lam)])
+    with pytest.raises(UsageError, match="steady motions of a constrained"):
+        steady_motions(d, reduction, {"p_phi": 1.0}, {"m": 1.0, "L": 1.0, "g": 9.81}, [{}])
+
+
+def test_routh_refuses_an_ignorable_coordinate_inside_a_constraint():
+    """Ex. 6-9: p_phi is conserved, but phi is inside the rolling constraints (sin(phi))."""
+    from click.testing import CliRunner
+
+    from lagcli.cli import cli
+    from conftest import spec_path
+
+    result = CliRunner().invoke(cli, ["routh", str(spec_path("ex6_9_two_wheels_axle"))])
+    assert result.exit_code == 2 and "Traceback" not in result.output
+    assert "ex6_9_two_wheels_axle.yaml:" in result.output and "constraints[0]:" in result.output
+    assert "'phi' is ignorable (p_phi is conserved) but this constraint contains it" in result.output

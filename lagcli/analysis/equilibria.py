@@ -113,7 +113,7 @@ def equilibria(d, parameters: dict, guesses: list[dict], independent=()) -> list
         balance += sp.Matrix(d.constraint_matrix).xreplace(rest).T * lam
     holonomic = [c.expr.xreplace(rest) for c in d.constraints if c.kind == "holonomic"]
     unknowns = list(model.q) + list(d.multipliers)
-    symbols = {p.symbol: parameters[p.symbol.name] for p in model.parameters}
+    symbols = {p.symbol: parameters[p.symbol.name] for p in (*model.parameters, *model.inputs)}
     starts = [[g.get(s.name, 0.0) for s in unknowns] for g in guesses]
     if d.constraints:
         found = distinct(_numeric(list(balance) + holonomic, unknowns, symbols, starts), len(model.q))

@@ -60,7 +60,8 @@ class HamiltonRhs:
 
     def __init__(self, d, parameters: dict):
         model = d.model
-        values = {p.symbol: sp.Float(parameters[p.symbol.name], 30) for p in model.parameters}
+        values = {p.symbol: sp.Float(parameters.get(p.symbol.name, p.value), 30)
+                  for p in (*model.parameters, *model.inputs)}
         M, a = sp.Matrix(d.mass_matrix).xreplace(values), sp.Matrix(d.t1_coefficients).xreplace(values)
         L = d.L.xreplace(values)
         force = sp.Matrix([L.diff(q) for q in model.q]) + sp.Matrix(d.nonconservative_forces).xreplace(values)

@@ -5,7 +5,7 @@ The equations (docs/design.md) are
     R(q, q', q'', lambda, u) = M q'' - F - A^T lambda = 0        (n rows)
     S(q, q', q'')            = A q'' - b              = 0        (m rows, b = -(A' q' + d'))
 
-with inputs u (parameters declared inputs: `--input NAME`). Differentiating at
+with inputs u (the spec's `inputs:`, then parameters named by `--input NAME`). Differentiating at
 the point, with K = [[M, -A^T], [A, 0]],
 
     K d[q''; lambda] = -(G_q dq + G_q' dq' + G_u du),     G_x = d[R; S]/dx at (q'', lambda) of the point,
@@ -55,13 +55,7 @@ class CompiledSystem:
         model = d.model
         self.derivation = d
         self.n, self.m = len(model.q), len(d.constraints)
-        params = {p.symbol.name: p.symbol for p in model.parameters}
-        unknown = [name for name in inputs if name not in params]
-        if unknown:
-            from lagcli.simulate.options import _hint
-            raise UsageError(f"--input {unknown[0]!r}: not a parameter"
-                             + _hint(unknown[0], list(params), "parameters"))
-        self.inputs = tuple(params[name] for name in inputs)
+        self.inputs = input_symbols(model, inputs)
         self.holonomic = [j for j, row in enumerate(d.constraints) if row.kind == "holonomic"]
         lam = sp.Matrix(d.multipliers)
         qd, qdd = sp.Matrix(model.qd), sp.Matrix(model.qdd)
@@ -71,7 +65,8 @@ class CompiledSystem:
         RS = R.col_join(S) if self.m else R
         velocity = A * qd + sp.Matrix([row.d for row in d.constraints]) if self.m else sp.zeros(0, 1)
         phi = sp.Matrix([d.constraints[j].expr for j in self.holonomic])
-        self.args = [model.t, *model.q, *model.qd, *model.qdd, *d.multipliers, *model.parameter_symbols]
+        self.args = [model.t, *model.q, *model.qd, *model.qdd, *d.multipliers, *model.parameter_symbols,
+                     *model.input_symbols]
         jacobians = {"G_q": ("RS", list(model.q)), "G_qd": ("RS", list(model.qd))}
         if self.inputs:
             jacobians["G_u"] = ("RS", list(self.inputs))
@@ -87,7 +82,8 @@ class CompiledSystem:
         model = self.derivation.model
         qdd = np.zeros(self.n) if qdd is None else qdd
         lam = np.zeros(self.m) if lam is None else lam
-        return [point.t, *point.q, *point.qd, *qdd, *lam, *(point.parameters[p.symbol.name] for p in model.parameters)]
+        return [point.t, *point.q, *point.qd, *qdd, *lam,
+                *(point.parameters[p.symbol.name] for p in (*model.parameters, *model.inputs))]
 
     # constraint pieces (for the operating point and the partition)
     def phi(self, point: Point) -> np.ndarray:
@@ -119,6 +115,20 @@ class CompiledSystem:
         second.setdefault("G_u", np.zeros((self.n + self.m, 0)))
         second.setdefault("V_q", np.zeros((0, self.n)))
         return qdd, lam, second
+
+
+def input_symbols(model, parameters=()) -> tuple[sp.Symbol, ...]:
+    """The inputs u of B: the spec's `inputs:` in spec order, then the parameters named
+    by `--input` (a declared input named again is not repeated)."""
+    params = {p.symbol.name: p.symbol for p in model.parameters}
+    declared = {u.name for u in model.input_symbols}
+    unknown = [name for name in parameters if name not in params and name not in declared]
+    if unknown:
+        from lagcli.simulate.options import _hint
+        raise UsageError(f"--input {unknown[0]!r}: not an input or a parameter"
+                         + _hint(unknown[0], [*declared, *params], "inputs and parameters"))
+    extra = [params[name] for name in dict.fromkeys(parameters) if name not in declared]
+    return (*model.input_symbols, *extra)
 
 
 def _augmented(M: np.ndarray, A: np.ndarray) -> np.ndarray:

@@ -1,10 +1,10 @@
 """The point an analysis is about: a number for every coordinate, velocity, parameter and t.
 
-`--at NAME=VALUE` gives coordinates, velocities (`q_dot`), parameters and `t`; a
+`--at NAME=VALUE` gives coordinates, velocities (`q_dot`), parameters, inputs and `t`; a
 value is a constant expression that may use the parameters and a sweep variable
 (`--at phi_R_dot=-v/rR --sweep v=0:10:101`). It is parsed by lagcli's safe
 expression parser (never evaluated as Python). Whatever is not given is 0
-(parameters: their spec value).
+(parameters and inputs: their spec value).
 
 On a constrained system the point must lie on the constraint manifold. The
 dependent coordinates are solved for by Newton's method on the holonomic rows
@@ -37,13 +37,13 @@ def parse_assignments(d, items, sweep_name: str | None = None) -> Assignments:
     from lagcli.simulate.options import parse_assignments as assignments
 
     model = d.model
-    allowed = [s.name for s in (*model.q, *model.qd, *model.parameter_symbols)] + ["t"]
+    allowed = [s.name for s in (*model.q, *model.qd, *model.parameter_symbols, *model.input_symbols)] + ["t"]
     scope_names = {"pi": sp.pi, **{p.name: p for p in model.parameter_symbols}}
     sweep = None
     if sweep_name is not None:
         sweep = scope_names.get(sweep_name) or sp.Symbol(sweep_name, real=True)
         scope_names[sweep_name] = sweep
-    values = assignments(tuple(items), "--at", allowed, "name", "coordinates, velocities and parameters",
+    values = assignments(tuple(items), "--at", allowed, "name", "coordinates, velocities, parameters and inputs",
                          parse=lambda text, where: _parse(text, scope_names, where))
     return Assignments(values, sweep)
 
@@ -67,15 +67,16 @@ class Point:
     t: float
     q: np.ndarray
     qd: np.ndarray
-    parameters: dict        # name -> float
+    parameters: dict        # name -> float, for every parameter and input
     notes: tuple[str, ...] = ()
 
 
 def evaluate(d, at: Assignments, sweep_value: float | None = None) -> Point:
     """The numbers of `at` (with the sweep variable at `sweep_value`), before any constraint solve."""
     model = d.model
-    params = {p.symbol.name: float(p.value) for p in model.parameters}
-    known = {p.symbol: p.value for p in model.parameters}
+    constants = (*model.parameters, *model.inputs)       # an input is held at its value
+    params = {p.symbol.name: float(p.value) for p in constants}
+    known = {p.symbol: p.value for p in constants}
     if at.sweep is not None:
         if sweep_value is None:
             raise UsageError("a sweep variable needs a value")
@@ -86,7 +87,7 @@ def evaluate(d, at: Assignments, sweep_value: float | None = None) -> Point:
     for name, expr in at.values.items():
         if name in params:
             params[name] = _number(expr, known, f"--at {name}")
-    known.update({p.symbol: params[p.symbol.name] for p in model.parameters})
+    known.update({p.symbol: params[p.symbol.name] for p in constants})
     if at.sweep is not None:
         known[at.sweep] = sweep_value
     number = {name: _number(expr, known, f"--at {name}") for name, expr in at.values.items()}

@@ -40,7 +40,8 @@ def linear_content(d, lm, st) -> dict:
         "name": d.model.name,
         "operating_point": {s.name: float(v) for s, v in zip(d.model.q + d.model.qd, [*point.q, *point.qd])},
         "t": point.t,
-        "parameters": dict(point.parameters),
+        "parameters": {p.symbol.name: point.parameters[p.symbol.name] for p in d.model.parameters},
+        "input_values": {u.symbol.name: point.parameters[u.symbol.name] for u in d.model.inputs},
         "notes": list(point.notes),
         "states": list(lm.states), "inputs": list(lm.inputs), "dependent": list(lm.dependent),
         "A": _matrix(lm.A), "B": _matrix(lm.B),
@@ -91,7 +92,8 @@ def linear_text(c: dict) -> str:
     lines += [f"  {note}" for note in c["notes"]]
     lines.append("parameters: " + ", ".join(f"{k} = {number(v)}" for k, v in c["parameters"].items()))
     if c["inputs"]:
-        lines.append("inputs: " + ", ".join(c["inputs"]))
+        held = c["input_values"]
+        lines.append("inputs: " + ", ".join(f"{k} = {number(held[k])}" if k in held else k for k in c["inputs"]))
     if c["dependent"]:
         lines.append("dependent (eliminated): " + ", ".join(c["dependent"]))
     rates = c["speed_rates"]

@@ -1,7 +1,6 @@
 """Routh reduction over the cyclic coordinates (lecture notes, the Routhian).
 
-For cyclic coordinates s (ignorable and absent from the constraints: an
-unconstrained system here) with momenta p_s = dL/dq'_s = M_ss q'_s + M_sr q'_r + a_s
+For cyclic coordinates s (ignorable and absent from every constraint row) with momenta p_s = dL/dq'_s = M_ss q'_s + M_sr q'_r + a_s
 held at given values, the cyclic velocities are eliminated,
 
     q'_s = M_ss^-1 (p_s - M_sr q'_r - a_s),
@@ -17,6 +16,15 @@ and small oscillations about one follow from M_red q_r'' + G q_r' + K q_r = 0
 with M_red = d2R/dq'_r^2, K the Hessian of V_eff and G the gyroscopic matrix of
 R's part linear in q'_r. M_ss is inverted symbolically: it is as small as the
 number of cyclic coordinates.
+
+A constrained system reduces the same way when its cyclic coordinates appear nowhere
+in the constraints (neither q_s nor q'_s in any row): column s of A is zero, so the
+q_s equation is p_s' = 0 with no multiplier, and the reduced equations keep their
+multipliers, d/dt(dR/dq'_r) - dR/dq_r - Q'_r = sum_j lambda_j a_jr, with the
+constraint rows unchanged. An ignorable coordinate that a constraint contains (as
+sin(phi) in the notes' Ex. 6-9: p_phi is conserved all the same) is refused, since
+the reduced system would still depend on it. Steady motions (`steady_motions`) are
+found for unconstrained systems only.
 """
 from __future__ import annotations
 
@@ -41,13 +49,11 @@ class Routhian:
 
 def routhian(d) -> Routhian:
     model = d.model
-    if d.constraints:
-        raise UsageError(f"{model.source}: Routh reduction here needs an unconstrained system "
-                         "(cyclic coordinates of a constrained one enter its constraint rows)")
     cyclic = tuple(d.ignorable)
     if not cyclic:
         raise UsageError(f"{model.source}: no ignorable coordinate, nothing to reduce\n"
                          "  hint: `lagcli derive` lists the ignorable coordinates")
+    _require_absent_from_constraints(d, cyclic)
     s = [model.q.index(c) for c in cyclic]
     r = [k for k in range(len(model.q)) if k not in s]
     M, a = sp.Matrix(d.mass_matrix), sp.Matrix(d.t1_coefficients)
@@ -60,9 +66,28 @@ def routhian(d) -> Routhian:
     R = _tidy((d.L - sum(pi * model.qd[k] for pi, k in zip(p, s))).xreplace(eliminate))
     at_rest = {model.qd[k]: 0 for k in r}
     V_eff = _tidy(-R.xreplace(at_rest))
-    equations = _reduced_equations(model, R, r, d.nonconservative_forces.xreplace(eliminate))
+    forces = sp.Matrix(d.nonconservative_forces).xreplace(eliminate)
+    if d.constraints:      # the multipliers' generalized forces sum_j lambda_j a_jr stay
+        forces += sp.Matrix(d.constraint_matrix).T * sp.Matrix(d.multipliers)
+    equations = _reduced_equations(model, R, r, forces)
     return Routhian(cyclic, tuple(p), tuple(model.q[k] for k in r), R, V_eff,
                     tuple(_tidy(e) for e in qd_s), tuple(_tidy(e) for e in equations))
+
+
+def _require_absent_from_constraints(d, cyclic) -> None:
+    """Refuse (with the constraint that says why) an ignorable coordinate that a constraint row contains."""
+    model = d.model
+    for row_index, (row, spec) in enumerate(zip(d.constraints, model.constraints)):
+        used = [c for c in cyclic if row.expr.has(c) or row.d.has(c) or any(a.has(c) for a in row.a)]
+        if used:
+            name = used[0].name
+            where = f"{spec.loc}: " if spec.loc is not None else f"{model.source}: constraints[{row_index}]: "
+            raise UsageError(
+                f"{where}Routh reduction over '{name}' is not possible: "
+                f"'{name}' is ignorable (p_{name} is conserved) but this constraint contains it, so "
+                f"the reduced equations would still depend on '{name}'\n"
+                "  hint: Routh reduction needs coordinates that appear in no constraint; "
+                f"`lagcli derive` reports the conserved p_{name} and `simulate` its column")
 
 
 TIDY_BUDGET = 150   # count_ops up to which an expression is trigsimp'd for display
@@ -94,7 +119,12 @@ def steady_motions(d, routh: Routhian, momenta: dict, parameters: dict, guesses)
     from lagcli.analysis.stability import sorted_eigenvalues
 
     model = d.model
-    values = {p.symbol: parameters[p.symbol.name] for p in model.parameters}
+    if d.constraints:
+        raise UsageError(f"{model.source}: steady motions of a constrained reduced system are not "
+                         "computed (its V_eff is stationary only together with the multipliers)\n"
+                         "  hint: `lagcli routh` without --momentum prints the reduced equations; "
+                         "`lagcli linearize --at ...` analyses a steady motion you know")
+    values = {p.symbol: parameters[p.symbol.name] for p in (*model.parameters, *model.inputs)}
     values.update({p: momenta[p.name] for p in routh.momenta})
     values[model.t] = 0.0
     q_r = list(routh.reduced)

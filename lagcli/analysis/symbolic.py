@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import sympy as sp
 
 from lagcli.errors import UsageError
+from lagcli.analysis.linearize import input_symbols
 
 MAX_COORDINATES = 3
 MAX_OPS = 600
@@ -38,8 +39,7 @@ def symbolic_linear(d, at, inputs=()) -> SymbolicLinear:
                          "use the numeric output")
     if at.sweep is not None:
         raise UsageError("--symbolic does not go with --sweep")
-    params = {p.symbol.name: p.symbol for p in model.parameters}
-    u = [params[name] for name in inputs]
+    u = list(input_symbols(model, inputs))
     f = M.LUsolve(F)
     n = len(model.q)
     top = sp.zeros(n, n).row_join(sp.eye(n))
@@ -47,7 +47,7 @@ def symbolic_linear(d, at, inputs=()) -> SymbolicLinear:
     B = sp.zeros(n, len(u)).col_join(f.jacobian(u)) if u else sp.zeros(2 * n, 0)
     point = {s: 0 for s in (*model.q, *model.qd)} | {model.t: 0}
     point.update({model.symbol(name): expr for name, expr in at.values.items()})
-    return SymbolicLinear(tuple(s.name for s in (*model.q, *model.qd)), tuple(inputs),
+    return SymbolicLinear(tuple(s.name for s in (*model.q, *model.qd)), tuple(s.name for s in u),
                           _at(A, point), _at(B, point))
 
 

@@ -42,7 +42,7 @@ def find_potential(model: Model, Q: sp.ImmutableMatrix) -> tuple[bool, sp.Expr |
     """
     if all(e == 0 for e in Q):
         return True, sp.S.Zero
-    moving = {model.t, *model.qd, *model.qdd}
+    moving = {model.t, *model.qd, *model.qdd, *model.input_symbols}  # an input u(t) varies in time
     if any(depends_on(e, moving) for e in Q):
         return False, None
     n = len(model.q)

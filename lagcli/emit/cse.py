@@ -8,7 +8,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from lagcli.emit.outputs import GROUPS, Outputs
+from lagcli.emit.outputs import Outputs
 
 CSE_OPTIMIZATIONS = "basic"   # sympy.cse's: fewer operations for N = 2 and 8 links (docs/codegen.md)
 
@@ -42,13 +42,14 @@ class Reduced:
 
 
 def eliminate(outputs: Outputs, optimizations=CSE_OPTIMIZATIONS) -> Reduced:
-    """ONE `sympy.cse` over every group of `outputs`."""
+    """ONE `sympy.cse` over every group of `outputs` (or of any object whose `groups()`
+    is {name: expressions}, e.g. the Hamiltonian module's, lagcli/emit/hamilton.py)."""
     groups = outputs.groups()
-    flat = [sp.sympify(e) for name in GROUPS for e in groups[name]]
+    flat = [sp.sympify(e) for name in groups for e in groups[name]]
     temporaries, reduced = sp.cse(flat, symbols=sp.numbered_symbols("x", cls=sp.Dummy),
                                   optimizations=optimizations, order="canonical")
     result, start = {}, 0
-    for name in GROUPS:
+    for name in groups:
         size = len(groups[name])
         result[name] = tuple(reduced[start:start + size])
         start += size

@@ -29,6 +29,7 @@ class Interface:
     coordinates: tuple[str, ...]
     state: tuple[str, ...]
     parameters: tuple[tuple[str, float], ...]
+    inputs: tuple[tuple[str, float], ...]  # (name, default) in spec order: u
     multipliers: tuple[str, ...]
     invariants: tuple[str, ...]          # CSV invariant columns, constraint_residual included
     evaluated: tuple[str, ...]           # those with an expression (all but the residual)
@@ -59,6 +60,7 @@ def interface(d: Derivation, outputs: Outputs, initial=None, initial_notes=()) -
         coordinates=layout.coordinates,
         state=layout.state_names,
         parameters=tuple((p.name, p.default) for p in layout.parameters),
+        inputs=tuple((u.name, u.default) for u in layout.inputs),
         multipliers=layout.multiplier_names,
         invariants=tuple(c.name for c in layout.invariants),
         evaluated=tuple(c.name for c in layout.invariants if c.kind != "residual"),

@@ -144,6 +144,9 @@ def _context(d: Derivation, simplify: bool) -> dict:
         "parameters": [{"symbol": printer.doprint(info.symbol), "value": _number(info.value),
                         "description": latex_text(info.description or "")}
                        for info in m.parameters],
+        "inputs": [{"symbol": printer.doprint(info.symbol), "value": _number(info.value),
+                    "description": latex_text(info.description or "")}
+                   for info in m.inputs],
         "known": [row for name, e in r["known"].items()
                   for row in rows(f"{printer.symbol(name)}(t)", e)],
         "counts": {"n": r["counts"]["coordinates"], "d": r["counts"]["holonomic"],

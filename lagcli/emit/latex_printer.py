@@ -69,7 +69,7 @@ class LatexPrinter(SympyLatexPrinter):
             names[q] = user if user else self._name(q.name)
             names[qd] = self._accented(r"\dot", q, user)
             names[qdd] = self._accented(r"\ddot", q, user)
-        for info in model.parameters:
+        for info in (*model.parameters, *model.inputs):
             names[info.symbol] = distinct_from_notation(info.latex or self._name(info.symbol.name), notation)
         for multiplier, label in multipliers:
             names[multiplier] = multiplier_latex(multiplier, label)

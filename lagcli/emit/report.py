@@ -57,7 +57,7 @@ def report_content(d: Derivation, printer: ReportPrinter, simplify: bool = True,
     without it (JSON) every expression is complete."""
     m = d.model
     shown = Display(d, simplify)
-    taken = (m.t, *m.q, *m.qd, *m.qdd, *m.parameter_symbols, *d.multipliers)
+    taken = (m.t, *m.q, *m.qd, *m.qdd, *m.parameter_symbols, *m.input_symbols, *d.multipliers)
     namer = Namer(s.name for s in taken) if named else None
 
     def p(expr) -> str:
@@ -93,6 +93,7 @@ def _content(d: Derivation, shown: Display, p, terms) -> dict:
         "velocities": [v.name for v in m.qd],
         "parameters": {pi.symbol.name: pi.value for pi in m.parameters},
         "units": {name: text for name, (text, _) in m.units.items()},
+        "inputs": {u.symbol.name: u.value for u in m.inputs},     # name -> default
         "known": {name: p(shown.tidy(expr)) for name, expr in m.known},
         "counts": {"coordinates": len(m.q), "holonomic": d.n_holonomic,
                    "nonholonomic": d.n_nonholonomic},
@@ -147,6 +148,7 @@ def check_content(d: Derivation) -> dict:
         "coordinates": ", ".join(q.name for q in m.q), "n": len(m.q),
         "parameters": ", ".join(f"{p.symbol.name} = {p.value:g}" + (f" {m.units[p.symbol.name][0]}"
                                 if p.symbol.name in m.units else "") for p in m.parameters) or "none",
+        "inputs": ", ".join(f"{u.symbol.name} (default {u.value:g})" for u in m.inputs),
         "particles": ", ".join(p.name for p in m.particles) or "none",
         "bodies": ", ".join(b.name for b in m.bodies) or "none",
         "holonomic": d.n_holonomic, "nonholonomic": d.n_nonholonomic,

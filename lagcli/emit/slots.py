@@ -4,6 +4,7 @@
     t                      time
     y[i]                   q_i for i < n, q'_(i-n) for n <= i < 2n
     p[j]                   parameter j in spec order
+    u[k]                   input k in spec order (spec `inputs:`)
     x0, x1, ...            CSE temporaries (sympy Dummies, named by position)
 
 `SlotPrinter` is the mixin each language's printer subclass starts from: it prints
@@ -27,7 +28,8 @@ MAX_PRODUCT_POWER = 4         # x**k, 2 <= |k| <= 4, prints as x*x*...; larger v
 
 
 def slots(d: Derivation, reduced: Reduced, printer_class=None) -> dict:
-    """symbol -> code: t, y[i] for q and q', p[j] for parameters, x<k> for temporaries;
+    """symbol -> code: t, y[i] for q and q', p[j] for parameters, u[k] for inputs,
+    x<k> for temporaries;
     the subscripts as `printer_class` writes them (`index_base`, `subscript`)."""
     printer_class = printer_class or SlotPrinter
     base, subscript = printer_class.index_base, printer_class.subscript
@@ -37,6 +39,8 @@ def slots(d: Derivation, reduced: Reduced, printer_class=None) -> dict:
         table[symbol] = subscript.format(array="y", index=i + base)
     for j, symbol in enumerate(model.parameter_symbols):
         table[symbol] = subscript.format(array="p", index=j + base)
+    for k, symbol in enumerate(model.input_symbols):
+        table[symbol] = subscript.format(array="u", index=k + base)
     for k, (symbol, _) in enumerate(reduced.temporaries):
         table[symbol] = f"x{k}"
     return table
@@ -50,7 +54,7 @@ def check_slots(exprs, table: dict) -> None:
     if missing:
         names = ", ".join(sorted(str(s) for s in missing))
         raise EmitError(f"cannot generate code: no array slot for symbol(s) {names} "
-                        "(only t, coordinates, velocities and parameters may appear)")
+                        "(only t, coordinates, velocities, parameters and inputs may appear)")
 
 
 class SlotPrinter:

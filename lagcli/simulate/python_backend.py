@@ -93,15 +93,17 @@ def header(module) -> list[str]:
 
 
 def integrate_module(module, p: list[float], y0: list[float], s: RunSettings,
-                     progress=None, sink: RowSink | None = None) -> RowSink:
+                     progress=None, sink: RowSink | None = None, u: list[float] | None = None) -> RowSink:
     """Integrate from t = 0 to s.t_end, giving each row to `sink` as it is computed (a new
     in-memory `Trajectory` when None) and returning it; never raises for run-time
-    failures (see lagcli.simulate.trajectory)."""
+    failures (see lagcli.simulate.trajectory). `u`: the inputs, held constant (a module
+    of a spec with `inputs:` only; None: their defaults)."""
     n = len(module.COORDINATES)
+    inputs = (u,) if u is not None else ()
 
     def accelerations(t, y):
         try:
-            qdd, lam = module.accelerations(t, y, p, s.alpha, s.beta)
+            qdd, lam = module.accelerations(t, y, p, s.alpha, s.beta, *inputs)
         except (ArithmeticError, ValueError, np.linalg.LinAlgError) as exc:
             raise _RhsFailure(t, _reason(exc)) from None
         return np.asarray(qdd, dtype=float), np.asarray(lam, dtype=float)

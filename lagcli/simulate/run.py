@@ -81,7 +81,8 @@ def _warm(request: Request, compiler: str, note, progress, sink: RowSink) -> Out
     settings = resolve_settings(request, meta["settings"])
     if settings.method not in EXPLICIT_METHODS:
         return None
-    sets = parse_assignments(request.sets, "--set", list(meta["parameters"]), "parameter", "parameters")
+    sets = parse_assignments(request.sets, "--set", list(meta["parameters"]) + list(meta.get("inputs", {})),
+                             "parameter or input", "parameters and inputs")
     inits = parse_assignments(request.inits, "--init", meta["state"], "coordinate or velocity",
                                "coordinates and velocities")
     if sets or inits:
@@ -110,12 +111,17 @@ def _cold(request: Request, compiler: str | None, note, progress, sink: RowSink)
     settings = resolve_settings(request, _spec_settings(model))
     backend = _backend(request, settings, compiler)
     parameter_names = [p.symbol.name for p in model.parameters]
-    sets = parse_assignments(request.sets, "--set", parameter_names, "parameter", "parameters")
+    input_names = [u.symbol.name for u in model.inputs]
+    sets = parse_assignments(request.sets, "--set", parameter_names + input_names,
+                             "parameter or input", "parameters and inputs")
     state_names = [s.name for s in model.q + model.qd]
     inits = parse_assignments(request.inits, "--init", state_names, "coordinate or velocity",
                                "coordinates and velocities")
     d = derive_model(model)
-    params = {**{p.symbol.name: p.value for p in model.parameters}, **sets}
+    params = {**{p.symbol.name: p.value for p in model.parameters},
+              **{name: value for name, value in sets.items() if name not in input_names}}
+    inputs = {**{u.symbol.name: u.value for u in model.inputs},
+              **{name: value for name, value in sets.items() if name in input_names}}
     soft = set(model.initial) - set(inits)        # the spec's values: solved for when nothing else can be
     start = initial_state(d, {**model.initial, **inits}, params, soft=soft)
     for text in start.notes:
@@ -124,7 +130,7 @@ def _cold(request: Request, compiler: str | None, note, progress, sink: RowSink)
     coordinates = tuple(s.name for s in model.q)
     energy_conserved = d.jacobi_integral is not None and d.energy_is_jacobi
     if backend == "python":
-        traj = _python(d, request.spec, spec_start, params, start.values, settings, progress, sink)
+        traj = _python(d, request.spec, spec_start, params, start.values, settings, progress, sink, inputs)
     else:
         cached = _cached_driver(d, request.spec, compiler, spec_start)
         args = c_backend.driver_arguments(settings, sets, dict(zip(state_names, start.values)))
@@ -148,13 +154,14 @@ def _spec_settings(model) -> dict:
 
 
 def _python(d, spec: str, spec_start, params: dict, y0, settings: RunSettings, progress,
-            sink: RowSink) -> RowSink:
+            sink: RowSink, inputs: dict) -> RowSink:
     from lagcli.simulate.python_backend import cached_module, integrate_module
 
     module = cached_module(d, spec, spec_start)
     p = [params[p.symbol.name] for p in d.model.parameters]
+    u = [inputs[u.symbol.name] for u in d.model.inputs] if d.model.inputs else None
     with progress(settings.t_end) as update:
-        return integrate_module(module, p, list(y0), settings, update, sink)
+        return integrate_module(module, p, list(y0), settings, update, sink, u)
 
 
 def _cached_driver(d, spec: str, compiler: str, spec_start=None) -> c_backend.Cached:
@@ -178,6 +185,7 @@ def _cached_driver(d, spec: str, compiler: str, spec_start=None) -> c_backend.Ca
         "coordinates": [s.name for s in model.q],
         "state": [s.name for s in model.q + model.qd],
         "parameters": defaults,
+        "inputs": {u.symbol.name: u.value for u in model.inputs},   # the driver's --set takes them too
         "initial": dict(model.initial),
         "settings": _spec_settings(model),
         "constrained": bool(d.constraints),

@@ -207,7 +207,7 @@ class Checker:
         if name in self.names:
             first_kind, first_path = self.names[name]
             self.fail(path, f"duplicate name '{name}': already a {first_kind} at {self.where(first_path)}",
-                      "names must be unique across coordinates, parameters, known, definitions, "
+                      "names must be unique across coordinates, parameters, inputs, known, definitions, "
                       "particles and bodies", at_key)
         else:
             self.names[name] = (kind, path)

@@ -21,10 +21,10 @@ from lagcli.spec.latex_subset import latex_problem
 from lagcli.spec.reader import KeyPath, RawDoc
 from lagcli.spec.dissipation import DISSIPATION_KEYS, dissipation_fields
 from lagcli.spec.slips import axis_hint, misplaced_toml_keys
-from lagcli.spec.types import (Body, Constraint, Coordinate, Force, Named, Parameter, Particle,
+from lagcli.spec.types import (Body, Constraint, Coordinate, Force, Input, Named, Parameter, Particle,
                                SimulateSettings, Spec, Spring, Src, Vector, VectorSrc)
 
-TOP_KEYS = ("name", "description", "coordinates", "parameters", "known", "definitions",
+TOP_KEYS = ("name", "description", "coordinates", "parameters", "inputs", "known", "definitions",
             "gravity", "particles", "bodies", "forces", "springs", "potential", "kinetic",
             "generalized_forces", "constraints", "initial", "simulate", "frames", "rolling")
 TOP_KEYS += DISSIPATION_KEYS
@@ -69,6 +69,7 @@ class _SpecChecker(FrameChecks, Checker):
         fields = dict(  # in this order: declarations first, then the sections that use them
             coordinates=self.coordinates(top.get("coordinates")),
             parameters=self.mapping_items(top, "parameters", self.parameter),
+            inputs=self.inputs(top.get("inputs")),
             known=self.mapping_items(top, "known", self.named("known function")),
             frames=self.frames(top),
             definitions=self.mapping_items(top, "definitions", self.named("definition")),
@@ -134,6 +135,30 @@ class _SpecChecker(FrameChecks, Checker):
         description = self.optional_string(table, path, "description")
         unit = self.optional_string(table, path, "unit")
         return Parameter(name, src, latex, description, self.raw.loc(path, at_key=True), unit) if src else None
+
+    def inputs(self, value: Any) -> tuple[Input, ...]:
+        """`inputs:` is a list of names (`[F, tau]`, defaults 0) or a mapping like
+        `parameters:` (`{tau: 0.5}` or `{tau: {value: 0.5, latex: ..., description: ...}}`)."""
+        if value is not None and not isinstance(value, (list, dict)):
+            self.fail(("inputs",), f"expected a list of names or a mapping name: default; got {describe(value)}",
+                      "e.g. inputs: [F, tau] or inputs: {tau: 0.5}")
+            return ()
+        if not isinstance(value, list):
+            return self.mapping_items({"inputs": value}, "inputs", self.input)
+        names = [(("inputs", i), self.identifier(("inputs", i), item)) for i, item in enumerate(value)]
+        return tuple(item for path, name in names if name is not None
+                     for item in [self.input(name, path, None, at_key=False)] if item is not None)
+
+    def input(self, name: str, path: KeyPath, value: Any, at_key: bool = True) -> Input | None:
+        self.declare(name, "input", path, at_key)
+        loc = self.raw.loc(path, at_key=at_key)
+        if not isinstance(value, dict):
+            src = self.expr(path, value) if value is not None else None
+            return Input(name, src, None, None, loc) if src or value is None else None
+        table = self.table(path, value, ("value", "latex", "description"))
+        src = self.expr(path + ("value",), table["value"]) if "value" in table else None
+        return Input(name, src, self.latex_symbol(table, path),
+                     self.optional_string(table, path, "description"), loc)
 
     def latex_symbol(self, table: dict, path: KeyPath) -> str | None:
         """The item's `latex:`, when it is in the safe subset of lagcli/spec/latex_subset.py."""

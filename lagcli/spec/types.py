@@ -46,6 +46,18 @@ class Parameter:
 
 
 @dataclass(frozen=True)
+class Input:
+    """An input signal u_k: a name usable in forces, torques and generalized forces,
+    held at `value` (its default, 0 when not given) unless a run sets it."""
+
+    name: str
+    value: Src | None
+    latex: str | None
+    description: str | None
+    loc: Loc
+
+
+@dataclass(frozen=True)
 class Named:
     """`name: expression` items: known functions, definitions, generalized forces, initial values."""
 
@@ -170,6 +182,7 @@ class Spec:
     dimension: int  # 2 or 3
     coordinates: tuple[Coordinate, ...]
     parameters: tuple[Parameter, ...] = ()
+    inputs: tuple[Input, ...] = ()
     known: tuple[Named, ...] = ()
     definitions: tuple[Named, ...] = ()
     gravity: Vector | None = None

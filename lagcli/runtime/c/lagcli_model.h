@@ -18,7 +18,10 @@ typedef struct {
     const char *name;                       /* the spec's name */
     int nq, nstate, nparam, nlambda, ninv;  /* sizes; nstate = 2 nq */
     const char *const *state_names;         /* NULL-terminated, nstate names */
-    const char *const *parameter_names;     /* NULL-terminated, nparam names */
+    const char *const *parameter_names;     /* NULL-terminated, nparam names; for a spec with
+                                               `inputs:` the parameters then the inputs (the
+                                               values a driver's --set may change), and the
+                                               functions below take p in that order */
     const double *parameter_defaults;       /* nparam values */
     const char *const *multiplier_names;    /* NULL-terminated, nlambda names */
     const char *const *invariant_names;     /* NULL-terminated, ninv names (CSV order) */
