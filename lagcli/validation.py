@@ -72,7 +72,8 @@ def check_mass_matrix(derivation) -> None:
 # --- values -----------------------------------------------------------------------------
 
 def parameter_values(model: Model) -> dict:
-    return {p.symbol: float(p.value) for p in model.parameters}
+    """The parameters' and inputs' default values (inputs are held there by `simulate`)."""
+    return {p.symbol: float(p.value) for p in (*model.parameters, *model.inputs)}
 
 
 def initial_values(model: Model) -> dict:
