@@ -288,3 +288,22 @@ def test_a_singular_model_is_an_fmi_error(derived, tmp_path):
                           logger=lambda *args: messages.append(args))
     assert any(b"singular mass matrix" in arg for message in messages for arg in message
                if isinstance(arg, bytes))
+
+
+def test_an_input_set_through_fmi_drives_the_model(derived, tmp_path):
+    """cart_pole's force input F (spec `inputs:`), given to FMPy as a start value, moves the
+    cart as `System.simulate(inputs=...)` does; the total horizontal momentum grows as F t
+    (Newton, independent of both)."""
+    system = system_of(derived, "cart_pole")
+    fmu = write_fmu(system, tmp_path)
+    F, t_end = 0.8, 0.5
+    expected = system.simulate(t_end=t_end, inputs={"F": F})
+    result = fmpy.simulate_fmu(str(fmu), stop_time=t_end, output_interval=system.layout.settings.dt,
+                               solver="CVode", relative_tolerance=1e-12, start_values={"F": F},
+                               output=["x_dot", "theta", "theta_dot"])
+    for name in ("x_dot", "theta", "theta_dot"):
+        np.testing.assert_allclose(result[name], expected[name][: len(result)], atol=1e-6)
+    params = system.layout.parameter_defaults
+    momentum = ((params["mc"] + params["m"]) * result["x_dot"]
+                + params["m"] * params["l"] * np.cos(result["theta"]) * result["theta_dot"])
+    np.testing.assert_allclose(momentum, F * result["time"], atol=1e-6)

@@ -69,7 +69,7 @@ def model_variables(layout: Layout, initial: tuple[float, ...], descriptions: di
                             derivative=k + 1) for k, s in enumerate(layout.states)]
     parameters = [Variable(p.name, 0, descriptions.get(p.name) or "parameter", "parameter", "fixed", "exact",
                            repr(float(p.default)), unit=p.unit) for p in layout.parameters]
-    inputs = [Variable(u.name, 0, "input", "input", "continuous", start="0.0",
+    inputs = [Variable(u.name, 0, u.description or "input", "input", "continuous", start=repr(float(u.default)),
                        unit=getattr(u, "unit", None))    # inputs have no unit field yet
               for u in layout.inputs]
     outputs = ([Variable(m.name, 0, f"multiplier of the {m.kind} constraint", "output", "continuous")

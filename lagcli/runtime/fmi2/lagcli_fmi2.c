@@ -9,13 +9,15 @@
  * Value references, in this order (modelDescription.xml lists the same):
  *   [0, nstate)                  the states y = [q..., q'...]
  *   [nstate, 2 nstate)           their derivatives [q'..., q''...]
- *   then nparam parameters, LAGCLI_FMU_NINPUT inputs, nlambda multipliers and ninv
- *   invariants (energy, jacobi, p_<q>, constraint_residual: the CSV of `lagcli simulate`).
+ *   then the parameters and LAGCLI_FMU_NINPUT inputs (together the model's nparam
+ *   settable values: for a spec with `inputs:` the model table lists the parameters, then
+ *   the inputs), nlambda multipliers and ninv invariants (energy, jacobi, p_<q>,
+ *   constraint_residual: the CSV of `lagcli simulate`).
  *
  * Constrained models are integrated in the stabilised index-1 form of the C driver:
  * the augmented system with Baumgarte terms, alpha = LAGCLI_FMU_ALPHA, beta =
- * LAGCLI_FMU_BETA. Inputs are stored and read back; they reach the equations once the
- * model takes inputs (LAGCLI_FMU_NINPUT is 0 until then). No event indicators, no
+ * LAGCLI_FMU_BETA. Inputs live at the end of the model's value vector p, so setting one
+ * changes the equations like a parameter. No event indicators, no
  * discrete states; Co-Simulation integrates each communication step with lagcli_ode
  * (LAGCLI_FMU_METHOD, the spec's tolerances, the step cap of the C driver).
  */
@@ -35,7 +37,7 @@ typedef struct {
     const char *name;             /* the instance name, copied */
     fmi2Boolean logging;
     double t;
-    double *y, *p, *u;            /* nstate states, nparam parameters, NINPUT inputs */
+    double *y, *p, *u;            /* nstate states, nparam values; u = the inputs at p's end */
     double *dydt, *lambda, *inv;  /* derived values, valid while !stale */
     int stale;                    /* a state, time, parameter or input changed since they were computed */
     int failed;                   /* the model function's code when they could not be computed */
@@ -46,8 +48,8 @@ static size_t count_states(void) { return (size_t)MODEL->nstate; }
 /* First value references of each block (see the top). */
 static fmi2ValueReference derivative_base(void) { return (fmi2ValueReference)MODEL->nstate; }
 static fmi2ValueReference parameter_base(void) { return 2u * (fmi2ValueReference)MODEL->nstate; }
-static fmi2ValueReference input_base(void) { return parameter_base() + (fmi2ValueReference)MODEL->nparam; }
-static fmi2ValueReference multiplier_base(void) { return input_base() + LAGCLI_FMU_NINPUT; }
+static fmi2ValueReference input_base(void) { return parameter_base() + (fmi2ValueReference)MODEL->nparam - LAGCLI_FMU_NINPUT; }
+static fmi2ValueReference multiplier_base(void) { return parameter_base() + (fmi2ValueReference)MODEL->nparam; }
 static fmi2ValueReference invariant_base(void) { return multiplier_base() + (fmi2ValueReference)MODEL->nlambda; }
 static fmi2ValueReference end_of_references(void) { return invariant_base() + (fmi2ValueReference)MODEL->ninv; }
 
@@ -97,7 +99,6 @@ static void defaults(instance *c)
     memcpy(c->y, MODEL->initial_state, count_states() * sizeof(double));
     if (MODEL->nparam > 0)
         memcpy(c->p, MODEL->parameter_defaults, (size_t)MODEL->nparam * sizeof(double));
-    memset(c->u, 0, (LAGCLI_FMU_NINPUT ? LAGCLI_FMU_NINPUT : 1) * sizeof(double));
     c->t = 0.0;
     c->stale = 1;
 }
@@ -147,7 +148,7 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
     c->logging = loggingOn;
     c->y = (double *)allocate(c, count_states());
     c->p = (double *)allocate(c, (size_t)MODEL->nparam);
-    c->u = (double *)allocate(c, LAGCLI_FMU_NINPUT);
+    c->u = c->p ? c->p + (MODEL->nparam - LAGCLI_FMU_NINPUT) : NULL;
     c->dydt = (double *)allocate(c, count_states());
     c->lambda = (double *)allocate(c, (size_t)MODEL->nlambda);
     c->inv = (double *)allocate(c, (size_t)MODEL->ninv);
@@ -168,7 +169,6 @@ void fmi2FreeInstance(fmi2Component component)
     release = c->callbacks.freeMemory;
     release(c->y);
     release(c->p);
-    release(c->u);
     release(c->dydt);
     release(c->lambda);
     release(c->inv);
