@@ -51,6 +51,19 @@ class System:
     def name(self) -> str:
         return self.layout.name
 
+    @property
+    def parts(self):
+        """The derivation's parts for notebooks (`lagcli.parts.Parts`): `parts.mass_matrix`,
+        `parts.equations`, `parts.lagrangian`...; each shows as LaTeX in Jupyter and as
+        spec-language text in a console, and holds the sympy object in `.value`."""
+        cached = self.__dict__.get("_parts")
+        if cached is None:
+            from lagcli.parts import Parts
+
+            cached = Parts(self.derivation)
+            object.__setattr__(self, "_parts", cached)   # a cache, not state
+        return cached
+
     # --- reports and code ---------------------------------------------------------------
 
     def report(self, format: str = "text", simplify: bool = True, parts: str | None = None):
@@ -163,13 +176,13 @@ class System:
     # --- rich display -------------------------------------------------------------------
 
     def _repr_latex_(self) -> str:
-        """The equations of motion, for Jupyter (MathJax)."""
+        """The equations of motion and the constraints, for Jupyter (MathJax)."""
         from lagcli.emit.latex import latex_printer
+        from lagcli.parts import aligned
 
-        printer = latex_printer(self.derivation)
-        rows = [f"{printer.doprint(e.lhs)} &= {printer.doprint(e.rhs)}" for e in self.derivation.equations]
-        rows += [f"{printer.doprint(c.expr)} &= 0" for c in self.derivation.constraints]
-        return "$$\\begin{aligned}" + " \\\\ ".join(rows) + "\\end{aligned}$$"
+        parts = self.parts
+        pairs = parts.equations.value + (parts.constraints.value if self.layout.constrained else ())
+        return "$$" + aligned(latex_printer(self.derivation), pairs) + "$$"
 
     def _repr_html_(self) -> str:
         from html import escape

@@ -107,3 +107,25 @@ def test_plot_gives_the_simulate_figure(tmp_path):
     figure = trajectory.plot(tmp_path / "p.png")
     assert (tmp_path / "p.png").read_bytes().startswith(b"\x89PNG")
     assert [line.get_label() for line in figure.axes[0].get_lines()] == ["x", "y"]
+
+
+def test_parts_show_the_derivation():
+    """system.parts: the double pendulum's mass matrix against its closed form, the
+    text parsing back, LaTeX with dots, and a missing part named."""
+    import sympy as sp
+
+    from lagcli.spec_printer import parse_output
+
+    system = lagcli.load(SPECS / "double_pendulum.yaml")
+    m1, m2, l1, l2, th1, th2 = (system.model.symbol(n) for n in ("m1", "m2", "l1", "l2", "theta1", "theta2"))
+    closed = sp.Matrix([[(m1 + m2) * l1 ** 2, m2 * l1 * l2 * sp.cos(th1 - th2)],
+                        [m2 * l1 * l2 * sp.cos(th1 - th2), m2 * l2 ** 2]])
+    mass = system.parts.mass_matrix
+    assert sp.simplify(mass.value - closed) == sp.zeros(2, 2)
+    lagrangian = system.parts.lagrangian
+    assert sp.simplify(parse_output(repr(lagrangian).removeprefix("L = "), system.model) - lagrangian.value) == 0
+    assert r"\dot{\theta}_1" in lagrangian._repr_latex_()         # the spec's latex: \theta_1
+    assert len(system.parts.equations.value) == 2
+    with pytest.raises(AttributeError, match="no constraints"):
+        system.parts.constraints
+    assert "constraints" not in dir(system.parts)
