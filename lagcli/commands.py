@@ -1,7 +1,9 @@
 """What each CLI command does, without click: path + options in, text out.
 
-The engine (sympy) is imported inside the functions, not at the top: `lagcli
-simulate` with a warm C cache must start without importing sympy at all.
+`derive`, `check`, `generate` and `simulate` are thin clients of the Python API
+(`lagcli.system.System`; `simulate` through `lagcli.simulate.run`, whose cold path
+loads a System). The engine (sympy) is imported inside the functions, not at the
+top: `lagcli simulate` with a warm C cache must start without importing sympy at all.
 """
 from __future__ import annotations
 
@@ -40,8 +42,9 @@ def check_summary(path: str) -> str:
     """Validate the spec (through the derivation, which classifies constraints) and summarise."""
     from lagcli.emit.report import check_content
     from lagcli.emit.templates import render
+    from lagcli.system import load
 
-    return render("report/check.txt.jinja", c=check_content(_derive(path)))
+    return render("report/check.txt.jinja", c=check_content(load(Path(path)).derivation))
 
 
 PLOT_ROWS = 20_000     # --plot draws at most 2 x this many rows (evenly thinned) plus the last
