@@ -129,3 +129,20 @@ def test_parts_show_the_derivation():
     with pytest.raises(AttributeError, match="no constraints"):
         system.parts.constraints
     assert "constraints" not in dir(system.parts)
+
+
+@pytest.mark.skipif(shutil.which("cc") is None, reason="needs a C compiler")
+def test_the_c_backend_of_the_api_agrees_with_the_python_backend():
+    """A spec given as text, new parameters: the compiled driver and scipy give the same
+    trajectory, on the rod of the new length."""
+    from lagcli.errors import UsageError
+
+    system = lagcli.load(PENDULUM_TEXT)
+    compiled = system.simulate(t_end=1.0, parameters={"l": 2.0}, backend="c")
+    scipy_run = system.simulate(t_end=1.0, parameters={"l": 2.0}, backend="python")
+    assert compiled.names == scipy_run.names and compiled.notes == scipy_run.notes
+    assert np.max(np.abs(compiled.data - scipy_run.data)) < 1e-7
+    x, y = compiled["x"], compiled["y"]
+    assert np.max(np.abs(x ** 2 + y ** 2 - 4.0)) < 1e-8 and compiled.failure is None
+    with pytest.raises(UsageError, match="RK45 and DOP853"):
+        system.simulate(method="Radau", backend="c")
