@@ -11,10 +11,9 @@ from pathlib import Path
 
 
 def _derive(path: str):
-    from lagcli.api import load_model
-    from lagcli.derive import derive
+    from lagcli.system import load
 
-    return derive(load_model(path))
+    return load(Path(path)).derivation
 
 
 def derive_text(path: str, simplify: bool = True, parts: str | None = None) -> str:
@@ -42,9 +41,8 @@ def check_summary(path: str) -> str:
     """Validate the spec (through the derivation, which classifies constraints) and summarise."""
     from lagcli.emit.report import check_content
     from lagcli.emit.templates import render
-    from lagcli.system import load
 
-    return render("report/check.txt.jinja", c=check_content(load(Path(path)).derivation))
+    return render("report/check.txt.jinja", c=check_content(_derive(path)))
 
 
 PLOT_ROWS = 20_000     # --plot draws at most 2 x this many rows (evenly thinned) plus the last

@@ -3,6 +3,8 @@
     import lagcli
     system = lagcli.load("specs/cartesian_pendulum.yaml")     # or the spec's YAML text
     traj = system.simulate(t_end=2.0, parameters={"l": 2.0})  # a lagcli.trajectory.Trajectory
+    system.simulate(t_end=2.0, backend="c")                   # the compiled driver (cached)
+    system.parts.mass_matrix                                  # LaTeX in Jupyter
     traj["x"], traj.to_csv(), traj.to_pandas()
     system.report("json"); system.generate("c", "out/")
 
@@ -54,7 +56,7 @@ class System:
     model: Model
     derivation: Derivation
     layout: Layout
-    spec_bytes: bytes = b""        # the spec as read: with model.source, the key of cached code
+    spec_bytes: bytes              # the spec as read: with model.source, the key of cached code
 
     @property
     def name(self) -> str:
