@@ -146,3 +146,17 @@ def test_the_c_backend_of_the_api_agrees_with_the_python_backend():
     assert np.max(np.abs(x ** 2 + y ** 2 - 4.0)) < 1e-8 and compiled.failure is None
     with pytest.raises(UsageError, match="RK45 and DOP853"):
         system.simulate(method="Radau", backend="c")
+
+
+@pytest.mark.skipif(shutil.which("cc") is None, reason="needs a C compiler")
+def test_the_cached_driver_carries_the_layout(tmp_path):
+    """meta.json of the compiled driver is the system's Layout (its own JSON), which the
+    warm path reads back without sympy."""
+    from lagcli.layout import Layout
+    from lagcli.simulate import c_backend
+
+    system = lagcli.load(PENDULUM_TEXT)
+    system.simulate(t_end=0.1, backend="c")
+    cached = c_backend.driver(system, c_backend.find_compiler())
+    assert Layout.from_json(cached.meta["layout"]) == system.layout == cached.layout
+    assert [c.kind for c in cached.layout.columns][-1] == "residual"
