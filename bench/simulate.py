@@ -87,7 +87,7 @@ def main() -> None:
     settings = resolve_settings(Request(str(SPEC), 10.0, 0.01, "DOP853", 1e-9, 1e-9),
                                 {"t_end": 10.0, "dt": 0.01, "method": "DOP853", "rtol": 1e-9, "atol": 1e-9})
     y0 = [d.model.initial.get(s.name, 0.0) for s in d.model.q + d.model.qd]
-    args = c_backend.driver_arguments(settings, {}, dict(zip(cached.meta["state"], y0)))
+    args = c_backend.driver_arguments(settings, {}, dict(zip(cached.layout.state_names, y0)))
 
     for method in ("RK45", "DOP853"):
         results[f"C integration only, {method}"] = (

@@ -1,7 +1,9 @@
 """What each CLI command does, without click: path + options in, text out.
 
-The engine (sympy) is imported inside the functions, not at the top: `lagcli
-simulate` with a warm C cache must start without importing sympy at all.
+`derive`, `check`, `generate` and `simulate` are thin clients of the Python API
+(`lagcli.system.System`; `simulate` through `lagcli.simulate.run`, whose cold path
+loads a System). The engine (sympy) is imported inside the functions, not at the
+top: `lagcli simulate` with a warm C cache must start without importing sympy at all.
 """
 from __future__ import annotations
 
@@ -9,9 +11,9 @@ from pathlib import Path
 
 
 def _derive(path: str):
-    from lagcli.api import derive_file
+    from lagcli.system import load
 
-    return derive_file(path)
+    return load(Path(path)).derivation
 
 
 def derive_text(path: str, simplify: bool = True, parts: str | None = None) -> str:
@@ -291,6 +293,7 @@ def animate(spec: str, csv_path: str | None, request, output: str, drawn: dict, 
 
     import lagcli
     from lagcli.animate import Request, animate as draw, check_names, parse_links
+    from lagcli.errors import UsageError
     from lagcli.simulate.options import parse_assignments
     from lagcli.simulate.run import simulate as run
     from lagcli.simulate.trajectory import parse_csv

@@ -18,11 +18,13 @@ import sympy as sp
 from lagcli.calculus import TimeDerivative, numerically_zero
 from lagcli.errors import Problem, SpecError
 from lagcli.expr import Scope, parse, parse_constant
+from lagcli.layout import acceleration_name, velocity_name
 from lagcli.model_types import (AppliedForce, ConstraintSpec, InputInfo, LinearDamper, LinearSpring,
                                 Model, ParameterInfo, PointMass, RigidBody, Settings)
 from lagcli.kinematics import AXES, Entity, Vector, frame_chains
 from lagcli.rolling import rolling_constraints
 from lagcli.spec.types import Body, Spec, Src, VectorSrc
+from lagcli.symbols import Acceleration, Velocity
 from lagcli.vectors import VectorBuilder
 
 
@@ -38,8 +40,8 @@ class _ModelBuilder:
         self.t = sp.Symbol("t", real=True)
         names = [c.name for c in spec.coordinates]
         self.q = tuple(sp.Symbol(n, real=True) for n in names)
-        self.qd = tuple(sp.Symbol(f"{n}_dot", real=True) for n in names)
-        self.qdd = tuple(sp.Symbol(f"{n}_ddot", real=True) for n in names)
+        self.qd = tuple(Velocity(velocity_name(n), real=True) for n in names)      # print as q̇
+        self.qdd = tuple(Acceleration(acceleration_name(n), real=True) for n in names)
         self.u = tuple(sp.Symbol(u.name, real=True) for u in spec.inputs)
         self.D = TimeDerivative(self.t, self.q, self.qd, self.qdd)
         self.scope = Scope({"pi": sp.pi}, self.t, self._time_derivative, VectorBuilder)

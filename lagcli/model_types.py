@@ -1,7 +1,8 @@
 """The model: the spec turned into sympy objects (built by `lagcli.model.build_model`).
 
-Symbols are plain `sympy.Symbol`s (real): coordinate `theta`, its velocity
-`theta_dot` and acceleration `theta_ddot`; time `t`. Known functions and
+Symbols are real `sympy.Symbol`s: coordinate `theta`, its velocity
+`theta_dot` and acceleration `theta_ddot` (`lagcli.symbols.Velocity`/`Acceleration`,
+shown as θ̇, θ̈ by sympy's latex and pretty printers); time `t`. Known functions and
 definitions are already substituted into every expression, so a model
 expression depends only on t, q, q', parameters (and q'' where `diff` of a
 velocity was asked for).

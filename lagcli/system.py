@@ -3,16 +3,23 @@
     import lagcli
     system = lagcli.load("specs/cartesian_pendulum.yaml")     # or the spec's YAML text
     traj = system.simulate(t_end=2.0, parameters={"l": 2.0})  # a lagcli.trajectory.Trajectory
+    system.simulate(t_end=2.0, backend="c")                   # the compiled driver (cached)
+    system.parts.mass_matrix                                  # LaTeX in Jupyter
     traj["x"], traj.to_csv(), traj.to_pandas()
     system.report("json"); system.generate("c", "out/")
 
-Every method delegates to the machinery behind the command line (the CLI's
-commands are thin clients of these): the report functions of `lagcli.emit`, the
-code generators, the consistent initial state of `lagcli.simulate.initial` and the
-Python backend's integrator. docs/api.md has a worked example.
+The command line is a thin client of this class: `lagcli derive`, `generate`,
+`check` and the cold path of `simulate` load a `System` and call the methods below
+(only a warm `simulate`, which finds a compiled driver in the cache, runs without
+one: it must not import sympy). Each method delegates to one piece of machinery: the
+report functions of `lagcli.emit`, the code generators, the consistent initial state
+of `lagcli.simulate.initial`, and the two backends of `lagcli.simulate` (the
+generated Python module with scipy, the compiled C driver). docs/api.md has a
+worked example.
 """
 from __future__ import annotations
 
+import contextlib
 import json
 from dataclasses import dataclass
 from pathlib import Path
@@ -34,10 +41,13 @@ def load(source: str | Path) -> "System":
     with every problem found, each located."""
     from lagcli.api import derive_model, load_model, load_model_text
 
+    from lagcli.spec.files import read_spec_bytes
+
     is_path = isinstance(source, Path) or ("\n" not in source and source.endswith(SPEC_SUFFIXES))
     model = load_model(source) if is_path else load_model_text(source)
     derivation = derive_model(model)
-    return System(model, derivation, layout_of(derivation))
+    spec_bytes = read_spec_bytes(source) if is_path else source.encode()
+    return System(model, derivation, layout_of(derivation), spec_bytes)
 
 
 @dataclass(frozen=True, eq=False)
@@ -45,10 +55,20 @@ class System:
     model: Model
     derivation: Derivation
     layout: Layout
+    spec_bytes: bytes              # the spec as read: with model.source, the key of cached code
 
     @property
     def name(self) -> str:
         return self.layout.name
+
+    @property
+    def parts(self):
+        """The derivation's parts for notebooks (`lagcli.parts.Parts`): `parts.mass_matrix`,
+        `parts.equations`, `parts.lagrangian`...; each shows as LaTeX in Jupyter and as
+        spec-language text in a console, and holds the sympy object in `.value`."""
+        from lagcli.parts import Parts
+
+        return self._once("_parts", lambda: Parts(self.derivation))
 
     # --- reports and code ---------------------------------------------------------------
 
@@ -88,9 +108,7 @@ class System:
             directory = check_directory_output(str(path))    # before any work
         initial, notes = None, ()
         if language is not None and language.embeds_initial:   # solved for once, here, not in emit
-            from lagcli.simulate.initial import spec_initial_state
-
-            start, _ = spec_initial_state(self.derivation)
+            start, _ = self.spec_start()
             initial, notes = start.values, start.notes
         files = emit(self.derivation, target, initial, notes)
         if directory is not None:
@@ -104,43 +122,89 @@ class System:
 
     # --- simulation ---------------------------------------------------------------------
 
+    @property
+    def energy_conserved(self) -> bool:
+        """The energy column is conserved (it is the Jacobi integral)."""
+        return self.derivation.jacobi_integral is not None and self.derivation.energy_is_jacobi
+
     def initial_state(self, parameters: dict | None = None, initial: dict | None = None):
         """The initial state [q..., q'...] from the spec's `initial:` overridden by
         `initial`, made consistent with the constraints for `parameters` (a
         `lagcli.simulate.initial.InitialState`: values and notes)."""
-        from lagcli.simulate.initial import Sources, initial_state
+        from lagcli.simulate.initial import Sources
 
-        params = self._parameters(parameters)
         given = dict(initial or {})
         self._known("initial", given, self.layout.state_names, "coordinate or velocity")
-        return initial_state(self.derivation, {**self.model.initial, **given}, params,
-                             soft=set(self.model.initial) - set(given), sources=Sources(*API_SOURCES))
+        return self.start(self._parameters(parameters), given, Sources(*API_SOURCES))
+
+    def start(self, parameters: dict[str, float], initial: dict[str, float], sources=None):
+        """`initial_state` for names already checked: `parameters` and `initial` hold the
+        values given for this run only; `sources` names them in notes and hints
+        (`lagcli.simulate.initial.Sources`; the command line's by default)."""
+        from lagcli.simulate.initial import Sources, initial_state
+
+        spec_start, consistent = self.spec_start()
+        if not parameters and not initial and consistent:
+            return spec_start                           # solved once per System
+        defaults = self.layout.parameter_defaults
+        params = {**defaults, **{k: v for k, v in parameters.items() if k in defaults}}   # not inputs
+        return initial_state(self.derivation, {**self.model.initial, **initial}, params,
+                             soft=set(self.model.initial) - set(initial), sources=sources or Sources())
+
+    def spec_start(self):
+        """The spec's own initial state made consistent, and whether that was possible
+        (`lagcli.simulate.initial.spec_initial_state`), computed once: what generated
+        code embeds."""
+        from lagcli.simulate.initial import spec_initial_state
+
+        return self._once("_spec_start", lambda: spec_initial_state(self.derivation))
 
     def simulate(self, t_end: float | None = None, dt: float | None = None, method: str | None = None,
                  rtol: float | None = None, atol: float | None = None, parameters: dict | None = None,
                  initial: dict | None = None, baumgarte: tuple[float, float] | None = None,
-                 inputs: dict | None = None):
-        """Integrate with the Python backend (scipy) as `lagcli simulate --backend python`
-        does; None takes the spec's `simulate:` value, else lagcli's default. Returns a
-        `lagcli.trajectory.Trajectory`; a failed integration keeps its rows and says
-        why in `failure`. `inputs`: {name: value} of the spec's `inputs:`, held constant
-        (missing ones at their defaults)."""
+                 inputs: dict | None = None, backend: str = "python"):
+        """Integrate as `lagcli simulate --backend BACKEND` does: "python" (scipy's
+        `solve_ivp` methods on the generated module) or "c" (the compiled driver, built
+        once and cached, RK45 and DOP853). None takes the spec's `simulate:` value, else
+        lagcli's default. `inputs`: {name: value} of the spec's `inputs:`, held constant
+        (missing ones at their defaults). Returns a `lagcli.trajectory.Trajectory`; a
+        failed integration keeps its rows and says why in `failure`."""
         from lagcli.simulate.options import Request, resolve_settings
-        from lagcli.simulate.python_backend import integrate_module
         from lagcli.trajectory import from_rows
 
         settings = resolve_settings(Request(self.model.source, t_end, dt, method, rtol, atol,
                                             baumgarte=baumgarte), self.layout.settings.as_dict())
-        params = self._parameters(parameters)
         start = self.initial_state(parameters, initial)
-        module = self._module()
-        u = self._inputs(inputs)
-        rows = integrate_module(module, [params[name] for name in self.layout.parameter_names],
-                                list(start.values), settings,
-                                u=[u[name] for name in self.layout.input_names] if u else None)
-        d = self.derivation
-        return from_rows(self.layout, rows, start.notes,
-                         d.jacobi_integral is not None and d.energy_is_jacobi)
+        rows = self.run(settings, {**self._parameters(parameters), **self._inputs(inputs)}, start, backend)
+        return from_rows(self.layout, rows, start.notes, self.energy_conserved)
+
+    def run(self, settings, values: dict[str, float], start, backend: str, sink=None, progress=None):
+        """One run's rows, given to `sink` (a `lagcli.simulate.trajectory.RowSink`; in
+        memory when None) as they are computed, and the sink returned: the level
+        `lagcli simulate` works at. `settings`: `lagcli.simulate.options.RunSettings`;
+        `values`: the parameters and inputs changed for this run (as `--set` gives
+        them); `start`: from `start`; `progress(t_end)`: a context manager yielding
+        `update(t)` (or None), entered once the code is ready and the integration starts."""
+        progress = progress or _no_progress
+        if backend == "python":
+            from lagcli.simulate.python_backend import integrate_module
+
+            module = self._module()
+            params = {**self.layout.parameter_defaults, **values}
+            inputs = {**self.layout.input_defaults, **values}
+            u = [inputs[n] for n in self.layout.input_names] or None
+            with progress(settings.t_end) as update:
+                return integrate_module(module, [params[n] for n in self.layout.parameter_names],
+                                        list(start.values), settings, update, sink, u)
+        if backend == "c":
+            from lagcli.simulate import c_backend
+
+            cached = c_backend.driver(self, c_backend.require_compiler(settings.method))
+            args = c_backend.driver_arguments(settings, values, dict(zip(self.layout.state_names,
+                                                                           start.values)))
+            with progress(settings.t_end) as update:
+                return c_backend.run(cached, args, update, sink=sink)
+        raise UsageError(f"backend {backend!r}: expected 'python' or 'c'")
 
     def sweep(self, grid: dict | None = None, sample: dict | None = None, count: int | None = None,
               seed: int | None = None, runs=None, output: str | None = None, **options):
@@ -174,27 +238,29 @@ class System:
         if trajectory is None:
             trajectory = self.simulate(parameters=parameters, **simulate)
         request = Request(tuple(tuple(link) for link in links), tuple(traces), fps, frame)
-        return animate(self, trajectory.t, trajectory.states, self._parameters(parameters), path, request)
+        return animate(self, trajectory.t, trajectory.states,
+                       {**self.layout.parameter_defaults, **self._parameters(parameters)}, path, request)
 
     def _module(self):
-        """The generated Python module, made once per System."""
-        cached = self.__dict__.get("_generated_module")
-        if cached is None:
-            from lagcli.simulate.python_backend import load_module
+        """The generated Python module (its source cached on disk), made once per System."""
+        from lagcli.simulate.python_backend import cached_module
 
-            cached = load_module(self.derivation)
-            object.__setattr__(self, "_generated_module", cached)   # a cache, not state
-        return cached
+        return self._once("_generated_module", lambda: cached_module(self))
+
+    def _once(self, name: str, make):
+        if name not in self.__dict__:
+            object.__setattr__(self, name, make())        # a cache, not state
+        return self.__dict__[name]
 
     def _parameters(self, parameters: dict | None) -> dict[str, float]:
         given = dict(parameters or {})
         self._known("parameters", given, self.layout.parameter_names, "parameter")
-        return {**self.layout.parameter_defaults, **{k: float(v) for k, v in given.items()}}
+        return {k: float(v) for k, v in given.items()}
 
     def _inputs(self, inputs: dict | None) -> dict[str, float]:
         given = dict(inputs or {})
         self._known("inputs", given, self.layout.input_names, "input")
-        return {**self.layout.input_defaults, **{k: float(v) for k, v in given.items()}}
+        return {k: float(v) for k, v in given.items()}
 
     def _known(self, argument: str, given: dict, allowed, what: str) -> None:
         unknown = [name for name in given if name not in allowed]
@@ -205,13 +271,13 @@ class System:
     # --- rich display -------------------------------------------------------------------
 
     def _repr_latex_(self) -> str:
-        """The equations of motion, for Jupyter (MathJax)."""
+        """The equations of motion and the constraints, for Jupyter (MathJax)."""
         from lagcli.emit.latex import latex_printer
+        from lagcli.parts import aligned
 
-        printer = latex_printer(self.derivation)
-        rows = [f"{printer.doprint(e.lhs)} &= {printer.doprint(e.rhs)}" for e in self.derivation.equations]
-        rows += [f"{printer.doprint(c.expr)} &= 0" for c in self.derivation.constraints]
-        return "$$\\begin{aligned}" + " \\\\ ".join(rows) + "\\end{aligned}$$"
+        parts = self.parts
+        pairs = parts.equations.value + (parts.constraints.value if self.layout.constrained else ())
+        return "$$" + aligned(latex_printer(self.derivation), pairs) + "$$"
 
     def _repr_html_(self) -> str:
         from html import escape
@@ -226,3 +292,8 @@ class System:
 
     def __repr__(self) -> str:
         return f"<lagcli.System {self.name}: {', '.join(self.layout.coordinates)}>"
+
+
+@contextlib.contextmanager
+def _no_progress(t_end):
+    yield None

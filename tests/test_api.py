@@ -107,3 +107,56 @@ def test_plot_gives_the_simulate_figure(tmp_path):
     figure = trajectory.plot(tmp_path / "p.png")
     assert (tmp_path / "p.png").read_bytes().startswith(b"\x89PNG")
     assert [line.get_label() for line in figure.axes[0].get_lines()] == ["x", "y"]
+
+
+def test_parts_show_the_derivation():
+    """system.parts: the double pendulum's mass matrix against its closed form, the
+    text parsing back, LaTeX with dots, and a missing part named."""
+    import sympy as sp
+
+    from lagcli.spec_printer import parse_output
+
+    system = lagcli.load(SPECS / "double_pendulum.yaml")
+    m1, m2, l1, l2, th1, th2 = (system.model.symbol(n) for n in ("m1", "m2", "l1", "l2", "theta1", "theta2"))
+    closed = sp.Matrix([[(m1 + m2) * l1 ** 2, m2 * l1 * l2 * sp.cos(th1 - th2)],
+                        [m2 * l1 * l2 * sp.cos(th1 - th2), m2 * l2 ** 2]])
+    mass = system.parts.mass_matrix
+    assert sp.simplify(mass.value - closed) == sp.zeros(2, 2)
+    lagrangian = system.parts.lagrangian
+    assert sp.simplify(parse_output(repr(lagrangian).removeprefix("L = "), system.model) - lagrangian.value) == 0
+    assert r"\dot{\theta}_1" in lagrangian._repr_latex_()         # the spec's latex: \theta_1
+    assert len(system.parts.equations.value) == 2
+    with pytest.raises(AttributeError, match="no constraints"):
+        system.parts.constraints
+    assert "constraints" not in dir(system.parts)
+
+
+@pytest.mark.skipif(shutil.which("cc") is None, reason="needs a C compiler")
+def test_the_c_backend_of_the_api_agrees_with_the_python_backend():
+    """A spec given as text, new parameters: the compiled driver and scipy give the same
+    trajectory, on the rod of the new length."""
+    from lagcli.errors import UsageError
+
+    system = lagcli.load(PENDULUM_TEXT)
+    compiled = system.simulate(t_end=1.0, parameters={"l": 2.0}, backend="c")
+    scipy_run = system.simulate(t_end=1.0, parameters={"l": 2.0}, backend="python")
+    assert compiled.names == scipy_run.names and compiled.notes == scipy_run.notes
+    assert np.max(np.abs(compiled.data - scipy_run.data)) < 1e-7
+    x, y = compiled["x"], compiled["y"]
+    assert np.max(np.abs(x ** 2 + y ** 2 - 4.0)) < 1e-8 and compiled.failure is None
+    with pytest.raises(UsageError, match="RK45 and DOP853"):
+        system.simulate(method="Radau", backend="c")
+
+
+@pytest.mark.skipif(shutil.which("cc") is None, reason="needs a C compiler")
+def test_the_cached_driver_carries_the_layout(tmp_path):
+    """meta.json of the compiled driver is the system's Layout (its own JSON), which the
+    warm path reads back without sympy."""
+    from lagcli.layout import Layout
+    from lagcli.simulate import c_backend
+
+    system = lagcli.load(PENDULUM_TEXT)
+    system.simulate(t_end=0.1, backend="c")
+    cached = c_backend.driver(system, c_backend.find_compiler())
+    assert Layout.from_json(cached.meta["layout"]) == system.layout == cached.layout
+    assert [c.kind for c in cached.layout.columns][-1] == "residual"

@@ -112,7 +112,8 @@ def test_a_replaced_python_module_is_not_run_but_rebuilt(home, spec, tmp_path):
 
 
 @needs_cc
-@pytest.mark.parametrize("damage", ["truncated binary", "bad meta.json", "meta.json without keys"])
+@pytest.mark.parametrize("damage", ["truncated binary", "bad meta.json", "meta.json without keys",
+                                    "meta.json with a broken layout"])
 def test_a_damaged_driver_entry_is_rebuilt(home, spec, damage):
     assert_correct(simulate(spec, "c"))
     directory = entry(home, "C driver")
@@ -121,8 +122,12 @@ def test_a_damaged_driver_entry_is_rebuilt(home, spec, damage):
         (directory / "sim").write_bytes(data[: len(data) // 2])
     elif damage == "bad meta.json":
         (directory / "meta.json").write_text("{not json")
-    else:                                      # consistent with the manifest, but useless
+    elif damage == "meta.json without keys":   # consistent with the manifest, but useless
         (directory / "meta.json").write_text(json.dumps({"name": "osc"}))
+        rewrite_manifest(directory)
+    else:                                      # every key, but a layout that does not read back
+        meta = json.loads((directory / "meta.json").read_text())
+        (directory / "meta.json").write_text(json.dumps({**meta, "layout": '{"name": "osc"}'}))
         rewrite_manifest(directory)
     again = simulate(spec, "c")
     assert_correct(again)

@@ -1,6 +1,7 @@
 """Output languages of `lagcli generate`: a Derivation in, {file name: text} out.
 
-    python   lagcli/emit/python.py   templates/python/module.py.jinja      one module
+    python   lagcli/emit/python.py   templates/python/module.py.jinja      one module, carrying
+                                     lagcli/runtime/run_rules.py verbatim
     c        lagcli/emit/c.py        templates/c/model.{h,c}.jinja, main.c  the model and its driver,
                                      plus lagcli/runtime/c/ copied as it is
     latex    lagcli/emit/latex.py    templates/latex/document.tex.jinja     one document
@@ -26,7 +27,10 @@ How to add a code target (say Julia) — a printer configuration and templates:
    dates or host names. Code that is the same for every model (an integrator, a
    driver) is not a template: put it under `lagcli/runtime/julia/`, list it in
    `lagcli/runtime/__init__.py` and add its files to the output, as `c.c_files` does
-   with `c_runtime_files()` (and to `[tool.setuptools.package-data]`).
+   with `c_runtime_files()` (and to `[tool.setuptools.package-data]`). A target whose
+   output must stay one file pastes its runtime code in verbatim instead, as the
+   Python module does with `lagcli/runtime/run_rules.py` (`python_run_rules()`, passed
+   to its template as `run_rules`): still one copy of the rules per language.
 4. Register: add a `Language` to `LANGUAGES` below (module path, function name, whether the
    output is a directory) and the name to the `--lang` choice follows automatically.
 5. Tests: run the generated code at seeded random states against the Derivation

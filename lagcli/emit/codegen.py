@@ -24,7 +24,7 @@ from lagcli.emit.interface import Interface, interface  # noqa: F401
 from lagcli.emit.outputs import GROUPS, Outputs, collect, invariant_columns  # noqa: F401
 from lagcli.emit.slots import SlotPrinter, check_slots, slots
 from lagcli.emit.tidy import tidy_expression, trigsimp_safe  # noqa: F401
-from lagcli.numerics import CONSTRAINT_TOLERANCE, END_TOLERANCE, EXPLICIT_METHODS, OUTPUT_SLACK
+from lagcli.numerics import CONSTRAINT_TOLERANCE
 
 SYSTEM = ("mass_matrix", "forcing", "constraint_matrix", "constraint_bias")
 POSITION = ("constraint_velocity", "constraint_position")
@@ -98,8 +98,8 @@ def function_bodies(reduced: Reduced, printer: SlotPrinter, outputs: Outputs, n:
 def generated_context(d: Derivation, printer_class, initial=None, initial_notes=()) -> dict:
     """Everything a language's templates need, pre-printed by `printer_class`:
     `function_bodies`, the `Interface` (`initial`: see `interface.interface`), the
-    sizes n and m, the printer's `literal` and `imports`, and the shared numerics
-    (lagcli.numerics) the generated code repeats."""
+    sizes n and m, the printer's `literal` and `imports`, and the constraint tolerance
+    (lagcli.numerics). The run rules are runtime code, not context (lagcli/runtime/)."""
     outputs = collect(d)
     reduced = eliminate(outputs)
     printer = printer_class(slots(d, reduced, printer_class))
@@ -109,16 +109,8 @@ def generated_context(d: Derivation, printer_class, initial=None, initial_notes=
         bodies,
         i=interface(d, outputs, initial, initial_notes), n=n, m=m,
         literal=printer_class.literal, imports=printer.imports(),
-        explicit_methods=EXPLICIT_METHODS,
         constraint_tolerance=printer_class.literal(CONSTRAINT_TOLERANCE),
-        output_slack=short_literal(OUTPUT_SLACK), end_tolerance=short_literal(END_TOLERANCE),
     )
-
-
-def short_literal(value: float) -> str:
-    """A power of ten as the shortest literal both languages read: 1e-9, 1e-12."""
-    mantissa, _, exponent = format(value, ".0e").partition("e")
-    return f"{mantissa}e{int(exponent)}"
 
 
 def _rows(values: tuple[str, ...], cols: int) -> tuple[tuple[str, ...], ...]:

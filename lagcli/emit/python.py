@@ -3,7 +3,8 @@
 The module's interface is docs/design.md ("Generated Python module"). Scalar code
 uses `math` on Python floats (fast for small systems); numpy is used for the
 arrays it returns and `numpy.linalg.solve`; scipy only inside `simulate`. The
-module never imports sympy. Everything but the printer is shared with the C
+module never imports sympy. Its output times and step cap are the code of
+`lagcli/runtime/run_rules.py`, inserted verbatim (the rules lagcli itself runs). Everything but the printer is shared with the C
 output (`codegen.generated_context`).
 """
 from __future__ import annotations
@@ -15,6 +16,7 @@ from lagcli.emit import codegen
 from lagcli.emit.escape import python_string
 from lagcli.emit.slots import SlotPrinter
 from lagcli.emit.templates import render
+from lagcli.runtime import python_run_rules
 
 
 class PythonPrinter(SlotPrinter, PythonCodePrinter):
@@ -50,4 +52,5 @@ class PythonPrinter(SlotPrinter, PythonCodePrinter):
 def python_module(d: Derivation, initial=None, initial_notes=()) -> str:
     """The text of the generated module for `d`; `initial` (the default state, made
     consistent by the caller) and `initial_notes`: see `lagcli.emit.interface.interface`."""
-    return render("python/module.py.jinja", **codegen.generated_context(d, PythonPrinter, initial, initial_notes))
+    return render("python/module.py.jinja", **codegen.generated_context(d, PythonPrinter, initial, initial_notes),
+                  run_rules=python_run_rules())   # lagcli's own run rules, pasted verbatim

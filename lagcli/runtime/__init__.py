@@ -6,9 +6,14 @@ language, usable on their own by someone embedding a generated model
 
 `fmi2/` holds lagcli's FMI 2.0 functions (lagcli_fmi2.c) and the FMI 2.0 standard's
 headers, unchanged, under the licence in fmi2/LICENSE.txt (the Modelica Association's
-2-clause BSD licence)."""
+2-clause BSD licence).
+
+Python: `run_rules.py` is a module lagcli itself runs (`lagcli.numerics` re-exports
+it) whose code the generated Python module carries verbatim (`python_run_rules`), so
+that module stays one self-contained file."""
 from __future__ import annotations
 
+import ast
 import functools
 from importlib import resources
 
@@ -36,3 +41,16 @@ def fmi2_runtime_files() -> dict[str, str]:
 def fmi2_license() -> str:
     """The licence of the FMI 2.0 headers."""
     return _texts("fmi2", (FMI2_LICENSE,))[0][1]
+
+
+@functools.lru_cache(maxsize=1)
+def python_run_rules() -> str:
+    """The code of `run_rules.py` without its module docstring: what the generated
+    Python module pastes after its imports."""
+    text = resources.files(__name__).joinpath("run_rules.py").read_text(encoding="utf-8")
+    first_statement = ast.parse(text).body[1].lineno      # body[0] is the docstring
+    lines = text.splitlines(keepends=True)
+    start = first_statement - 1
+    while start > 0 and lines[start - 1].startswith("#"):  # keep the comment above it
+        start -= 1
+    return "".join(lines[start:])

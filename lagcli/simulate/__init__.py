@@ -1,7 +1,8 @@
 """`lagcli simulate`: integrate a spec's equations of motion and write the CSV (and a PNG).
 
     options.py         Request (the command line), RunSettings, NAME=VALUE parsing
-    run.py             simulate(request) -> Outcome: picks the backend, warm cache first
+    run.py             simulate(request) -> Outcome: warm cached C driver first, else
+                       through the Python API (lagcli.system.System.start / run)
     initial.py         consistent initial states of constrained systems (sympy + numpy)
     python_backend.py  the generated Python module + scipy's integrators
     c_backend.py       the generated C driver: compile, cache, run

@@ -5,10 +5,11 @@ Cache: `lagcli.simulate.cache` (`$XDG_CACHE_HOME/lagcli/<key>/`, the compiler's
 binary `sim` and `meta.json`, all checked against the entry's manifest before the
 driver runs (see that module for why that is enough).
 
-`meta.json` is everything a warm run needs without sympy: state, parameter and
-column names, the spec's `initial:` and `simulate:` values, whether the system is
-constrained, and the spec's initial state already made consistent (with the
-notes saying what was solved for).
+`meta.json` is everything a warm run needs without sympy: the system's
+`lagcli.layout.Layout` (its own JSON, `Layout.to_json`: states, parameters and
+defaults, columns and their kinds, settings), the spec's `initial:` values, whether
+the energy column is conserved, and the spec's initial state already made
+consistent (with the notes saying what was solved for).
 
 This module imports neither sympy nor numpy: a warm run goes spec bytes -> key
 -> meta.json -> driver, and the driver's output lines are passed through as CSV,
@@ -28,20 +29,33 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from lagcli.errors import SimulationError, UsageError
+from lagcli.layout import Layout
+from lagcli.numerics import EXPLICIT_METHODS
 from lagcli.simulate import cache
 from lagcli.simulate.options import RunSettings
 from lagcli.simulate.trajectory import RowSink, Trajectory
 
 CFLAGS = ("-std=c99", "-O2", "-Wall", "-Wextra", "-Werror", "-pedantic")
 BINARY, META = "sim", "meta.json"
-META_TYPES = {"name": str, "coordinates": list, "state": list, "parameters": dict, "initial": dict,
-              "settings": dict, "constrained": bool, "energy_conserved": bool,
+META_TYPES = {"layout": str, "initial": dict, "energy_conserved": bool,
               "default_state": (list, type(None)), "default_notes": list}
 READ_SIZE = 1 << 16                   # bytes of driver output read at a time
 
 
 def find_compiler() -> str | None:
     return shutil.which("cc")
+
+
+def require_compiler(method: str) -> str:
+    """The C compiler for a run with `method`, or the error saying why there is none."""
+    if method not in EXPLICIT_METHODS:
+        raise UsageError(f"--method {method}: the C backend implements "
+                         f"{' and '.join(EXPLICIT_METHODS)} only; use --backend python for {method}")
+    compiler = find_compiler()
+    if compiler is None:
+        raise SimulationError("--backend c needs a C compiler, but 'cc' was not found on PATH "
+                              "(install gcc or clang, or use --backend python)")
+    return compiler
 
 
 def cache_key(spec_path: str, spec_bytes: bytes, compiler: str) -> str:
@@ -63,6 +77,7 @@ class Cached:
 
     entry: cache.Entry
     meta: dict
+    layout: Layout
 
     @property
     def binary(self) -> str:
@@ -76,12 +91,13 @@ def lookup(key: str) -> Cached | None:
     if entry is None:
         return None
     meta = _meta(entry.contents.get(META, b""))
-    if meta is None:
+    layout = _layout(meta)
+    if layout is None:
         cache.note(f"cache entry {entry.directory} failed its integrity check ({META} lacks "
                    "values a run needs); rebuilding it")
         cache.discard(entry.directory)
         return None
-    return Cached(entry, meta)
+    return Cached(entry, meta, layout)
 
 
 def _meta(data: bytes) -> dict | None:
@@ -93,13 +109,42 @@ def _meta(data: bytes) -> dict | None:
     return meta if _complete(meta) else None
 
 
+def _layout(meta: dict | None) -> Layout | None:
+    try:
+        return Layout.from_json(meta["layout"]) if meta is not None else None
+    except (ValueError, KeyError, TypeError):
+        return None
+
+
 def _complete(meta) -> bool:
     return isinstance(meta, dict) and all(isinstance(meta.get(k), t) for k, t in META_TYPES.items())
 
 
+def driver(system, compiler: str) -> Cached:
+    """The compiled driver of `system` (a `lagcli.system.System`) from the cache,
+    generating and compiling it (with meta.json) when it is not there."""
+    key = cache_key(system.model.source, system.spec_bytes, compiler)
+    cached = lookup(key)
+    if cached is not None:
+        return cached
+    from lagcli.emit.c import c_files
+
+    start, consistent = system.spec_start()
+    d = system.derivation
+    meta = {
+        "layout": system.layout.to_json(),
+        "initial": dict(system.model.initial),
+        "energy_conserved": system.energy_conserved,
+        "default_state": list(start.values) if consistent else None,   # else only a repairing --init runs
+        "default_notes": list(start.notes) if consistent else [],
+    }
+    return build(c_files(d, initial=start.values, initial_notes=start.notes), key, compiler, meta)
+
+
 def build(files: dict[str, str], key: str, compiler: str, meta: dict) -> Cached:
     """Compile the generated C `files` (name -> text) into the cache under `key`."""
-    if not _complete(meta):                # keeps META_TYPES in step with what run.py writes
+    layout = _layout(meta if _complete(meta) else None)
+    if layout is None:                     # keeps META_TYPES in step with what `driver` writes
         raise SimulationError(f"lagcli bug: {META} needs {sorted(META_TYPES)}")
     try:
         with cache.new_entry(key) as work:
@@ -107,10 +152,10 @@ def build(files: dict[str, str], key: str, compiler: str, meta: dict) -> Cached:
                 (work / name).write_text(text)
             _compile(compiler, work, sorted(name for name in files if name.endswith(".c")))
             (work / META).write_text(json.dumps(meta, indent=1))
-            entry = cache.publish(work, key, f"{meta['name']}: C driver", executable=BINARY)
+            entry = cache.publish(work, key, f"{layout.name}: C driver", executable=BINARY)
     except OSError as exc:                 # a full disk, say: even the temporary directory failed
         raise SimulationError(f"the C driver could not be built and stored: {exc}") from None
-    return Cached(entry, meta)
+    return Cached(entry, meta, layout)
 
 
 def compile_library(compiler: str, work: Path, sources: list[str], output: str) -> None:
@@ -159,12 +204,14 @@ def run(cached: Cached, args: list[str], progress=None, max_first_residual: floa
     """Run the driver, passing its CSV through to `sink` (a new in-memory `Trajectory`
     when None) as it comes, and return the sink.  Returns None (and stops the driver,
     with nothing given to the sink) when `max_first_residual` is given and the first
-    row's constraint_residual exceeds it."""
+    row's residual column (the layout's column of kind "residual") exceeds it."""
     sink = Trajectory() if sink is None else sink
+    residual = [i for i, c in enumerate(cached.layout.columns) if c.kind == "residual"]
+    check = (residual[0], max_first_residual) if residual and max_first_residual is not None else None
     with tempfile.TemporaryFile("w+") as errors:
         proc = subprocess.Popen([str(cached.binary), *args], stdout=subprocess.PIPE, stderr=errors)
         try:
-            accepted = _pass_through(proc.stdout, sink, progress, max_first_residual)
+            accepted = _pass_through(proc.stdout, sink, progress, check)
         except KeyboardInterrupt:
             sink.interrupted, accepted = True, True
         finally:
@@ -179,16 +226,18 @@ def run(cached: Cached, args: list[str], progress=None, max_first_residual: floa
     return sink if sink.interrupted else _finish(sink, proc.returncode, message)
 
 
-def _pass_through(stdout, sink: RowSink, progress, limit: float | None) -> bool:
+def _pass_through(stdout, sink: RowSink, progress, check: tuple[int, float] | None) -> bool:
     """Give the driver's complete CSV lines to `sink` a pipe-full at a time (nothing is
-    held but the line being received); False when the first row is rejected."""
+    held but the line being received); False when the first row fails `check`
+    (column index, largest value)."""
     header = stdout.readline()
     if not header.endswith(b"\n"):
         return True                            # the driver died first: its status says why
     names = header.decode().rstrip("\n").split(",")
     pending = stdout.readline()
-    if limit is not None and "constraint_residual" in names and pending.endswith(b"\n"):
-        if not float(pending.split(b",")[names.index("constraint_residual")]) <= limit:
+    if check is not None and pending.endswith(b"\n"):
+        column, limit = check
+        if not float(pending.split(b",")[column]) <= limit:
             return False
     sink.begin(names)
     while True:

@@ -78,13 +78,13 @@ def initial_state(d, given: dict[str, float], params: dict[str, float], t0: floa
     notes = []
     holonomic = [j for j, row in enumerate(d.constraints) if row.kind == "holonomic"]
     if holonomic and _worst(f.phi(q)) > TOLERANCE:
-        free = _free(model.q, given, soft)
-        q = _solve_positions(f, q, free, d, origin)
+        q, free = _first_solution(lambda free: _solve_positions(f, q, free, d, origin),
+                                  _free(model.q, given, soft))
         notes.append(origin.note("coordinates", model.q, free, q))
     residual = f.velocity_residual(q, qd)
     if _worst(residual) > TOLERANCE:
-        free = _free(model.qd, given, soft)
-        qd = _solve_velocities(f, q, qd, free, d, origin)
+        qd, free = _first_solution(lambda free: _solve_velocities(f, q, qd, free, d, origin),
+                                   _free(model.qd, given, soft))
         notes.append(origin.note("velocities", model.qd, free, qd))
     return InitialState(tuple(float(v) for v in (*q, *qd)), tuple(notes))
 
@@ -147,9 +147,23 @@ def spec_initial_state(d) -> tuple[InitialState, bool]:
         return InitialState(values, ("initial state: inconsistent with the constraints; used as given",)), False
 
 
-def _free(symbols, given, soft) -> list[int]:
-    free = [k for k, s in enumerate(symbols) if s.name not in given]
-    return free or [k for k, s in enumerate(symbols) if s.name in soft]
+def _free(symbols, given, soft) -> list[list[int]]:
+    """The unknowns to solve for, in the order to try them: the values not given, then
+    those together with the spec's own (`soft`) values, when that adds any."""
+    missing = [k for k, s in enumerate(symbols) if s.name not in given]
+    widened = [k for k, s in enumerate(symbols) if s.name not in given or s.name in soft]
+    return [missing, widened] if missing and widened != missing else [widened]
+
+
+def _first_solution(solve, choices):
+    """solve(free) for each choice of unknowns until one succeeds: (values, free). The
+    last choice's failure (a UsageError naming what was given) is the one raised."""
+    for free in choices[:-1]:
+        try:
+            return solve(free), free
+        except UsageError:
+            continue
+    return solve(choices[-1]), choices[-1]
 
 
 class _ConstraintFunctions:
@@ -196,7 +210,7 @@ def _solve_positions(f: _ConstraintFunctions, q, free, d, origin) -> np.ndarray:
             return found
     names = ", ".join(str(d.model.q[k]) for k in free)
     _fail(d, [(d.constraints[j], r) for j, r in zip(f.rows, f.phi(q))],
-          f"solving for the coordinates not given ({names}) did not converge", origin)
+          f"solving for the coordinates {names} did not converge", origin)
 
 
 def _starts(q, free):
@@ -247,7 +261,7 @@ def _solve_velocities(f: _ConstraintFunctions, q, qd, free, d, origin) -> np.nda
     if not np.all(np.isfinite(after)) or _worst(after) > TOLERANCE * 1e-2:
         names = ", ".join(str(d.model.qd[k]) for k in free)
         _fail(d, list(zip(d.constraints, residual)),
-              f"the velocities not given ({names}) cannot satisfy them", origin, level="velocity")
+              f"the velocities solved for ({names}) cannot satisfy them", origin, level="velocity")
     return qd
 
 

@@ -28,7 +28,6 @@ from scipy import integrate
 
 from lagcli.numerics import max_step, output_time_windows
 from lagcli.simulate import cache
-from lagcli.spec.files import read_spec_bytes
 from lagcli.simulate.options import RunSettings
 from lagcli.simulate.trajectory import RowSink, Trajectory
 
@@ -49,16 +48,17 @@ def load_module(derivation, spec_start=None) -> types.ModuleType:
     return _execute(derivation.model.name, module_source(derivation, spec_start))
 
 
-def cached_module(derivation, spec_path: str, spec_start=None) -> types.ModuleType:
-    """`load_module`, with the source taken from the cache when this spec's module is
-    there (and intact), and stored there when it is not."""
-    key = cache.cache_key(spec_path, read_spec_bytes(spec_path), MODULE_VARIANT)
+def cached_module(system) -> types.ModuleType:
+    """`load_module` of a `lagcli.system.System`, with the source taken from the cache
+    when this spec's module is there (and intact), and stored there when it is not."""
+    name = system.name
+    key = cache.cache_key(system.model.source, system.spec_bytes, MODULE_VARIANT)
     entry = cache.load(key)
     if entry is not None and MODULE in entry.contents:
-        return _execute(derivation.model.name, entry.contents[MODULE].decode())
-    source = module_source(derivation, spec_start)
-    _store(key, derivation.model.name, source)
-    return _execute(derivation.model.name, source)
+        return _execute(name, entry.contents[MODULE].decode())
+    source = module_source(system.derivation, system.spec_start())
+    _store(key, name, source)
+    return _execute(name, source)
 
 
 def module_source(derivation, spec_start=None) -> str:

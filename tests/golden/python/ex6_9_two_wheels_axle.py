@@ -22,6 +22,48 @@ from math import cos, sin
 
 import numpy as np
 
+# --- lagcli's run rules (lagcli/runtime/run_rules.py) ---
+import math
+
+EXPLICIT_METHODS = ("RK45", "DOP853")
+OUTPUT_SLACK = 1e-9          # t_end/dt this close below an integer still counts as reaching it
+END_TOLERANCE = 1e-12        # relative: a last t_k this close to t_end is t_end
+
+
+def output_times(t_end, dt):
+    """The output times of a run from t = 0, as a list (docs/design.md, "Output times")."""
+    return [t for window in output_time_windows(t_end, dt) for t in window]
+
+
+def output_time_windows(t_end, dt, size=4096):
+    """`output_times` as consecutive lists of at most `size` times, computed as they are
+    needed: a run of 1e8 rows never holds them all."""
+    count = math.floor(t_end / dt + OUTPUT_SLACK)
+    for start in range(0, count + 1, size):
+        window = [k * dt for k in range(start, min(start + size, count + 1))]
+        if start + size > count and window[-1] < t_end - END_TOLERANCE * max(1.0, t_end):
+            window.append(t_end)
+        yield window
+
+
+def max_step(method, alpha, beta, constrained):
+    """The largest step of an explicit Runge-Kutta method on a Baumgarte-stabilised system.
+
+    The constraint error e obeys e'' + 2 alpha e' + beta^2 e = 0, with eigenvalues
+    lambda = -alpha +- sqrt(alpha^2 - beta^2). Left alone, the step controller of a
+    system with slow (or polynomial) physical motion lets h |lambda| grow to the edge
+    of the method's stability region (about 3.3 for RK45, 6 for DOP853), where the
+    error estimate is unreliable: the constraints then drift to ~1e-6 and tiny rounding
+    differences change the steps (lagcli's docs/simulate.md, "Constraint stabilisation").
+    h |lambda| <= 1 keeps that mode well resolved; inf (no cap) when there is no such
+    mode (unconstrained, zero gains) or for the implicit methods."""
+    if not constrained or method not in EXPLICIT_METHODS:
+        return math.inf
+    alpha, beta = abs(alpha), abs(beta)
+    rate = max(alpha + math.sqrt(max(alpha * alpha - beta * beta, 0.0)), beta)
+    return 1.0 / rate if rate > 0 else math.inf
+
+
 NAME = 'ex6_9_two_wheels_axle'
 SPEC_FILE = 'ex6_9_two_wheels_axle.yaml'
 LAGCLI_VERSION = '0.1.0'
@@ -149,25 +191,6 @@ def invariants(t, y, p):
     }
 
 
-def output_times(t_end, dt):
-    """t_k = k dt for k = 0 .. floor(t_end/dt + 1e-9), then t_end if it is not reached."""
-    count = int(np.floor(t_end / dt + 1e-9))
-    times = [k * dt for k in range(count + 1)]
-    if times[-1] < t_end - 1e-12 * max(1.0, t_end):
-        times.append(t_end)
-    return np.array(times)
-
-
-def _max_step(method, alpha, beta):
-    """Step cap of the explicit methods on a constrained system: h |lambda| <= 1 for the
-    eigenvalues lambda = -alpha +- sqrt(alpha^2 - beta^2) of the damped constraint error."""
-    if not MULTIPLIERS or method not in ("RK45", "DOP853"):
-        return np.inf
-    alpha, beta = abs(alpha), abs(beta)
-    rate = max(alpha + float(np.sqrt(max(alpha * alpha - beta * beta, 0.0))), beta)
-    return 1.0 / rate if rate > 0 else np.inf
-
-
 def simulate(t_end=None, dt=None, method=None, rtol=None, atol=None, p=None, y0=None,
              baumgarte=BAUMGARTE):
     """Integrate from t = 0 with scipy's solve_ivp; returns (header, rows) like the CSV of
@@ -189,7 +212,7 @@ def simulate(t_end=None, dt=None, method=None, rtol=None, atol=None, p=None, y0=
     solution = solve_ivp(fun, (0.0, t_end), y0, method=method, t_eval=times,
                          rtol=s["rtol"] if rtol is None else rtol,
                          atol=s["atol"] if atol is None else atol,
-                         max_step=_max_step(method, alpha, beta))
+                         max_step=max_step(method, alpha, beta, bool(MULTIPLIERS)))
     if solution.status < 0:
         raise RuntimeError(f"at t = {solution.t[-1] if solution.t.size else 0.0}: {solution.message}")
     rows = []

@@ -1,0 +1,35 @@
+"""A warm `lagcli simulate` (the cache holds the spec's compiled driver) reads the
+Layout from meta.json and runs the driver without importing sympy or numpy."""
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+import sys
+
+import pytest
+
+from conftest import ROOT, SPECS
+
+SCRIPT = """
+import sys
+from lagcli.cli import cli
+try:
+    cli(["simulate", sys.argv[1], "--t-end", "0.05", "--set", "m1=2", "-o", sys.argv[2]])
+except SystemExit as exc:
+    assert not exc.code, exc.code
+print("sympy" in sys.modules, "numpy" in sys.modules)
+"""
+
+
+@pytest.mark.skipif(shutil.which("cc") is None, reason="needs a C compiler")
+def test_a_warm_run_imports_neither_sympy_nor_numpy(tmp_path):
+    env = {**os.environ, "XDG_CACHE_HOME": str(tmp_path / "cache"), "PYTHONPATH": str(ROOT)}
+    spec, out = str(SPECS / "double_pendulum.yaml"), str(tmp_path / "run.csv")
+    runs = [subprocess.run([sys.executable, "-c", SCRIPT, spec, out], env=env, capture_output=True,
+                           text=True, timeout=600) for _ in range(2)]      # cold, then warm
+    assert all(run.returncode == 0 for run in runs), runs[-1].stderr
+    assert runs[0].stdout.split() == ["True", "True"]
+    assert runs[1].stdout.split() == ["False", "False"]
+    with open(out) as csv:
+        assert csv.readline().startswith("t,theta1,theta2,theta1_dot")
