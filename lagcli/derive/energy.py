@@ -48,20 +48,21 @@ def kinetic_parts(model: Model, D: TimeDerivative) -> tuple[sp.Matrix, sp.Matrix
     n = len(model.q)
     M = [[[] for _ in range(n)] for _ in range(n)]     # upper triangle: J^T J is symmetric
     a, T0 = [[] for _ in range(n)], []
+    dots: dict = {}      # a chain's points share Jacobian columns: each product formed once
     for mass, r in model.mass_points:
         J, r_t = jacobian(r, model.q, D.free), r.applyfunc(lambda e: derivative(e, model.t, D.free))
-        _add_products(M, a, T0, J, None, r_t, mass)
+        _add_products(M, a, T0, J, None, r_t, mass, dots)
     for body in model.bodies:
         omega = body_angular_velocity(body, D)
         J_w = jacobian(omega, model.qd, D.free)
         w_t = omega.subs({v: 0 for v in model.qd})
-        _add_products(M, a, T0, J_w, body.inertia, w_t, 1)
+        _add_products(M, a, T0, J_w, body.inertia, w_t, 1, dots)
     extra_M, extra_a, extra_T0 = _split_extra_kinetic(model)
     M = sp.Matrix(n, n, lambda i, j: sp.Add(*M[min(i, j)][max(i, j)]))
     return M + extra_M, sp.Matrix([sp.Add(*terms) for terms in a]) + extra_a, sp.Add(*T0) + extra_T0
 
 
-def _add_products(M, a, T0, J, inertia, v_t, mass) -> None:
+def _add_products(M, a, T0, J, inertia, v_t, mass, dots: dict) -> None:
     """The terms of mass * (J^T I J, J^T I v_t, 1/2 v_t^T I v_t) for one point (I = None:
     the identity) or body."""
     I_J, I_v = (J, v_t) if inertia is None else (inertia * J, inertia * v_t)
@@ -69,10 +70,14 @@ def _add_products(M, a, T0, J, inertia, v_t, mass) -> None:
     moving = any(v_t)
 
     def dot(u, w) -> sp.Expr:
-        return sp.Add(*(x * y for x, y in zip(u, w)))
+        key = (u, w)
+        if key not in dots:
+            dots[key] = sp.Add(*(x * y for x, y in zip(u, w)))
+        return dots[key]
 
-    columns = [J[:, i] for i in range(n)]
-    weighted = [I_J[:, j] for j in range(n)]
+    columns = [tuple(J[:, i]) for i in range(n)]
+    weighted = [tuple(I_J[:, j]) for j in range(n)]
+    v_t, I_v = tuple(v_t), tuple(I_v)
     for i in range(n):
         if not any(columns[i]):
             continue
