@@ -129,7 +129,8 @@ def numerically_zero(exprs: Iterable[sp.Expr], trials: int = 3, seed: int = 2026
     while done < trials and attempts < 10 * trials:
         attempts += 1
         point = {s: rng.uniform(0.3, 1.3) for s in sorted(names, key=str)}
-        values = [_evaluate(e, point) for e in exprs]
+        memo: dict = {}      # subexpressions shared between the expressions are evaluated once
+        values = [_evaluate(e, point, memo) for e in exprs]
         if any(v is None for v in values):
             continue
         done += 1
@@ -138,14 +139,14 @@ def numerically_zero(exprs: Iterable[sp.Expr], trials: int = 3, seed: int = 2026
     return done > 0  # no point could be evaluated: undecided, so not "zero"
 
 
-def _evaluate(expr: sp.Expr, point: dict) -> tuple[float, float] | None:
+def _evaluate(expr: sp.Expr, point: dict, memo: dict) -> tuple[float, float] | None:
     """(value, scale) of expr at point, scale = sum of |terms| for a relative tolerance.
 
     Evaluated in double precision node by node (`constants.value_at`), never by
     substituting Floats and `evalf`: sympy would evaluate sin(exp(exp(exp(exp(x)))))
     at a point with mpmath to millions of digits."""
     terms = expr.args if expr.is_Add else (expr,)
-    total, scale, memo = 0.0, 0.0, {}
+    total, scale = 0.0, 0.0
     for term in terms:
         try:
             number = value_at(term, point, memo)
