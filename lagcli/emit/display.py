@@ -27,6 +27,7 @@ from collections.abc import Callable, Sequence
 
 import sympy as sp
 
+from lagcli import calculus
 from lagcli.calculus import almost_everywhere
 from lagcli.derive.result import Derivation
 from lagcli.emit.tidy import display_form, pull_signs, small
@@ -68,6 +69,7 @@ class Display:
         self.n = len(m.q)
         self._cache: dict = {}
         self._parts: dict = {}
+        self._free_symbols: dict = {}   # of every subexpression differentiated (calculus.free_symbols)
         self._tidy_on = simplify
         n = self.n
         upper = {(i, j): self.tidy(d.mass_matrix[i, j]) for i in range(n) for j in range(i, n)}
@@ -79,6 +81,10 @@ class Display:
         self.V = self.tidy(d.V)
         self.Qp = [self.tidy(e) for e in d.nonconservative_forces]
         self.A = [[self.tidy(e) for e in row.a] for row in d.constraints]
+
+    def differentiate(self, expr: sp.Expr, var) -> sp.Expr:
+        """d expr / d var (`derivative`)."""
+        return derivative(expr, var, self._free_symbols)
 
     def tidy(self, expr) -> sp.Expr:
         expr = sp.sympify(expr)
@@ -142,13 +148,13 @@ class Display:
 
     def generalized_force(self, i: int) -> sp.Expr:
         """Q_i = Q'_i - dV/dq_i."""
-        return self.tidy(self.Qp[i] - derivative(self.V, self.q[i]))
+        return self.tidy(self.Qp[i] - self.differentiate(self.V, self.q[i]))
 
     @functools.cached_property
     def gyroscopic(self) -> list[list[sp.Expr]]:
         """gamma_ij = da_i/dq_j - da_j/dq_i."""
         q, a, n = self.q, self.a, self.n
-        return [[self.tidy(derivative(a[i], q[j]) - derivative(a[j], q[i])) if i != j else sp.S.Zero
+        return [[self.tidy(self.differentiate(a[i], q[j]) - self.differentiate(a[j], q[i])) if i != j else sp.S.Zero
                  for j in range(n)] for i in range(n)]
 
     def constraint_force(self, i: int) -> Terms:
@@ -163,7 +169,7 @@ class Display:
         if key not in self._derivatives:
             if var not in self._free[key[:2]]:
                 return sp.S.Zero
-            self._derivatives[key] = derivative(self.M[i][j], var)
+            self._derivatives[key] = self.differentiate(self.M[i][j], var)
         return self._derivatives[key]
 
     def velocity_buckets(self, i: int) -> dict:
@@ -191,8 +197,8 @@ class Display:
         qd, t, q = self.qd, self.t, self.q
         mass_rate = {v: self._dM(i, j, t) for j, v in enumerate(qd)}
         gyroscopic = {v: g for v, g in zip(qd, self.gyroscopic[i])}
-        a_t = derivative(self.a[i], t)
-        position = derivative(self.V, q[i]) - derivative(self.T0, q[i])
+        a_t = self.differentiate(self.a[i], t)
+        position = self.differentiate(self.V, q[i]) - self.differentiate(self.T0, q[i])
         forces: dict = {}
         for term in split(self.Qp[i]):
             coefficient, monomial = term.as_independent(*qd, as_Add=False)
@@ -247,9 +253,10 @@ class Display:
 PARTS = ("velocity", "mass_rate", "gyroscopic", "t1_rate", "position", "forces")
 
 
-def derivative(expr: sp.Expr, var) -> sp.Expr:
-    """d expr/d var, taken almost everywhere as the derivation does (no Heaviside, DiracDelta)."""
-    return almost_everywhere(expr.diff(var)) if var in expr.free_symbols else sp.S.Zero
+def derivative(expr: sp.Expr, var, memo: dict) -> sp.Expr:
+    """d expr/d var, taken almost everywhere as the derivation does (no Heaviside, DiracDelta);
+    `memo`: free symbols of the subexpressions seen (`lagcli.calculus.free_symbols`)."""
+    return almost_everywhere(calculus.derivative(expr, var, memo))
 
 
 def _add(buckets: dict, monomial, coefficient) -> None:
