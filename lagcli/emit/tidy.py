@@ -132,11 +132,39 @@ def display_form(expr) -> sp.Expr:
     expr = sp.sympify(expr)
     if expr.is_Atom or not small(expr) or not expandable(expr):
         return expr
-    result = sp.expand(expr)
+    result = expr if is_expanded(expr) else sp.expand(expr)
     if result.has(sp.sin, sp.cos):
         result = fold_angle_sums(pythagorean(result))
     result = pull_signs(common_factor(group_by_calls(result)))
     return result if sp.count_ops(result) <= sp.count_ops(expr) else pull_signs(expr)
+
+
+LINEAR_CALLS = (sp.sin, sp.cos, sp.tan)   # expand leaves f(a - b) alone (no expand_trig)
+
+
+def is_expanded(expr) -> bool:
+    """True when `sympy.expand(expr)` is expr itself, recognised cheaply for the common case:
+    a sum of products of numbers, symbols, integer powers of them and sin/cos/tan of sums
+    of symbols with integer coefficients (the mass matrix's entries)."""
+    return all(_plain_factor(f) for term in sp.Add.make_args(expr) for f in sp.Mul.make_args(term))
+
+
+def _plain_factor(factor) -> bool:
+    if factor.is_Atom:
+        return True
+    if factor.is_Pow:
+        return factor.exp.is_Integer and (factor.base.is_Symbol or _plain_call(factor.base))
+    return _plain_call(factor)
+
+
+def _plain_call(call) -> bool:
+    if not isinstance(call, LINEAR_CALLS):
+        return False
+    for term in sp.Add.make_args(call.args[0]):
+        number, rest = term.as_coeff_Mul()
+        if not (number.is_Integer and (rest.is_Symbol or rest == 1)):
+            return False
+    return True
 
 
 def group_by_calls(expr) -> sp.Expr:
@@ -159,8 +187,11 @@ def common_factor(expr) -> sp.Expr:
     the terms' common powers times the gcd of their numerators, over the lcm of their
     denominators when no coefficient is an integer (factor_terms' `clear=False`).
     Anything else goes to factor_terms itself."""
-    if not expr.is_Add:
-        return expr if not expr.has(sp.Add) else sp.factor_terms(expr)
+    if expr.is_Atom:
+        return expr
+    if not expr.is_Add:    # factor_terms works inside: when that changes nothing, neither do we
+        unchanged = all(common_factor(a) == a for a in expr.args)
+        return expr if unchanged else sp.factor_terms(expr)
     split = []
     for term in expr.args:
         number, rest = term.as_coeff_Mul()
@@ -280,12 +311,13 @@ def pull_signs(expr) -> sp.Expr:
     if expr.is_Atom:
         return expr
     args = [pull_signs(a) for a in expr.args]
-    if expr.is_Mul:
-        flips = [i for i, a in enumerate(args) if a.is_Add and _mostly_negative(a)]
-        for i in flips:
-            args[i] = -args[i]
-        if flips:
-            args.append(sp.S.NegativeOne ** len(flips))
+    flips = [i for i, a in enumerate(args) if a.is_Add and _mostly_negative(a)] if expr.is_Mul else []
+    for i in flips:
+        args[i] = -args[i]
+    if flips:
+        args.append(sp.S.NegativeOne ** len(flips))
+    elif all(new is old for new, old in zip(args, expr.args)):
+        return expr          # nothing changed: no need to rebuild (and re-sort) the node
     return expr.func(*args)
 
 
