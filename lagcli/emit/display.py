@@ -30,7 +30,7 @@ import sympy as sp
 from lagcli import calculus
 from lagcli.calculus import almost_everywhere
 from lagcli.derive.result import Derivation
-from lagcli.emit.tidy import display_form, pull_signs, small
+from lagcli.emit.tidy import DISPLAY_MAX_NODES, display_form, pull_signs, small
 
 TREE_MAX_NODES = 5000     # tidy the parts of expressions up to this size (tree nodes)
 
@@ -86,20 +86,29 @@ class Display:
         """d expr / d var (`derivative`)."""
         return derivative(expr, var, self._free_symbols)
 
-    def tidy(self, expr) -> sp.Expr:
+    def tidy(self, expr, sized: bool = False) -> sp.Expr:
+        """expr tidied (`_tidy_tree`); `sized`: expr is known to be within TREE_MAX_NODES."""
         expr = sp.sympify(expr)
         if not self._tidy_on:
             return expr
         if expr not in self._cache:
-            self._cache[expr] = self._tidy_tree(expr)
+            self._cache[expr] = self._tidy_tree(expr, sized)
         return self._cache[expr]
 
-    def _tidy_tree(self, expr: sp.Expr) -> sp.Expr:
+    def tidy_assembled(self, expr) -> sp.Expr:
+        """An expression assembled from tidied parts (a derivative, a sum of them): tidied
+        again only when it is small (DISPLAY_MAX_NODES); a big one keeps the form of its
+        parts, signs pulled out (re-tidying it was most of a big system's report)."""
+        expr = sp.sympify(expr)
+        return self.tidy(expr) if small(expr, DISPLAY_MAX_NODES) else pull_signs(expr)
+
+    def _tidy_tree(self, expr: sp.Expr, sized: bool) -> sp.Expr:
         """Children first (each distinct one once: the same dot product appears in every
-        mass's term), then the sums that combine them."""
-        if expr.is_Atom or not (expr.is_Add or expr.is_Mul) or not small(expr, TREE_MAX_NODES):
+        mass's term), then the sums that combine them. The size is checked once, at the top
+        (the children of a small expression are small)."""
+        if expr.is_Atom or not (expr.is_Add or expr.is_Mul) or not (sized or small(expr, TREE_MAX_NODES)):
             return expr      # a huge expression is shown with named quantities instead
-        rebuilt = expr.func(*(self.tidy(a) for a in expr.args))
+        rebuilt = expr.func(*(self.tidy(a, sized=True) for a in expr.args))
         return display_form(rebuilt) if rebuilt.is_Add else rebuilt
 
     # -- energies and integrals ---------------------------------------------------------
@@ -148,13 +157,13 @@ class Display:
 
     def generalized_force(self, i: int) -> sp.Expr:
         """Q_i = Q'_i - dV/dq_i."""
-        return self.tidy(self.Qp[i] - self.differentiate(self.V, self.q[i]))
+        return self.tidy_assembled(self.Qp[i] - self.differentiate(self.V, self.q[i]))
 
     @functools.cached_property
     def gyroscopic(self) -> list[list[sp.Expr]]:
         """gamma_ij = da_i/dq_j - da_j/dq_i."""
         q, a, n = self.q, self.a, self.n
-        return [[self.tidy(self.differentiate(a[i], q[j]) - self.differentiate(a[j], q[i])) if i != j else sp.S.Zero
+        return [[self.tidy_assembled(self.differentiate(a[i], q[j]) - self.differentiate(a[j], q[i])) if i != j else sp.S.Zero
                  for j in range(n)] for i in range(n)]
 
     def constraint_force(self, i: int) -> Terms:
@@ -239,7 +248,7 @@ class Display:
 
         out: Terms = []
         for monomial in sorted(buckets, key=key):
-            coefficient = self.tidy(sign * buckets[monomial])
+            coefficient = self.tidy_assembled(sign * buckets[monomial])
             if coefficient == 0:
                 continue
             if monomial == 1:
