@@ -69,6 +69,7 @@ class Display:
         self.n = len(m.q)
         self._cache: dict = {}
         self._parts: dict = {}
+        self._signs: dict = {}
         self._free_symbols: dict = {}   # of every subexpression differentiated (calculus.free_symbols)
         self._tidy_on = simplify
         n = self.n
@@ -95,12 +96,16 @@ class Display:
             self._cache[expr] = self._tidy_tree(expr, sized)
         return self._cache[expr]
 
+    def signs(self, expr) -> sp.Expr:
+        """`pull_signs`, remembering every subexpression's result for this report."""
+        return pull_signs(expr, self._signs)
+
     def tidy_assembled(self, expr) -> sp.Expr:
         """An expression assembled from tidied parts (a derivative, a sum of them): tidied
         again only when it is small (DISPLAY_MAX_NODES); a big one keeps the form of its
         parts, signs pulled out (re-tidying it was most of a big system's report)."""
         expr = sp.sympify(expr)
-        return self.tidy(expr) if small(expr, DISPLAY_MAX_NODES) else pull_signs(expr)
+        return self.tidy(expr) if small(expr, DISPLAY_MAX_NODES) else self.signs(expr)
 
     def _tidy_tree(self, expr: sp.Expr, sized: bool) -> sp.Expr:
         """Children first (each distinct one once: the same dot product appears in every
@@ -118,11 +123,11 @@ class Display:
         n, qd, M = self.n, self.qd, self.M
         terms = [M[i][i] * qd[i] ** 2 / 2 for i in range(n)]
         terms += [M[i][j] * qd[i] * qd[j] for i in range(n) for j in range(i + 1, n)]
-        return [pull_signs(term) for term in terms if term != 0]
+        return [self.signs(term) for term in terms if term != 0]
 
     @functools.cached_property
     def T1(self) -> Terms:
-        return [pull_signs(a * v) for a, v in zip(self.a, self.qd) if a != 0]
+        return [self.signs(a * v) for a, v in zip(self.a, self.qd) if a != 0]
 
     @property
     def T(self) -> Terms:
@@ -145,7 +150,7 @@ class Display:
         return self.T2 + [-e for e in split(self.T0)] + split(self.V)
 
     def momentum(self, s: int) -> Terms:
-        terms = [pull_signs(M_sj * v) for M_sj, v in zip(self.M[s], self.qd) if M_sj != 0]
+        terms = [self.signs(M_sj * v) for M_sj, v in zip(self.M[s], self.qd) if M_sj != 0]
         return terms + split(self.a[s])
 
     def conserved(self, kind: str, name: str) -> Terms:
@@ -168,7 +173,7 @@ class Display:
 
     def constraint_force(self, i: int) -> Terms:
         """C_i = sum_j lambda_j a_ji."""
-        return [pull_signs(lam * row[i]) for lam, row in zip(self.d.multipliers, self.A) if row[i] != 0]
+        return [self.signs(lam * row[i]) for lam, row in zip(self.d.multipliers, self.A) if row[i] != 0]
 
     # -- equations of motion ---------------------------------------------------------------
 
@@ -224,7 +229,7 @@ class Display:
         return self._ordered(buckets, sign)
 
     def acceleration_terms(self, i: int) -> Terms:
-        return [pull_signs(M_ij * a) for M_ij, a in zip(self.M[i], self.qdd) if M_ij != 0]
+        return [self.signs(M_ij * a) for M_ij, a in zip(self.M[i], self.qdd) if M_ij != 0]
 
     def equation(self, i: int) -> Terms:
         """sum_j M_ij q''_j + c_i + (M_t q')_i + (gamma q')_i + a_t,i + dV/dq_i - dT0/dq_i - Q'_i."""
@@ -252,9 +257,9 @@ class Display:
             if coefficient == 0:
                 continue
             if monomial == 1:
-                out.extend(pull_signs(term) for term in split(coefficient))
+                out.extend(self.signs(term) for term in split(coefficient))
             else:
-                out.append(pull_signs(coefficient * monomial))
+                out.append(self.signs(coefficient * monomial))
         free = [term for term in out if not term.free_symbols & set(qd)]
         return [term for term in out if term.free_symbols & set(qd)] + free
 

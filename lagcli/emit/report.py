@@ -97,7 +97,8 @@ def report_content(d: Derivation, printer: ReportPrinter, simplify: bool = True,
     shown = Display(d, simplify)
     taken = (m.t, *m.q, *m.qd, *m.qdd, *m.parameter_symbols, *d.multipliers)
     namer = Namer(s.name for s in taken) if named else None
-    renamed = renamed_parameters(m, report_notation(d, printer.notation), (s.name for s in taken)) if named else {}
+    renamed = (renamed_parameters(m, report_notation(d, printer.notation), (s.name for s in taken))
+               if named and printer.notation else {})
 
     def shown_as(expr):
         return expr.xreplace(renamed) if renamed else expr

@@ -305,20 +305,30 @@ def _eliminate_square(expr, drop, keep) -> sp.Expr:
     return sp.expand(expr.xreplace(table))
 
 
-def pull_signs(expr) -> sp.Expr:
+def pull_signs(expr, memo: dict | None = None) -> sp.Expr:
     """-a*(-b + c) -> a*(b - c): in every product, a sum with more negative than positive
-    terms is negated (and the product's sign with it), so no double negative prints."""
+    terms is negated (and the product's sign with it), so no double negative prints.
+    `memo` remembers the result for every subexpression (big assembled expressions share
+    their parts, and the reports pass the same parts through here more than once)."""
     if expr.is_Atom:
         return expr
-    args = [pull_signs(a) for a in expr.args]
+    memo = {} if memo is None else memo
+    found = memo.get(expr)
+    if found is not None:
+        return found
+    args = [pull_signs(a, memo) for a in expr.args]
     flips = [i for i, a in enumerate(args) if a.is_Add and _mostly_negative(a)] if expr.is_Mul else []
     for i in flips:
         args[i] = -args[i]
     if flips:
         args.append(sp.S.NegativeOne ** len(flips))
+        result = expr.func(*args)
     elif all(new is old for new, old in zip(args, expr.args)):
-        return expr          # nothing changed: no need to rebuild (and re-sort) the node
-    return expr.func(*args)
+        result = expr        # nothing changed: no need to rebuild (and re-sort) the node
+    else:
+        result = expr.func(*args)
+    memo[expr] = result
+    return result
 
 
 def _mostly_negative(add) -> bool:
