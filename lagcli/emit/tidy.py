@@ -302,7 +302,9 @@ def _eliminate_square(expr, drop, keep) -> sp.Expr:
     if not powers:
         return expr
     table = {p: drop ** (int(p.exp) % 2) * (1 - keep ** 2) ** (int(p.exp) // 2) for p in powers}
-    return sp.expand(expr.xreplace(table))
+    # expr is expanded: only the terms with a replaced power need expanding again
+    return sp.Add(*(sp.expand(term.xreplace(table)) if term.has(*powers) else term
+                    for term in sp.Add.make_args(expr)))
 
 
 def pull_signs(expr, memo: dict | None = None) -> sp.Expr:
