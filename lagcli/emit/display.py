@@ -167,8 +167,8 @@ class Display:
     @functools.cached_property
     def gyroscopic(self) -> list[list[sp.Expr]]:
         """gamma_ij = da_i/dq_j - da_j/dq_i."""
-        q, a, n = self.q, self.a, self.n
-        return [[self.tidy_assembled(self.differentiate(a[i], q[j]) - self.differentiate(a[j], q[i])) if i != j else sp.S.Zero
+        q, a, n, d = self.q, self.a, self.n, self.differentiate
+        return [[self.tidy_assembled(d(a[i], q[j]) - d(a[j], q[i])) if i != j else sp.S.Zero
                  for j in range(n)] for i in range(n)]
 
     def constraint_force(self, i: int) -> Terms:
