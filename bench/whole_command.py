@@ -1,7 +1,8 @@
 """Whole commands, fresh processes, imports included: lagcli against sympy.physics.mechanics.
 
 Run:  python bench/whole_command.py [--n 5 10 20 40] [--repeats 3] [--lagranges-max 10]
-                                    [--formats json text latex c python check] [--bicycle]
+                                    [--formats json text latex c python check] [--clock wall|cpu]
+                                    [--bicycle [--bicycle-spec specs/benchmark_bicycle.yaml]]
 
 For each planar N-link pendulum (bench/nlink.py) it times, each in a new Python
 process (`python -m lagcli ...`, output to a temporary file): every `lagcli derive`
@@ -17,6 +18,7 @@ Nothing here is asserted in tests (machines are noisy).
 from __future__ import annotations
 
 import argparse
+import resource
 import shutil
 import statistics
 import subprocess
@@ -55,13 +57,18 @@ else:
 """
 
 
+CLOCK = "wall"      # --clock cpu: user + system CPU seconds of the child (steadier on a shared machine)
+
+
 def timed(args: list[str]) -> float:
-    start = time.perf_counter()
+    start, before = time.perf_counter(), resource.getrusage(resource.RUSAGE_CHILDREN)
     done = subprocess.run(args, capture_output=True, text=True)
     elapsed = time.perf_counter() - start
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
     if done.returncode != 0:
         raise SystemExit(f"failed: {' '.join(args)}\n{done.stderr}")
-    return elapsed
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    return cpu if CLOCK == "cpu" else elapsed
 
 
 def lagcli_time(fmt: str, spec: Path, repeats: int) -> float:
@@ -94,8 +101,7 @@ def nlink_table(ns, formats, repeats: int, lagranges_max: int, kane_max: int) ->
                   + f" {ours.get('latex', float('nan')) / base:>10.2f}", flush=True)
 
 
-def bicycle(formats, repeats: int) -> None:
-    spec = HERE / "specs" / "bicycle.yaml"
+def bicycle(formats, repeats: int, spec: Path) -> None:
     for fmt in formats:
         print(f"bicycle {fmt:>8}: {lagcli_time(fmt, spec, repeats):8.2f} s", flush=True)
     if shutil.which("pdflatex"):
@@ -120,11 +126,17 @@ def main() -> None:
                         help="skip LagrangesMethod above this N (minutes at N = 20)")
     parser.add_argument("--kane-max", type=int, default=40)
     parser.add_argument("--bicycle", action="store_true", help="also time bench/specs/bicycle.yaml")
+    parser.add_argument("--bicycle-spec", default=str(HERE / "specs" / "bicycle.yaml"),
+                        help="the bicycle-sized spec (e.g. specs/benchmark_bicycle.yaml, the Meijaard bicycle)")
+    parser.add_argument("--clock", choices=("wall", "cpu"), default="wall",
+                        help="wall time, or the child's user + system CPU time (steadier under load)")
     args = parser.parse_args()
+    global CLOCK
+    CLOCK = args.clock
     if args.n:
         nlink_table(args.n, args.formats, args.repeats, args.lagranges_max, args.kane_max)
     if args.bicycle:
-        bicycle(args.formats, args.repeats)
+        bicycle(args.formats, args.repeats, Path(args.bicycle_spec))
 
 
 if __name__ == "__main__":

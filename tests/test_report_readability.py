@@ -104,3 +104,31 @@ def test_equal_energies_are_said_once():
 def test_no_double_negative_in_ex20():
     text = _report(SPECS / "ex20_spinning_disk_double_pendulum.yaml")
     assert "-(-" not in text and "- m*Omega**2*l**2*(-" not in text
+
+
+CLASHING_SPEC = """\
+name: clash
+coordinates: [th]
+parameters: {L: 2.0, M: 1.0, h: 0.5, T: 3.0, g: 9.81}
+gravity: [0, -g]
+particles:
+  P: {mass: M, position: ['L*sin(th)', '-L*cos(th) + h']}
+potential: T*th**2/2
+"""
+
+
+def test_parameters_named_like_the_report_notation_are_shown_renamed(tmp_path):
+    import re
+
+    spec = tmp_path / "clash.yaml"
+    spec.write_text(CLASHING_SPEC)
+    text = _report(spec)
+    assert "L_ = 2.0, M_ = 1.0, h_ = 0.5, T_ = 3.0, g = 9.81" in text
+    assert "shown renamed     : L as L_, M as M_, h as h_, T as T_" in text
+    for line in text.splitlines():
+        label, _, expression = line.partition(" = ")
+        if expression and label.strip() in {"T  ", "T", "V", "L", "L  = T - V"}:
+            assert not re.search(r"\b[TLMh]\b", expression.split(" = ")[-1]), line
+    report = json.loads(_report(spec, "--json"))
+    assert set(report["parameters"]) == {"L", "M", "h", "T", "g"}     # the JSON parses back
+    assert report["renamed_parameters"] == {}

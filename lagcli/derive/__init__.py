@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import sympy as sp
 
-from lagcli.calculus import TimeDerivative, almost_everywhere, depends_on, numerically_zero
+from lagcli.calculus import TimeDerivative, almost_everywhere, depends_on, derivative, numerically_zero
 from lagcli.derive.constraints import constraint_bias, constraint_matrix, constraint_rows
 from lagcli.derive.dissipation import damper_forces_on
 from lagcli.derive.energy import energies
@@ -27,7 +27,8 @@ def derive(model: Model) -> Derivation:
     qd, qdd = sp.Matrix(model.qd), sp.Matrix(model.qdd)
     e = energies(model, D)
     M, a = e.mass_matrix, e.t1_coefficients
-    T2 = (qd.T * M * qd)[0] / 2
+    n = len(model.q)
+    T2 = sp.Add(*(sp.Add(*(qd[i] * M[i, j] for i in range(n))) * qd[j] for j in range(n))) / 2   # q'^T M q' / 2
     T1 = a.dot(qd)
     T = T2 + T1 + e.T0
     L = T - e.V
@@ -39,7 +40,7 @@ def derive(model: Model) -> Derivation:
     multipliers = tuple(r.multiplier for r in rows)
     lam = sp.Matrix(multipliers)
     constraint_force = A.T * lam if rows else sp.zeros(len(model.q), 1)
-    lhs = M * qdd - F
+    lhs = [sp.Add(*(M[i, j] * qdd[j] for j in range(n))) - F[i] for i in range(n)]   # M q'' - F
     equations = tuple(Equation(qi, lhs[i], constraint_force[i]) for i, qi in enumerate(model.q))
 
     probe = LagrangianProbe(M, a, e.T0, e.V)
@@ -50,7 +51,7 @@ def derive(model: Model) -> Derivation:
     return Derivation(
         model=model, T=T, T2=T2, T1=T1, T0=e.T0, V=e.V, L=L,
         mass_matrix=M, t1_coefficients=a,
-        generalized_forces=almost_everywhere(Q_applied - sp.Matrix([e.V.diff(qi) for qi in model.q])),
+        generalized_forces=almost_everywhere(Q_applied - sp.Matrix([derivative(e.V, qi, D.free) for qi in model.q])),
         nonconservative_forces=Q_applied,
         forcing=F, equations=equations,
         constraints=rows, constraint_matrix=A, constraint_bias=constraint_bias(model, rows, D),

@@ -13,7 +13,7 @@ import itertools
 
 import sympy as sp
 
-from lagcli.calculus import TimeDerivative, almost_everywhere, numerically_zero
+from lagcli.calculus import TimeDerivative, almost_everywhere, derivative, numerically_zero
 from lagcli.derive.result import ConstraintRow
 from lagcli.errors import Loc, Problem, SpecError
 from lagcli.layout import multiplier_name
@@ -35,14 +35,16 @@ def constraint_rows(model: Model) -> tuple[ConstraintRow, ...]:
 def _row(model: Model, j: int, spec: ConstraintSpec) -> ConstraintRow:
     multiplier = sp.Symbol(multiplier_name(j, spec.label), real=True)
     expr, qd = spec.expr, model.qd
+    memo: dict = {}
     if not expr.free_symbols & set(qd):
-        a = tuple(almost_everywhere(expr.diff(qk)) for qk in model.q)
+        a = tuple(almost_everywhere(derivative(expr, qk, memo)) for qk in model.q)
         return ConstraintRow(spec.label, multiplier, "holonomic", expr, a,
-                             almost_everywhere(expr.diff(model.t)), None, spec.loc)
-    a = tuple(almost_everywhere(expr.diff(v)) for v in qd)
-    d = expr.subs({v: 0 for v in qd})
+                             almost_everywhere(derivative(expr, model.t, memo)), None, spec.loc)
+    a = tuple(almost_everywhere(derivative(expr, v, memo)) for v in qd)
+    rest = {v: 0 for v in qd}
+    d = expr.xreplace(rest)
     _require_linear(expr, a, qd, spec.loc or Loc(model.source, path=f"constraints[{j - 1}]"))
-    a = tuple(ak.subs({v: 0 for v in qd}) for ak in a)  # drop velocity terms that cancel
+    a = tuple(ak.xreplace(rest) for ak in a)  # drop velocity terms that cancel
     integrable = is_integrable(model, a, d)
     return ConstraintRow(spec.label, multiplier, "nonholonomic", expr, a, d, integrable, spec.loc)
 
@@ -70,12 +72,17 @@ def is_integrable(model: Model, a, d) -> bool:
     With only two variables every form is integrable."""
     coords = list(model.q) + [model.t]
     coeff = list(a) + [d]
+    memo, partials = {}, {}
+
+    def D(k, j):     # d coeff_k / d coords_j, each formed once
+        if (k, j) not in partials:
+            partials[k, j] = derivative(coeff[k], coords[j], memo)
+        return partials[k, j]
+
     triples = []
     for i, j, k in itertools.combinations(range(len(coords)), 3):
         ai, aj, ak = coeff[i], coeff[j], coeff[k]
-        qi, qj, qk = coords[i], coords[j], coords[k]
-        triples.append(ai * (ak.diff(qj) - aj.diff(qk)) + aj * (ai.diff(qk) - ak.diff(qi))
-                       + ak * (aj.diff(qi) - ai.diff(qj)))
+        triples.append(ai * (D(k, j) - D(j, k)) + aj * (D(i, k) - D(k, i)) + ak * (D(j, i) - D(i, j)))
     return numerically_zero(triples)
 
 

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from lagcli.calculus import TimeDerivative, almost_everywhere
+from lagcli.calculus import TimeDerivative, almost_everywhere, derivative, jacobian
 from lagcli.model_types import Model, RigidBody, elementary_rotation
 
 AXES = {"x": 0, "y": 1, "z": 2}
@@ -43,24 +43,54 @@ def body_angular_velocity(body: RigidBody, D: TimeDerivative) -> sp.ImmutableMat
 
 
 def kinetic_parts(model: Model, D: TimeDerivative) -> tuple[sp.Matrix, sp.Matrix, sp.Expr]:
+    """The terms of M, a and T0 from every point and body, each entry summed once at the
+    end (adding n x n matrices point by point rebuilt every growing sum n times)."""
     n = len(model.q)
-    M, a, T0 = sp.zeros(n, n), sp.zeros(n, 1), sp.S.Zero
-    q, t = sp.Matrix(model.q), model.t
+    M = [[[] for _ in range(n)] for _ in range(n)]     # upper triangle: J^T J is symmetric
+    a, T0 = [[] for _ in range(n)], []
+    dots: dict = {}      # a chain's points share Jacobian columns: each product formed once
     for mass, r in model.mass_points:
-        J, r_t = r.jacobian(q), r.diff(t)
-        M += mass * (J.T * J)
-        a += mass * (J.T * r_t)
-        T0 += mass * r_t.dot(r_t) / 2
+        J, r_t = jacobian(r, model.q, D.free), r.applyfunc(lambda e: derivative(e, model.t, D.free))
+        _add_products(M, a, T0, J, None, r_t, mass, dots)
     for body in model.bodies:
         omega = body_angular_velocity(body, D)
-        J_w = omega.jacobian(sp.Matrix(model.qd))
+        J_w = jacobian(omega, model.qd, D.free)
         w_t = omega.subs({v: 0 for v in model.qd})
-        I_J = body.inertia * J_w
-        M += J_w.T * I_J
-        a += I_J.T * w_t
-        T0 += (w_t.T * body.inertia * w_t)[0] / 2
+        _add_products(M, a, T0, J_w, body.inertia, w_t, 1, dots)
     extra_M, extra_a, extra_T0 = _split_extra_kinetic(model)
-    return M + extra_M, a + extra_a, T0 + extra_T0
+    M = sp.Matrix(n, n, lambda i, j: sp.Add(*M[min(i, j)][max(i, j)]))
+    return M + extra_M, sp.Matrix([sp.Add(*terms) for terms in a]) + extra_a, sp.Add(*T0) + extra_T0
+
+
+def _add_products(M, a, T0, J, inertia, v_t, mass, dots: dict) -> None:
+    """The terms of mass * (J^T I J, J^T I v_t, 1/2 v_t^T I v_t) for one point (I = None:
+    the identity) or body."""
+    I_J, I_v = (J, v_t) if inertia is None else (inertia * J, inertia * v_t)
+    rows, n = J.shape
+    moving = any(v_t)
+
+    def dot(u, w) -> sp.Expr:
+        key = (u, w)
+        if key not in dots:
+            dots[key] = sp.Add(*(x * y for x, y in zip(u, w)))
+        return dots[key]
+
+    columns = [tuple(J[:, i]) for i in range(n)]
+    weighted = [tuple(I_J[:, j]) for j in range(n)]
+    v_t, I_v = tuple(v_t), tuple(I_v)
+    for i in range(n):
+        if not any(columns[i]):
+            continue
+        for j in range(i, n):
+            entry = dot(columns[i], weighted[j])
+            if entry != 0:
+                M[i][j].append(mass * entry)
+        if moving:
+            entry = dot(columns[i], I_v)
+            if entry != 0:
+                a[i].append(mass * entry)
+    if moving:
+        T0.append(mass * dot(v_t, I_v) / 2)
 
 
 def _split_extra_kinetic(model: Model):

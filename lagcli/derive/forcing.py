@@ -18,23 +18,32 @@ from __future__ import annotations
 
 import sympy as sp
 
-from lagcli.calculus import TimeDerivative
+from lagcli.calculus import TimeDerivative, derivative, jacobian
 from lagcli.derive.energy import body_angular_velocity
 from lagcli.model_types import Model
 
 
 def forcing(model: Model, D: TimeDerivative, Q_applied: sp.ImmutableMatrix, V: sp.Expr) -> sp.ImmutableMatrix:
-    q, qd = sp.Matrix(model.q), sp.Matrix(model.qd)
-    F = sp.Matrix(Q_applied) - sp.Matrix([V.diff(qi) for qi in model.q])
+    q, qd, n = model.q, model.qd, len(model.q)
+    terms = [[Q_applied[i], -derivative(V, qi, D.free)] for i, qi in enumerate(q)]   # each F_i summed once
     for mass, r in model.mass_points:
         acceleration = D.matrix(D.matrix(r), accelerations=False)
-        F -= mass * (r.jacobian(q).T * acceleration)
+        _subtract(terms, jacobian(r, q, D.free), acceleration, mass)
     for body in model.bodies:
         omega = body_angular_velocity(body, D)
         spin = D.matrix(omega, accelerations=False)
         inertia_torque = body.inertia * spin + omega.cross(body.inertia * omega)
-        F -= omega.jacobian(qd).T * inertia_torque
+        _subtract(terms, jacobian(omega, qd, D.free), inertia_torque, 1)
     if model.kinetic != 0:
         K = model.kinetic
-        F -= sp.Matrix([D(K.diff(v), accelerations=False) - K.diff(qi) for qi, v in zip(model.q, model.qd)])
-    return sp.ImmutableMatrix(F)
+        for i, (qi, v) in enumerate(zip(q, qd)):
+            terms[i].append(-(D(derivative(K, v), accelerations=False) - derivative(K, qi)))
+    return sp.ImmutableMatrix(n, 1, [sp.Add(*row) for row in terms])
+
+
+def _subtract(terms, J, vector, mass) -> None:
+    """terms_i += -mass * (J^T vector)_i."""
+    for i in range(J.cols):
+        entry = sp.Add(*(J[k, i] * vector[k] for k in range(J.rows)))
+        if entry != 0:
+            terms[i].append(-(mass * entry))

@@ -27,9 +27,10 @@ from collections.abc import Callable, Sequence
 
 import sympy as sp
 
+from lagcli import calculus
 from lagcli.calculus import almost_everywhere
 from lagcli.derive.result import Derivation
-from lagcli.emit.tidy import display_form, pull_signs, small
+from lagcli.emit.tidy import DISPLAY_MAX_NODES, display_form, pull_signs, small
 
 TREE_MAX_NODES = 5000     # tidy the parts of expressions up to this size (tree nodes)
 
@@ -68,6 +69,8 @@ class Display:
         self.n = len(m.q)
         self._cache: dict = {}
         self._parts: dict = {}
+        self._signs: dict = {}
+        self._free_symbols: dict = {}   # of every subexpression differentiated (calculus.free_symbols)
         self._tidy_on = simplify
         n = self.n
         upper = {(i, j): self.tidy(d.mass_matrix[i, j]) for i in range(n) for j in range(i, n)}
@@ -80,20 +83,37 @@ class Display:
         self.Qp = [self.tidy(e) for e in d.nonconservative_forces]
         self.A = [[self.tidy(e) for e in row.a] for row in d.constraints]
 
-    def tidy(self, expr) -> sp.Expr:
+    def differentiate(self, expr: sp.Expr, var) -> sp.Expr:
+        """d expr / d var (`derivative`)."""
+        return derivative(expr, var, self._free_symbols)
+
+    def tidy(self, expr, sized: bool = False) -> sp.Expr:
+        """expr tidied (`_tidy_tree`); `sized`: expr is known to be within TREE_MAX_NODES."""
         expr = sp.sympify(expr)
         if not self._tidy_on:
             return expr
         if expr not in self._cache:
-            self._cache[expr] = self._tidy_tree(expr)
+            self._cache[expr] = self._tidy_tree(expr, sized)
         return self._cache[expr]
 
-    def _tidy_tree(self, expr: sp.Expr) -> sp.Expr:
+    def signs(self, expr) -> sp.Expr:
+        """`pull_signs`, remembering every subexpression's result for this report."""
+        return pull_signs(expr, self._signs)
+
+    def tidy_assembled(self, expr) -> sp.Expr:
+        """An expression assembled from tidied parts (a derivative, a sum of them): tidied
+        again only when it is small (DISPLAY_MAX_NODES); a big one keeps the form of its
+        parts, signs pulled out (re-tidying it was most of a big system's report)."""
+        expr = sp.sympify(expr)
+        return self.tidy(expr) if small(expr, DISPLAY_MAX_NODES) else self.signs(expr)
+
+    def _tidy_tree(self, expr: sp.Expr, sized: bool) -> sp.Expr:
         """Children first (each distinct one once: the same dot product appears in every
-        mass's term), then the sums that combine them."""
-        if expr.is_Atom or not (expr.is_Add or expr.is_Mul) or not small(expr, TREE_MAX_NODES):
+        mass's term), then the sums that combine them. The size is checked once, at the top
+        (the children of a small expression are small)."""
+        if expr.is_Atom or not (expr.is_Add or expr.is_Mul) or not (sized or small(expr, TREE_MAX_NODES)):
             return expr      # a huge expression is shown with named quantities instead
-        rebuilt = expr.func(*(self.tidy(a) for a in expr.args))
+        rebuilt = expr.func(*(self.tidy(a, sized=True) for a in expr.args))
         return display_form(rebuilt) if rebuilt.is_Add else rebuilt
 
     # -- energies and integrals ---------------------------------------------------------
@@ -103,11 +123,11 @@ class Display:
         n, qd, M = self.n, self.qd, self.M
         terms = [M[i][i] * qd[i] ** 2 / 2 for i in range(n)]
         terms += [M[i][j] * qd[i] * qd[j] for i in range(n) for j in range(i + 1, n)]
-        return [pull_signs(term) for term in terms if term != 0]
+        return [self.signs(term) for term in terms if term != 0]
 
     @functools.cached_property
     def T1(self) -> Terms:
-        return [pull_signs(a * v) for a, v in zip(self.a, self.qd) if a != 0]
+        return [self.signs(a * v) for a, v in zip(self.a, self.qd) if a != 0]
 
     @property
     def T(self) -> Terms:
@@ -130,7 +150,7 @@ class Display:
         return self.T2 + [-e for e in split(self.T0)] + split(self.V)
 
     def momentum(self, s: int) -> Terms:
-        terms = [pull_signs(M_sj * v) for M_sj, v in zip(self.M[s], self.qd) if M_sj != 0]
+        terms = [self.signs(M_sj * v) for M_sj, v in zip(self.M[s], self.qd) if M_sj != 0]
         return terms + split(self.a[s])
 
     def conserved(self, kind: str, name: str) -> Terms:
@@ -142,18 +162,18 @@ class Display:
 
     def generalized_force(self, i: int) -> sp.Expr:
         """Q_i = Q'_i - dV/dq_i."""
-        return self.tidy(self.Qp[i] - derivative(self.V, self.q[i]))
+        return self.tidy_assembled(self.Qp[i] - self.differentiate(self.V, self.q[i]))
 
     @functools.cached_property
     def gyroscopic(self) -> list[list[sp.Expr]]:
         """gamma_ij = da_i/dq_j - da_j/dq_i."""
-        q, a, n = self.q, self.a, self.n
-        return [[self.tidy(derivative(a[i], q[j]) - derivative(a[j], q[i])) if i != j else sp.S.Zero
+        q, a, n, d = self.q, self.a, self.n, self.differentiate
+        return [[self.tidy_assembled(d(a[i], q[j]) - d(a[j], q[i])) if i != j else sp.S.Zero
                  for j in range(n)] for i in range(n)]
 
     def constraint_force(self, i: int) -> Terms:
         """C_i = sum_j lambda_j a_ji."""
-        return [pull_signs(lam * row[i]) for lam, row in zip(self.d.multipliers, self.A) if row[i] != 0]
+        return [self.signs(lam * row[i]) for lam, row in zip(self.d.multipliers, self.A) if row[i] != 0]
 
     # -- equations of motion ---------------------------------------------------------------
 
@@ -163,7 +183,7 @@ class Display:
         if key not in self._derivatives:
             if var not in self._free[key[:2]]:
                 return sp.S.Zero
-            self._derivatives[key] = derivative(self.M[i][j], var)
+            self._derivatives[key] = self.differentiate(self.M[i][j], var)
         return self._derivatives[key]
 
     def velocity_buckets(self, i: int) -> dict:
@@ -191,8 +211,8 @@ class Display:
         qd, t, q = self.qd, self.t, self.q
         mass_rate = {v: self._dM(i, j, t) for j, v in enumerate(qd)}
         gyroscopic = {v: g for v, g in zip(qd, self.gyroscopic[i])}
-        a_t = derivative(self.a[i], t)
-        position = derivative(self.V, q[i]) - derivative(self.T0, q[i])
+        a_t = self.differentiate(self.a[i], t)
+        position = self.differentiate(self.V, q[i]) - self.differentiate(self.T0, q[i])
         forces: dict = {}
         for term in split(self.Qp[i]):
             coefficient, monomial = term.as_independent(*qd, as_Add=False)
@@ -209,7 +229,7 @@ class Display:
         return self._ordered(buckets, sign)
 
     def acceleration_terms(self, i: int) -> Terms:
-        return [pull_signs(M_ij * a) for M_ij, a in zip(self.M[i], self.qdd) if M_ij != 0]
+        return [self.signs(M_ij * a) for M_ij, a in zip(self.M[i], self.qdd) if M_ij != 0]
 
     def equation(self, i: int) -> Terms:
         """sum_j M_ij q''_j + c_i + (M_t q')_i + (gamma q')_i + a_t,i + dV/dq_i - dT0/dq_i - Q'_i."""
@@ -233,13 +253,13 @@ class Display:
 
         out: Terms = []
         for monomial in sorted(buckets, key=key):
-            coefficient = self.tidy(sign * buckets[monomial])
+            coefficient = self.tidy_assembled(sign * buckets[monomial])
             if coefficient == 0:
                 continue
             if monomial == 1:
-                out.extend(pull_signs(term) for term in split(coefficient))
+                out.extend(self.signs(term) for term in split(coefficient))
             else:
-                out.append(pull_signs(coefficient * monomial))
+                out.append(self.signs(coefficient * monomial))
         free = [term for term in out if not term.free_symbols & set(qd)]
         return [term for term in out if term.free_symbols & set(qd)] + free
 
@@ -247,9 +267,10 @@ class Display:
 PARTS = ("velocity", "mass_rate", "gyroscopic", "t1_rate", "position", "forces")
 
 
-def derivative(expr: sp.Expr, var) -> sp.Expr:
-    """d expr/d var, taken almost everywhere as the derivation does (no Heaviside, DiracDelta)."""
-    return almost_everywhere(expr.diff(var)) if var in expr.free_symbols else sp.S.Zero
+def derivative(expr: sp.Expr, var, memo: dict) -> sp.Expr:
+    """d expr/d var, taken almost everywhere as the derivation does (no Heaviside, DiracDelta);
+    `memo`: free symbols of the subexpressions seen (`lagcli.calculus.free_symbols`)."""
+    return almost_everywhere(calculus.derivative(expr, var, memo))
 
 
 def _add(buckets: dict, monomial, coefficient) -> None:

@@ -24,7 +24,7 @@ import lagcli
 from lagcli.derive.result import Derivation
 from lagcli.emit.escape import latex_comment, latex_text
 from lagcli.emit.latex_printer import CONTENT_WIDTH, REPORT_NOTATION, LatexPrinter, Tex, tex_width
-from lagcli.emit.report import PARTS, ReportPrinter, report_content
+from lagcli.emit.report import PARTS, ReportPrinter, report_content, report_notation
 from lagcli.emit.templates import render
 
 PLANAR_AXES = ("x", "y", "z")
@@ -34,23 +34,14 @@ LIST_SEP = r", \allowbreak "   # inline lists of symbols may break after a comma
 
 def latex_printer(derivation: Derivation) -> LatexPrinter:
     """The printer for one derivation's symbols (coordinates, parameters, multipliers)."""
-    return LatexPrinter(derivation.model, notation=report_notation(derivation),
+    return LatexPrinter(derivation.model, notation=latex_notation(derivation),
                         multipliers=[(c.multiplier, c.label) for c in derivation.constraints])
 
 
-def report_notation(d: Derivation) -> frozenset:
+def latex_notation(d: Derivation) -> frozenset:
     """The letters this derivation's report uses for its own quantities (a parameter with
     one of these names is set in sans-serif: `lagcli.emit.latex_printer.distinct_from_notation`)."""
-    letters = set(REPORT_NOTATION)
-    if d.constraints:
-        letters |= set("AadC")
-    if d.particle_constraint_forces:
-        letters.add("R")
-    if d.ignorable:
-        letters.add("p")
-    if d.jacobi_integral is not None:
-        letters |= set("hE")
-    return frozenset(letters)
+    return report_notation(d, REPORT_NOTATION)
 
 
 def latex_fragment(derivation: Derivation, simplify: bool = True, parts=PARTS) -> str:

@@ -32,7 +32,7 @@ LABEL_WIDTH = 8.0                     # the label column of `align*` (e.g. "Q'_{
 CONTENT_WIDTH = LINE_WIDTH - LABEL_WIDTH - 4.0   # minus "= " and the "\quad" of continuation lines
 
 # The report's own notation (T, V, L, M, Q, F, G, c in every report; see
-# `lagcli.emit.latex.report_notation` for the rest): a parameter typeset as one of these
+# `lagcli.emit.report.report_notation` for the rest): a parameter typeset as one of these
 # letters is set in sans-serif instead, so that `L` the length and L the Lagrangian never
 # look alike on the page.
 REPORT_NOTATION = frozenset("TVLMQFGc")

@@ -7,7 +7,10 @@ as it was.
 """
 from __future__ import annotations
 
+import math
+
 import sympy as sp
+from sympy.core.mul import _keep_coeff
 
 TIDY_MAX_OPS = 80             # rewrite trigonometry only in expressions this small (bench/codegen.py)
 COLLECT_MAX_OPS = 5000        # expand + collect only expressions this small
@@ -129,11 +132,39 @@ def display_form(expr) -> sp.Expr:
     expr = sp.sympify(expr)
     if expr.is_Atom or not small(expr) or not expandable(expr):
         return expr
-    result = sp.expand(expr)
+    result = expr if is_expanded(expr) else sp.expand(expr)
     if result.has(sp.sin, sp.cos):
         result = fold_angle_sums(pythagorean(result))
-    result = pull_signs(sp.factor_terms(group_by_calls(result)))
+    result = pull_signs(common_factor(group_by_calls(result)))
     return result if sp.count_ops(result) <= sp.count_ops(expr) else pull_signs(expr)
+
+
+LINEAR_CALLS = (sp.sin, sp.cos, sp.tan)   # expand leaves f(a - b) alone (no expand_trig)
+
+
+def is_expanded(expr) -> bool:
+    """True when `sympy.expand(expr)` is expr itself, recognised cheaply for the common case:
+    a sum of products of numbers, symbols, integer powers of them and sin/cos/tan of sums
+    of symbols with integer coefficients (the mass matrix's entries)."""
+    return all(_plain_factor(f) for term in sp.Add.make_args(expr) for f in sp.Mul.make_args(term))
+
+
+def _plain_factor(factor) -> bool:
+    if factor.is_Atom:
+        return True
+    if factor.is_Pow:
+        return factor.exp.is_Integer and (factor.base.is_Symbol or _plain_call(factor.base))
+    return _plain_call(factor)
+
+
+def _plain_call(call) -> bool:
+    if not isinstance(call, LINEAR_CALLS):
+        return False
+    for term in sp.Add.make_args(call.args[0]):
+        number, rest = term.as_coeff_Mul()
+        if not (number.is_Integer and (rest.is_Symbol or rest == 1)):
+            return False
+    return True
 
 
 def group_by_calls(expr) -> sp.Expr:
@@ -146,7 +177,46 @@ def group_by_calls(expr) -> sp.Expr:
             (calls if factor.has(sp.Function) else rest).append(factor)
         key = sp.Mul(*calls)
         groups[key] = groups.get(key, []) + [sp.Mul(*rest)]
-    return sp.Add(*(sp.factor_terms(sp.Add(*coefficients)) * key for key, coefficients in groups.items()))
+    return sp.Add(*(common_factor(sp.Add(*coefficients)) * key for key, coefficients in groups.items()))
+
+
+def common_factor(expr) -> sp.Expr:
+    """`sympy.factor_terms(expr)`, the same expression, computed directly (several times
+    faster) for the sums the reports tidy: terms that are a rational number times
+    positive integer powers of symbols and function calls. The content pulled out is
+    the terms' common powers times the gcd of their numerators, over the lcm of their
+    denominators when no coefficient is an integer (factor_terms' `clear=False`).
+    Anything else goes to factor_terms itself."""
+    if expr.is_Atom:
+        return expr
+    if not expr.is_Add:    # factor_terms works inside: when that changes nothing, neither do we
+        unchanged = all(common_factor(a) == a for a in expr.args)
+        return expr if unchanged else sp.factor_terms(expr)
+    split = []
+    for term in expr.args:
+        number, rest = term.as_coeff_Mul()
+        if not number.is_Rational:
+            return sp.factor_terms(expr)
+        powers: dict = {}
+        for factor in sp.Mul.make_args(rest):
+            base, exponent = factor.as_base_exp()
+            if not (exponent.is_Integer and exponent > 0) or base.is_Number:
+                return sp.factor_terms(expr)
+            powers[base] = powers.get(base, 0) + int(exponent)
+        split.append((number, powers))
+    common = dict(split[0][1])
+    for _, powers in split[1:]:
+        common = {base: min(e, powers[base]) for base, e in common.items() if base in powers}
+    numerator, denominator = 0, 1
+    for number, _ in split:
+        numerator = math.gcd(numerator, abs(number.p))
+        denominator = math.lcm(denominator, number.q)
+    content = sp.Rational(numerator, denominator if all(n.q != 1 for n, _ in split) else 1)
+    if all(number.is_negative for number, _ in split):
+        content = -content
+    primitive = sp.Add(*((number / content) * sp.Mul(*(b ** (e - common.get(b, 0)) for b, e in powers.items()))
+                         for number, powers in split))
+    return _keep_coeff(content, sp.Mul(*(b ** e for b, e in common.items())) * primitive, clear=True, sign=True)
 
 
 _ANGLE_SUMS = {   # (kinds of the two terms) -> (ratio of their coefficients, function, sign of y)
@@ -232,22 +302,35 @@ def _eliminate_square(expr, drop, keep) -> sp.Expr:
     if not powers:
         return expr
     table = {p: drop ** (int(p.exp) % 2) * (1 - keep ** 2) ** (int(p.exp) // 2) for p in powers}
-    return sp.expand(expr.xreplace(table))
+    # expr is expanded: only the terms with a replaced power need expanding again
+    return sp.Add(*(sp.expand(term.xreplace(table)) if term.has(*powers) else term
+                    for term in sp.Add.make_args(expr)))
 
 
-def pull_signs(expr) -> sp.Expr:
+def pull_signs(expr, memo: dict | None = None) -> sp.Expr:
     """-a*(-b + c) -> a*(b - c): in every product, a sum with more negative than positive
-    terms is negated (and the product's sign with it), so no double negative prints."""
+    terms is negated (and the product's sign with it), so no double negative prints.
+    `memo` remembers the result for every subexpression (big assembled expressions share
+    their parts, and the reports pass the same parts through here more than once)."""
     if expr.is_Atom:
         return expr
-    args = [pull_signs(a) for a in expr.args]
-    if expr.is_Mul:
-        flips = [i for i, a in enumerate(args) if a.is_Add and _mostly_negative(a)]
-        for i in flips:
-            args[i] = -args[i]
-        if flips:
-            args.append(sp.S.NegativeOne ** len(flips))
-    return expr.func(*args)
+    memo = {} if memo is None else memo
+    found = memo.get(expr)
+    if found is not None:
+        return found
+    args = [pull_signs(a, memo) for a in expr.args]
+    flips = [i for i, a in enumerate(args) if a.is_Add and _mostly_negative(a)] if expr.is_Mul else []
+    for i in flips:
+        args[i] = -args[i]
+    if flips:
+        args.append(sp.S.NegativeOne ** len(flips))
+        result = expr.func(*args)
+    elif all(new is old for new, old in zip(args, expr.args)):
+        result = expr        # nothing changed: no need to rebuild (and re-sort) the node
+    else:
+        result = expr.func(*args)
+    memo[expr] = result
+    return result
 
 
 def _mostly_negative(add) -> bool:
