@@ -4,6 +4,9 @@
     c        lagcli/emit/c.py        templates/c/model.{h,c}.jinja, main.c  the model and its driver,
                                      plus lagcli/runtime/c/ copied as it is
     latex    lagcli/emit/latex.py    templates/latex/document.tex.jinja     one document
+    octave   lagcli/emit/octave.py   templates/octave/*.m.jinja             MATLAB/Octave functions + a script
+    rust     lagcli/emit/rust.py     templates/rust/*.jinja                 a crate, plus
+                                     lagcli/runtime/rust/ode.rs copied as it is
 
 How to add a code target (say Julia) — a printer configuration and templates:
 
@@ -62,6 +65,8 @@ def _latex_files(d, initial=None, initial_notes=()) -> dict[str, str]:
 LANGUAGES = {
     "python": Language("python", __name__, "_python_files", directory=False),
     "c": Language("c", "lagcli.emit.c", "c_files", directory=True),
+    "octave": Language("octave", "lagcli.emit.octave", "octave_files", directory=True),
+    "rust": Language("rust", "lagcli.emit.rust", "rust_files", directory=True),
     "latex": Language("latex", __name__, "_latex_files", directory=False, embeds_initial=False),
 }
 
