@@ -179,22 +179,37 @@ def octave_comment(text: str) -> str:
 
 
 def octave_string(text: str) -> str:
-    """A MATLAB/Octave expression whose value is the char row `text`: '...' with `'`
-    doubled (the only special character of a single-quoted literal; neither MATLAB nor
-    Octave reads backslash escapes there), ASCII only: every other character is
-    concatenated as `char(code)`, so the file's encoding cannot change the value."""
-    parts, run = [], []
-    for ch in str(text):
-        if " " <= ch < "\x7f":
-            run.append("''" if ch == "'" else ch)
-            continue
-        if run:
-            parts.append("'" + "".join(run) + "'")
+    """A MATLAB/Octave expression whose value is the text `text`, written in ASCII.
+
+    Printable ASCII goes in '...' with `'` doubled (the only special character of a
+    single-quoted literal: neither MATLAB nor Octave reads backslash escapes there).
+    Any other run of characters is `native2unicode(uint8([...]), 'UTF-8')` of its UTF-8
+    bytes, which both read the same way (MATLAB's char is UTF-16, Octave's holds UTF-8),
+    so neither the file's encoding nor a control character can change the value.
+    """
+    parts = []
+    for printable, run in _runs(str(text), lambda ch: " " <= ch < "\x7f"):
+        if printable:
+            parts.append("'" + run.replace("'", "''") + "'")
+        else:
+            data = " ".join(str(b) for b in run.encode("utf-8", "replace"))
+            parts.append(f"native2unicode(uint8([{data}]), 'UTF-8')")
+    if not parts:
+        return "''"
+    return parts[0] if len(parts) == 1 else "[" + ", ".join(parts) + "]"
+
+
+def _runs(text: str, test):
+    """(test(ch), run) for the maximal runs of `text` on which `test` is constant."""
+    run, kind = [], None
+    for ch in text:
+        if run and test(ch) != kind:
+            yield kind, "".join(run)
             run = []
-        parts.append(f"char({ord(ch)})")
-    if run or not parts:
-        parts.append("'" + "".join(run) + "'")
-    return parts[0] if len(parts) == 1 else "[" + " ".join(parts) + "]"
+        kind = test(ch)
+        run.append(ch)
+    if run:
+        yield kind, "".join(run)
 
 
 # -- Rust ------------------------------------------------------------------------------
