@@ -94,9 +94,10 @@ def check(ctx, spec):
 @click.argument("spec", type=SPEC)
 @click.option("--lang", required=True, type=click.Choice(list(LANGUAGES)),
               help="python: one module (numpy); c: <name>.h, <name>.c, <name>_main.c; "
+                   "octave: MATLAB/Octave functions and an ode45 script; rust: a crate; "
                    "latex: a standalone document.")
 @click.option("-o", "--output", default=None,
-              help="Output file ('-' or none: stdout); for --lang c the directory (required).")
+              help="Output file ('-' or none: stdout); for --lang c, octave, rust the directory (required).")
 @click.pass_context
 def generate(ctx, spec, lang, output):
     """Generate code (Python, C) or a LaTeX document from SPEC's equations of motion."""
