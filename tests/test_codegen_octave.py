@@ -2,7 +2,8 @@
 
 All specs run in ONE octave process (octave starts slowly):
 
-- the right-hand side `<name>_rhs` at seeded random states agrees with the Derivation,
+- the right-hand side `<name>_rhs` at seeded random states (tests/data/all_functions.yaml
+  too: every function of the spec language) agrees with the Derivation,
   solved independently with mpmath, to 1e-12 relative (the reference of
   test_codegen_python.py), the Baumgarte-stabilised multipliers included;
 - the script `<name>_run` (ode45) writes the CSV of `lagcli simulate`: the same header
@@ -36,6 +37,7 @@ CSV_TOL = 1e-6
 pytestmark = pytest.mark.skipif(OCTAVE is None, reason="no octave-cli (Debian package `octave`)")
 
 DEFAULT_SPECS = [p for p in SPEC_FILES if p.stem not in HEAVY_SPECS]
+ALL_FUNCTIONS = Path(__file__).resolve().parent / "data" / "all_functions.yaml"   # every function
 
 KEYWORD_SPEC = """\
 name: function
@@ -91,7 +93,8 @@ def results(tmp_path_factory, derived):
     folder = tmp_path_factory.mktemp("octave")
     rng = np.random.default_rng(20240617)
     specs = {p.stem: p for p in DEFAULT_SPECS}
-    cases = {key: random_inputs(derived(key), rng, 4) for key in specs}
+    specs["all_functions"] = ALL_FUNCTIONS
+    cases = {key: random_inputs(derived(str(path)), rng, 4) for key, path in specs.items()}
     keyword = folder / "keyword.yaml"
     keyword.write_text(KEYWORD_SPEC)
     specs["keyword"] = keyword
@@ -111,10 +114,10 @@ def check_rhs(d, cases, text: str, label: str) -> None:
         assert_close(got[2 * n:], ref["lam"], f"{label}: lambda")
 
 
-@pytest.mark.parametrize("spec", DEFAULT_SPECS, ids=lambda p: p.stem)
+@pytest.mark.parametrize("spec", DEFAULT_SPECS + [ALL_FUNCTIONS], ids=lambda p: p.stem)
 def test_rhs_matches_engine(spec, results, derived):
     folder, cases = results
-    check_rhs(derived(spec.stem), cases[spec.stem], (folder / spec.stem / "rhs.txt").read_text(), spec.stem)
+    check_rhs(derived(str(spec)), cases[spec.stem], (folder / spec.stem / "rhs.txt").read_text(), spec.stem)
 
 
 @pytest.mark.parametrize("spec", DEFAULT_SPECS, ids=lambda p: p.stem)

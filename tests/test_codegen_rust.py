@@ -3,7 +3,7 @@
 - the crates build with `cargo build --offline` and no warning (all of them in one
   throwaway workspace, so cargo builds them in one go into one target directory);
 - the right-hand side (the example binary's `--rhs` mode: dy/dt at states read from
-  stdin) agrees with the Derivation, solved independently with mpmath, at seeded random
+  stdin; tests/data/all_functions.yaml too) agrees with the Derivation, solved independently with mpmath, at seeded random
   states to 1e-12 relative (the reference of test_codegen_python.py);
 - the example binary's CSV agrees with `lagcli simulate` to 1e-7, header included;
 - the shipped integrator (lagcli/runtime/rust/ode.rs) takes scipy's steps: the same nfev
@@ -36,6 +36,7 @@ CSV_TOL = 1e-7
 pytestmark = pytest.mark.skipif(CARGO is None, reason="no cargo (Rust toolchain): the Rust crate is not built")
 
 DEFAULT_SPECS = [p for p in SPEC_FILES if p.stem not in HEAVY_SPECS]
+ALL_FUNCTIONS = ROOT / "tests" / "data" / "all_functions.yaml"     # every function of the spec language
 
 KEYWORD_SPEC = """\
 name: type
@@ -83,6 +84,7 @@ def binaries(tmp_path_factory):
     keyword = folder / "keyword.yaml"
     keyword.write_text(KEYWORD_SPEC)
     specs["keyword"] = keyword
+    specs["all_functions"] = ALL_FUNCTIONS
     return build_workspace(specs, folder / "ws")
 
 
@@ -90,9 +92,9 @@ def run(binary: Path, *args: str, stdin: str = "") -> subprocess.CompletedProces
     return subprocess.run([str(binary), *args], input=stdin, capture_output=True, text=True, timeout=300)
 
 
-@pytest.mark.parametrize("spec", DEFAULT_SPECS, ids=lambda p: p.stem)
+@pytest.mark.parametrize("spec", DEFAULT_SPECS + [ALL_FUNCTIONS], ids=lambda p: p.stem)
 def test_rhs_matches_engine(spec, binaries, derived, rng):
-    d = derived(spec.stem)
+    d = derived(str(spec))
     cases = [c for c in random_inputs(d, rng, 6) if c["alpha"] == 0 and c["beta"] == 0]
     lines = "".join(" ".join(repr(float(v)) for v in [c["t"], *c["y"], *c["p"]]) + "\n" for c in cases)
     done = run(binaries[spec.stem], "--rhs", stdin=lines)
