@@ -163,6 +163,7 @@ def test_octave_string_escaping(tmp_path):
 
 
 @pytest.mark.slow
+@pytest.mark.timeout(3600)      # deriving and generating the bicycle takes minutes
 @pytest.mark.parametrize("spec", [p for p in SPEC_FILES if p.stem in HEAVY_SPECS], ids=lambda p: p.stem)
 def test_heavy_spec(spec, tmp_path, derived):
     import lagcli
