@@ -50,9 +50,6 @@ class OctavePrinter(SlotPrinter, OctaveCodePrinter):
     subscript = "{array}({index})"
     power_format = "{base}^{exp}"
 
-    def __init__(self, table: dict):
-        super().__init__(table, {"inline": True})
-
     @staticmethod
     def literal(value) -> str:
         """A MATLAB literal for a number or string of the interface."""

@@ -40,9 +40,6 @@ class RustPrinter(SlotPrinter, RustCodePrinter):
 
     power_format = "{base}.powf({exp})"
 
-    def __init__(self, table: dict):
-        super().__init__(table)
-
     @staticmethod
     def literal(value) -> str:
         """An f64 literal (`f64::INFINITY`, `f64::NAN` for the non-finite)."""
