@@ -10,6 +10,10 @@ For each N, in one run, prints a table with ratios (no assertions):
 - C ns/call: the generated `<name>_rhs` against a hand-written double-pendulum RHS
   (N = 2 only; target within 1.5x), both timed in the same C harness loop over the same
   states, median of several repeats;
+- Rust ns/call: the generated crate's right-hand side (`--lang rust`, `cargo build
+  --release`), timed by its example binary's `--bench-rhs` over the same kind of states
+  (random in [-0.5, 0.5], the same parameters), median of several repeats, and its ratio
+  to the generated C (target: within 1.5x);
 - Python us/call: the generated module's `rhs` against `sympy.lambdify(..., cse=True)`
   of (M, F) plus `numpy.linalg.solve` (target: no slower), median of several repeats.
 
@@ -20,6 +24,7 @@ from __future__ import annotations
 
 import argparse
 import ctypes
+import os
 import shutil
 import statistics
 import subprocess
@@ -41,6 +46,7 @@ from lagcli.derive import derive  # noqa: E402
 from lagcli.emit import codegen, tidy  # noqa: E402
 from lagcli.emit.c import c_files  # noqa: E402
 from lagcli.emit.python import python_module  # noqa: E402
+from lagcli.emit.rust import crate_name, rust_files  # noqa: E402
 
 CFLAGS = ["-std=c99", "-O2", "-Wall", "-Wextra", "-Werror", "-pedantic"]
 CALLS = 200_000          # C calls per timed loop
@@ -168,6 +174,36 @@ def c_times(d, directory: Path, repeats: int) -> tuple[float, float | None]:
     return generated, statistics.median(r[1] for r in rows) if hand else None
 
 
+def cargo() -> str | None:
+    found = shutil.which("cargo") or str(Path.home() / ".cargo" / "bin" / "cargo")
+    return found if Path(found).exists() else None
+
+
+def rust_time(d, directory: Path, repeats: int) -> float:
+    """ns per call of the generated Rust right-hand side (nan without cargo)."""
+    tool = cargo()
+    if tool is None:
+        return float("nan")
+    crate = directory / "rust"
+    for file, text in rust_files(d).items():
+        (crate / file).parent.mkdir(parents=True, exist_ok=True)
+        (crate / file).write_text(text)
+    env = {**os.environ, "CARGO_TARGET_DIR": str(directory / "target")}
+    subprocess.run([tool, "build", "--offline", "--release", "-q"], cwd=crate, env=env, check=True)
+    rng = np.random.default_rng(1)
+    nparam = len(d.model.parameters)
+    p = [9.81 if i + 1 == nparam else 1.0 for i in range(nparam)]
+    lines = "".join(" ".join(repr(float(v)) for v in [0.0, *rng.uniform(-0.5, 0.5, 2 * d.n), *p]) + "\n"
+                    for _ in range(STATES))
+    binary = directory / "target" / "release" / crate_name(d.model.name)
+    times = []
+    for _ in range(repeats):
+        done = subprocess.run([str(binary), "--bench-rhs", str(CALLS)], input=lines, capture_output=True,
+                              text=True, check=True)
+        times.append(float(done.stderr.split("ns_per_call ")[1].split(",")[0]))
+    return statistics.median(times)
+
+
 def python_times(d, repeats: int) -> tuple[float, float]:
     module = types.ModuleType("generated")
     exec(compile(python_module(d), "generated", "exec"), module.__dict__)
@@ -205,7 +241,8 @@ def main() -> None:
     if args.no_tidy:
         tidy.TIDY_MAX_OPS = 0
     print(f"{'N':>2} | {'ops lagcli':>10} {'ops Kane':>9} {'ratio':>6} | {'C ns gen':>9} {'C ns hand':>9} "
-          f"{'ratio':>6} | {'Py us gen':>9} {'Py us lambdify':>14} {'ratio':>6} | {'gen s':>6}")
+          f"{'ratio':>6} | {'Rust ns':>8} {'Rust/C':>6} | {'Py us gen':>9} {'Py us lambdify':>14} {'ratio':>6} "
+          f"| {'gen s':>6}")
     for n in args.links:
         with tempfile.TemporaryDirectory() as tmp:
             tmp = Path(tmp)
@@ -217,10 +254,11 @@ def main() -> None:
             generation = time.perf_counter() - start
             kane = kane_ops(n)
             c_gen, c_hand = c_times(d, tmp, args.repeats)
+            rust = rust_time(d, tmp, args.repeats)
             py_gen, py_ref = python_times(d, args.repeats)
         hand = f"{c_hand:9.1f} {c_gen / c_hand:6.2f}" if c_hand else f"{'-':>9} {'-':>6}"
         print(f"{n:>2} | {ops:>10} {kane:>9} {ops / kane:6.2f} | {c_gen:9.1f} {hand} | "
-              f"{py_gen:9.2f} {py_ref:14.2f} {py_gen / py_ref:6.2f} | {generation:6.2f}", flush=True)
+              f"{rust:8.1f} {rust / c_gen:6.2f} | {py_gen:9.2f} {py_ref:14.2f} {py_gen / py_ref:6.2f} | {generation:6.2f}", flush=True)
 
 
 if __name__ == "__main__":

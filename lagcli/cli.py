@@ -114,9 +114,10 @@ def check(ctx, spec):
 @click.argument("spec", type=SPEC)
 @click.option("--lang", required=True, type=click.Choice(list(LANGUAGES)),
               help="python: one module (numpy); c: <name>.h, <name>.c, <name>_main.c; "
+                   "octave: MATLAB/Octave functions and an ode45 script; rust: a crate; "
                    "latex: a standalone document; fmu: an FMI 2.0 FMU (needs cc).")
 @click.option("-o", "--output", default=None,
-              help="Output file ('-' or none: stdout); for --lang c the directory (required); "
+              help="Output file ('-' or none: stdout); for --lang c, octave, rust the directory (required); "
                    "for --lang fmu the .fmu file (required).")
 @click.option("--form", type=click.Choice(["lagrangian", "hamiltonian"]), default="lagrangian",
               show_default=True,

@@ -113,7 +113,8 @@ class System:
         files = emit(self.derivation, target, initial, notes)
         if directory is not None:
             directory.mkdir(exist_ok=True)
-            for name, text in files.items():
+            for name, text in files.items():      # a name may have a folder: src/lib.rs
+                (directory / name).parent.mkdir(exist_ok=True)
                 write_output(directory / name, text)
         elif path is not None:
             (text,) = files.values()

@@ -1,7 +1,9 @@
-"""Golden files of the generated Python and C, and their determinism.
+"""Golden files of the generated Python, C, MATLAB/Octave and Rust, and their determinism.
 
 The generated text of one unconstrained (double_pendulum) and one constrained spec
-(ex6_9_two_wheels_axle) is compared byte for byte with tests/golden/<lang>/. On a
+(ex6_9_two_wheels_axle) is compared byte for byte with tests/golden/<lang>/ (a file
+whose name does not start with the spec's, such as the crate's Cargo.toml, under
+tests/golden/<lang>/<spec>/). On a
 difference the test fails with a unified diff; after checking that the change is
 intended, update the files with
 
@@ -24,7 +26,7 @@ import pytest
 ROOT = Path(__file__).resolve().parent.parent
 GOLDEN = Path(__file__).resolve().parent / "golden"
 SPECS = ["double_pendulum", "ex6_9_two_wheels_axle"]
-LANGS = ["python", "c"]
+LANGS = ["python", "c", "octave", "rust"]
 UPDATE = os.environ.get("LAGCLI_UPDATE_GOLDEN") == "1"
 
 
@@ -51,23 +53,27 @@ def compare_or_update(path: Path, text: str) -> None:
 @pytest.mark.parametrize("lang", LANGS)
 @pytest.mark.parametrize("spec", SPECS)
 def test_golden(spec, lang):
-    from lagcli.runtime import c_runtime_files
+    from lagcli.emit.octave import FUNCTIONS
+    from lagcli.runtime import c_runtime_files, rust_runtime_files
 
     files = generate(spec, lang)
-    expected = {"python": [f"{spec}.py"], "c": [f"{spec}.h", f"{spec}.c", f"{spec}_main.c"]}[lang]
-    runtime = c_runtime_files() if lang == "c" else {}
+    expected = {"python": [f"{spec}.py"], "c": [f"{spec}.h", f"{spec}.c", f"{spec}_main.c"],
+                "octave": [f"{spec}_{f}.m" for f in FUNCTIONS + ("run",)],
+                "rust": ["Cargo.toml", "src/lib.rs", "src/main.rs"]}[lang]
+    runtime = {"c": c_runtime_files(),
+               "rust": {f"src/{name}": text for name, text in rust_runtime_files().items()}}.get(lang, {})
     assert sorted(files) == sorted(expected + list(runtime))
     for name in runtime:       # the shipped sources, unchanged: not golden files of their own
-        assert files.pop(name) == (ROOT / "lagcli" / "runtime" / "c" / name).read_text()
+        assert files.pop(name) == (ROOT / "lagcli" / "runtime" / lang / Path(name).name).read_text()
     for name, text in files.items():
-        compare_or_update(GOLDEN / lang / name, text)
+        compare_or_update(GOLDEN / lang / (name if name.startswith(spec) else f"{spec}/{name}"), text)
 
 
 @pytest.mark.parametrize("spec", SPECS)
 def test_deterministic_across_processes(spec):
     here = {lang: generate(spec, lang) for lang in LANGS}
     script = ("import json, sys; sys.path.insert(0, sys.argv[1]); from tests.test_golden_codegen import generate; "
-              "print(json.dumps({lang: generate(sys.argv[2], lang) for lang in ('python', 'c')}))")
+              f"print(json.dumps({{lang: generate(sys.argv[2], lang) for lang in {LANGS!r}}}))")
     env = {**os.environ, "PYTHONHASHSEED": "12345", "PYTHONPATH": str(ROOT)}
     done = subprocess.run([sys.executable, "-c", script, str(ROOT), spec], capture_output=True, text=True,
                           env=env, timeout=300)

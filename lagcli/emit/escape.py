@@ -11,6 +11,10 @@ through exactly one of these functions, chosen by where it lands:
     python_comment(text)   after '#', one line                Python module header
     python_string(text)    a '...' literal, quotes included   Python module constants
     latex_comment(text)    after '%', one line                LaTeX header lines
+    octave_comment(text)   after '% ', one line               MATLAB/Octave files
+    octave_string(text)    a '...' literal (a char row)       MATLAB/Octave files
+    rust_comment(text)     after '// ', one line              Rust sources
+    rust_string(text)      a "..." literal, quotes included   Rust sources
     latex_text(text)       running text                       LaTeX titles, descriptions
     xml_text(text)         element content                    FMI model description
     xml_attribute(text)    inside "..." of an attribute        FMI model description
@@ -163,6 +167,83 @@ def latex_text(text: str) -> str:
     return "".join(out)
 
 
+# -- MATLAB / Octave --------------------------------------------------------------------
+
+def octave_comment(text: str) -> str:
+    """One line of text for a MATLAB/Octave comment (after `% `).
+
+    A `%` comment runs to the end of the line (MATLAB "Add Comments to Code"); a line
+    holding only `%{` or `%}` opens or closes a block comment, which the `% ` prefix
+    rules out, as it rules out Octave's `#{`. So: one line of visible characters.
+    """
+    return _one_line(text)
+
+
+def octave_string(text: str) -> str:
+    """A MATLAB/Octave expression whose value is the text `text`, written in ASCII.
+
+    Printable ASCII goes in '...' with `'` doubled (the only special character of a
+    single-quoted literal: neither MATLAB nor Octave reads backslash escapes there).
+    Any other run of characters is `native2unicode(uint8([...]), 'UTF-8')` of its UTF-8
+    bytes, which both read the same way (MATLAB's char is UTF-16, Octave's holds UTF-8),
+    so neither the file's encoding nor a control character can change the value.
+    """
+    parts = []
+    for printable, run in _runs(str(text), lambda ch: " " <= ch < "\x7f"):
+        if printable:
+            parts.append("'" + run.replace("'", "''") + "'")
+        else:
+            data = " ".join(str(b) for b in run.encode("utf-8", "replace"))
+            parts.append(f"native2unicode(uint8([{data}]), 'UTF-8')")
+    if not parts:
+        return "''"
+    return parts[0] if len(parts) == 1 else "[" + ", ".join(parts) + "]"
+
+
+def _runs(text: str, test):
+    """(test(ch), run) for the maximal runs of `text` on which `test` is constant."""
+    run, kind = [], None
+    for ch in text:
+        if run and test(ch) != kind:
+            yield kind, "".join(run)
+            run = []
+        kind = test(ch)
+        run.append(ch)
+    if run:
+        yield kind, "".join(run)
+
+
+# -- Rust ------------------------------------------------------------------------------
+
+def rust_comment(text: str) -> str:
+    """One line of text for a Rust line comment (after `// `).
+
+    A line comment runs to the end of the line (Rust reference, "Comments"); `///` and
+    `//!` would make it a doc comment (an attribute: misplaced, a compile error), so a
+    leading `/` or `!` gets a space before it. Bidirectional-override characters are
+    a deny-by-default lint in comments; `_one_line` drops them with every other
+    invisible character.
+    """
+    text = _one_line(text)
+    return " " + text if text[:1] in ("/", "!") else text
+
+
+def rust_string(text: str) -> str:
+    """A Rust string literal, quotes included, whose value is `text`: backslash and
+    quote escaped, printable ASCII as it is, everything else as `\\u{XXXX}`
+    (a lone surrogate, which no Rust string can hold, as U+FFFD)."""
+    out = []
+    for ch in str(text):
+        if ch in '\\"':
+            out.append("\\" + ch)
+        elif " " <= ch < "\x7f":
+            out.append(ch)
+        else:
+            code = ord(ch) if not 0xD800 <= ord(ch) <= 0xDFFF else 0xFFFD
+            out.append(f"\\u{{{code:x}}}")
+    return '"' + "".join(out) + '"'
+
+
 # -- XML -------------------------------------------------------------------------------
 
 # XML 1.0 section 2.2: Char ::= #x9 | #xA | #xD | [#x20-#xD7FF] | [#xE000-#xFFFD] | [#x10000-#x10FFFF]
@@ -222,5 +303,6 @@ def plot_text(text: str) -> str:
 
 # The Jinja filters of the template environment (lagcli.emit.templates).
 FILTERS = {f.__name__: f for f in (c_comment, c_string, python_comment, python_string,
-                                   latex_comment, latex_text, xml_text, xml_attribute, xml_comment,
+                                   latex_comment, latex_text, octave_comment, octave_string,
+                                   rust_comment, rust_string, xml_text, xml_attribute, xml_comment,
                                    terminal_text, plot_text)}

@@ -116,14 +116,18 @@ class SlotPrinter:
         if exp == -1:
             return f"(1.0/{self._power_operand(base)})"
         if exp == sp.S.Half:
-            return f"{self.sqrt_name()}({self._print(base)})"
+            return self._print_sqrt(base)
         if exp == -sp.S.Half:
-            return f"(1.0/{self.sqrt_name()}({self._print(base)}))"
+            return f"(1.0/{self._print_sqrt(base)})"
         return self.power_format.format(
             base=self._power_operand(base), exp=self._power_operand(exp))
 
     def sqrt_name(self) -> str:
         return self.sqrt_function
+
+    def _print_sqrt(self, base) -> str:
+        """sqrt(base) as a call of `sqrt_name()`; a language with methods overrides it."""
+        return f"{self.sqrt_name()}({self._print(base)})"
 
     def _power_operand(self, expr) -> str:
         """`expr` printed as an operand of * or pow: bare when it is a symbol, a

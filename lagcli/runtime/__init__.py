@@ -1,8 +1,8 @@
 """lagcli's runtime: plain sources shipped with the package and copied, unchanged, next
-to generated code (`lagcli generate --lang c` copies `c/`; `--lang fmu` puts `fmi2/`
-and part of `c/` into the FMU's sources/). They are not templates: one copy per
-language, usable on their own by someone embedding a generated model
-(docs/codegen.md, docs/c-integrator.md).
+to generated code (`lagcli generate --lang c` copies `c/`, `--lang rust` copies `rust/`;
+`--lang fmu` puts `fmi2/` and part of `c/` into the FMU's sources/). They are not
+templates: one copy per language, usable on their own by someone embedding a generated
+model (docs/codegen.md, docs/c-integrator.md).
 
 `fmi2/` holds lagcli's FMI 2.0 functions (lagcli_fmi2.c) and the FMI 2.0 standard's
 headers, unchanged, under the licence in fmi2/LICENSE.txt (the Modelica Association's
@@ -20,6 +20,7 @@ from importlib import resources
 C_RUNTIME = ("lagcli_model.h", "lagcli_ode.h", "lagcli_ode.c", "lagcli_driver.h", "lagcli_driver.c")
 FMI2_RUNTIME = ("fmi2Functions.h", "fmi2FunctionTypes.h", "fmi2TypesPlatform.h", "lagcli_fmi2.c")
 FMI2_LICENSE = "LICENSE.txt"
+RUST_RUNTIME = ("ode.rs", "driver.rs")
 
 
 @functools.lru_cache(maxsize=None)
@@ -54,3 +55,8 @@ def python_run_rules() -> str:
     while start > 0 and lines[start - 1].startswith("#"):  # keep the comment above it
         start -= 1
     return "".join(lines[start:])
+
+
+def rust_runtime_files() -> dict[str, str]:
+    """{file name: text} of the Rust runtime (the integrator and the driver)."""
+    return dict(_texts("rust", RUST_RUNTIME))
