@@ -79,7 +79,7 @@ def run_all(specs: dict[str, Path], folder: Path, cases: dict) -> subprocess.Com
         lines.append(f"addpath('{folder / key}');")
         lines.append(f"fid = fopen('{folder / key / 'rhs.txt'}', 'w');")
         for case in cases.get(key, []):
-            lines.append(f"[dydt, lambda] = {name}_rhs({case['t']!r}, {vector(case['y'])}, {vector(case['p'])}, [], "
+            lines.append(f"[dydt, lambda] = {name}_rhs({case['t']!r}, {vector(case['y'])}, {vector(case['p'])}, {vector(case.get('u', []))}, "
                          f"{case['alpha']!r}, {case['beta']!r});")
             lines.append("fprintf(fid, '%.17g ', [dydt; lambda]); fprintf(fid, '\\n');")
         lines.append("fclose(fid);")

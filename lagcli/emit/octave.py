@@ -27,6 +27,7 @@ from lagcli.emit.slots import SlotPrinter
 from lagcli.emit.templates import render
 from lagcli.errors import Loc, Problem, SpecError
 from lagcli.layout import layout_of
+from lagcli.runtime.run_rules import END_TOLERANCE, OUTPUT_SLACK
 
 # Keywords (Octave's iskeyword(), MATLAB's) and the constants/builtins a field called
 # so would shadow in a reader's mind (`pi`, `i`, `e`...): mangled in `<name>_info`.
@@ -83,7 +84,16 @@ def octave_context(d: Derivation, initial=None, initial_notes=()) -> dict:
     layout = layout_of(d)
     i = context["i"]
     return dict(context, prefix=d.model.name, settings=layout.settings,
+                # the output-time rule of lagcli/runtime/run_rules.py, restated in simulate.m
+                output_slack=_short_literal(OUTPUT_SLACK), end_tolerance=_short_literal(END_TOLERANCE),
                 inputs=tuple(x.name for x in layout.inputs),
+                input_defaults=tuple(OctavePrinter.literal(x.default) for x in layout.inputs),
                 header=("t",) + i.state + i.multipliers + i.invariants,
                 fields=identifiers(i.state + tuple(p for p, _ in i.parameters) + i.multipliers
                                    + i.invariants, RESERVED, "MATLAB field"))
+
+
+def _short_literal(value: float) -> str:
+    """A power of ten as the shortest literal MATLAB reads: 1e-9, 1e-12."""
+    mantissa, _, exponent = format(value, ".0e").partition("e")
+    return f"{mantissa}e{int(exponent)}"

@@ -162,7 +162,7 @@ pub fn rhs_stabilized(t: f64, y: &[f64; NSTATE], p: &[f64; NPARAM], u: &[f64; NI
     k[3][0] = x3;
     k[3][1] = -x4;
     k[3][2] = 0.0;
-    let mut r: [f64; NSYS] = [0.0, 0.0, 0.0, -y[5]*(x3*y[4] + x4*y[3])];
+    let mut r: [f64; NSYS] = [0.0, 0.0, 0.0, y[5]*(-x3*y[4] - x4*y[3])];
     if alpha != 0.0 || beta != 0.0 {
         r[3] -= 2.0*alpha*(x3*y[3] - x4*y[4]);
     }
@@ -241,7 +241,7 @@ pub fn constraint_matrix(t: f64, y: &[f64; NSTATE], p: &[f64; NPARAM], u: &[f64;
 pub fn constraint_bias(t: f64, y: &[f64; NSTATE], p: &[f64; NPARAM], u: &[f64; NINPUT], b: &mut [f64; NLAMBDA]) -> Result<(), ModelError> {
     let x3 = y[2].sin();
     let x4 = y[2].cos();
-    b[0] = -y[5]*(x3*y[4] + x4*y[3]);
+    b[0] = y[5]*(-x3*y[4] - x4*y[3]);
     finite(b.iter())
 }
 
