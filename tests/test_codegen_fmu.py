@@ -50,7 +50,7 @@ def system_of(derived, name: str):
     from lagcli.system import System
 
     d = derived(name)
-    return System(d.model, d, layout_of(d))
+    return System(d.model, d, layout_of(d), Path(d.model.source).read_bytes())
 
 
 _GENERATED: dict[str, bytes] = {}      # spec name -> FMU bytes, made once per session
