@@ -68,7 +68,7 @@ def derivative(expr: sp.Expr, var: sp.Symbol, memo: dict | None = None) -> sp.Ex
     than through a `Derivative` object per node. Anything else (Abs, sign, Piecewise, a
     power with a varying exponent...) is left to sympy."""
     memo = {} if memo is None else memo
-    if var not in free_symbols(expr, memo):
+    if not isinstance(expr, sp.Basic) or var not in free_symbols(expr, memo):   # a plain 0 or number
         return sp.S.Zero
     if expr is var or expr == var:
         return sp.S.One

@@ -123,7 +123,7 @@ dampers:
   - {between: [P, [-1, 0]], damping: c}
 initial: {x: 0.1}
 """)
-    m, c, k, x, xd, xdd = sp.symbols("m c k x x_dot x_ddot", real=True)
+    m, c, k, x, xd, xdd = (system.model.symbol(name) for name in ("m", "c", "k", "x", "x_dot", "x_ddot"))
     lhs = system.derivation.equations[0].lhs
     textbook = m * xdd + c * xd + k * x
     for value in (sp.Rational(1, 20), sp.Rational(3, 10), 2):   # x > -1: the dashpot pulls along +x

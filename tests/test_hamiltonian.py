@@ -17,7 +17,8 @@ from lagcli.analysis.hamiltonian import HamiltonRhs, hamilton_form
 from conftest import SPECS
 
 UNCONSTRAINED = sorted(p.stem for p in SPECS.glob("*.yaml")
-                       if "constraints:" not in p.read_text(encoding="utf-8"))
+                       if "\nconstraints:" not in p.read_text(encoding="utf-8")
+                       and "\nrolling:" not in p.read_text(encoding="utf-8"))
 T_END = 1.0
 
 

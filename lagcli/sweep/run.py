@@ -155,16 +155,12 @@ def _kinds(layout, plan: Plan, options: SweepOptions) -> dict[str, str]:
 def _driver(system) -> tuple[str, bytes]:
     """The compiled driver (built into the cache if needed): (path to run, its bytes)."""
     from lagcli.simulate import c_backend
-    from lagcli.simulate.run import _cached_driver
 
     compiler = c_backend.find_compiler()
     if compiler is None:
         raise SimulationError("lagcli sweep runs the compiled driver, but 'cc' was not found on PATH "
                               "(install gcc or clang)")
-    if not os.path.isfile(system.model.source):
-        raise UsageError("System.sweep needs a System loaded from a spec file (the compiled driver "
-                         "is cached by the file's bytes)")
-    cached = _cached_driver(system.derivation, system.model.source, compiler)
+    cached = c_backend.driver(system, compiler)
     return cached.binary, cached.entry.contents[c_backend.BINARY]
 
 
