@@ -19,7 +19,6 @@ import numpy as np
 from lagcli.analysis.linearize import CompiledSystem, linearize
 from lagcli.analysis.operating_point import Assignments, evaluate
 from lagcli.analysis.stability import Stability, stability, unstable_count
-from lagcli.errors import UsageError
 
 _XTOL = 1e-13
 
@@ -32,20 +31,10 @@ class SweepRange:
 
 def parse_sweep(text: str) -> SweepRange:
     """`v=0:10:101` -> 101 values from 0 to 10 (both ends included)."""
-    from lagcli.simulate.options import parse_value
+    from lagcli.simulate.options import parse_range
 
-    name, sep, rest = text.partition("=")
-    parts = rest.split(":")
-    if not sep or not name.strip() or len(parts) != 3:
-        raise UsageError(f"--sweep {text!r}: expected NAME=START:STOP:COUNT (e.g. v=0:10:101)")
-    start, stop = (parse_value(p, f"--sweep {name}") for p in parts[:2])
-    try:
-        count = int(parts[2])
-    except ValueError:
-        count = 0
-    if not 2 <= count <= 100_000:
-        raise UsageError(f"--sweep {text!r}: COUNT must be an integer from 2 to 100000")
-    return SweepRange(name.strip(), np.linspace(start, stop, count))
+    name, start, stop, count = parse_range(text, "--sweep", 2, 100_000, example="v=0:10:101")
+    return SweepRange(name, np.linspace(start, stop, count))
 
 
 @dataclass(frozen=True)

@@ -87,6 +87,26 @@ def parse_assignments(items: tuple[str, ...], option: str, allowed: list[str],
     return values
 
 
+def parse_range(item: str, option: str, smallest: int = 1, largest: int | None = None,
+                example: str = "theta1=-3:3:101") -> tuple[str, float, float, int]:
+    """`NAME=START:STOP:COUNT` (`--grid`, `--sweep`) -> (name, start, stop, count), with
+    START and STOP numbers or constant expressions and smallest <= COUNT <= largest."""
+    name, sep, rest = item.partition("=")
+    parts = rest.split(":")
+    if not sep or not name.strip() or len(parts) != 3:
+        raise UsageError(f"{option} {item!r}: expected NAME=START:STOP:COUNT, e.g. {example}")
+    name = name.strip()
+    start, stop = (parse_value(p, f"{option} {name}") for p in parts[:2])
+    try:
+        count = int(parts[2])
+    except ValueError:
+        count = smallest - 1
+    if count < smallest or (largest is not None and count > largest):
+        bounds = f"from {smallest} to {largest}" if largest is not None else f">= {smallest}"
+        raise UsageError(f"{option} {item!r}: COUNT must be a whole number {bounds}, got {parts[2]!r}")
+    return name, start, stop, count
+
+
 def parse_value(text: str, where: str) -> float:
     try:
         value = float(text)

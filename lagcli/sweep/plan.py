@@ -21,7 +21,7 @@ import re
 from dataclasses import dataclass
 
 from lagcli.errors import UsageError
-from lagcli.simulate.options import parse_value
+from lagcli.simulate.options import parse_range, parse_value
 
 DISTRIBUTIONS = {"uniform": ("A", "B"), "normal": ("MU", "SIGMA")}
 _CALL = re.compile(r"\s*([a-z]+)\s*\((.*)\)\s*")
@@ -68,17 +68,7 @@ def grid_plan(items) -> Plan:
 
 
 def _grid_axis(item: str) -> tuple[str, tuple[float, float, int]]:
-    name, text = _split(item, "--grid", "NAME=START:STOP:COUNT")
-    parts = text.split(":")
-    if len(parts) != 3:
-        raise UsageError(f"--grid {item!r}: expected NAME=START:STOP:COUNT, e.g. theta1=-3:3:101")
-    start, stop = (parse_value(p, f"--grid {name}") for p in parts[:2])
-    try:
-        n = int(parts[2])
-    except ValueError:
-        n = 0
-    if n < 1:
-        raise UsageError(f"--grid {item!r}: COUNT must be a whole number >= 1, got {parts[2]!r}")
+    name, start, stop, n = parse_range(item, "--grid")
     return name, (start, stop, n)
 
 
