@@ -17,6 +17,7 @@ parentheses (`\\biggl( ... \\biggr)`, which need no pairing per line).
 """
 from __future__ import annotations
 
+import functools
 import re
 
 import sympy as sp
@@ -73,6 +74,27 @@ class LatexPrinter(SympyLatexPrinter):
             names[info.symbol] = distinct_from_notation(info.latex or self._name(info.symbol.name), notation)
         for multiplier, label in multipliers:
             names[multiplier] = multiplier_latex(multiplier, label)
+        # Printed LaTeX and term order per subexpression: the line breaking measures a
+        # sum, then its terms, then their factors, so without these each subexpression
+        # would be printed (and its terms sorted) once per level above it.
+        self._printed: dict = {}
+        self._ordered: dict = {}
+
+    def _print(self, expr, **kwargs) -> str:
+        if kwargs or not isinstance(expr, sp.Basic):
+            return super()._print(expr, **kwargs)
+        tex = self._printed.get(expr)
+        if tex is None:
+            tex = self._printed[expr] = super()._print(expr)
+        return tex
+
+    def _as_ordered_terms(self, expr, order=None):
+        if order is not None:
+            return super()._as_ordered_terms(expr, order)
+        terms = self._ordered.get(expr)
+        if terms is None:
+            terms = self._ordered[expr] = super()._as_ordered_terms(expr)
+        return list(terms)
 
     def _accented(self, accent: str, q: sp.Symbol, user: str | None) -> str:
         if user:
@@ -229,6 +251,7 @@ _SPACES = {r"\quad": 2.0, r"\qquad": 4.0, r"\,": 0.3, r"\;": 0.5, r"\:": 0.4, r"
 _BINARY = {"+": 2.2, "-": 2.2, "=": 2.4, r"\cdot": 1.4, r"\times": 2.2, ",": 0.8, r"\colon": 1.0}
 
 
+@functools.lru_cache(maxsize=65536)
 def tex_width(tex: str) -> float:
     """A rough width of LaTeX math, in units of about 6 pt (wider rather than narrower)."""
     width, _ = _group_width(_TOKEN.findall(tex), 0)
