@@ -17,8 +17,9 @@ import sympy as sp
 
 from lagcli.emit.tidy import small
 
-SHOW_MAX_NODES = 400     # an expression bigger than this is shown with names
-NAME_MIN_NODES = 40      # the sums inside it bigger than this get a name
+SHOW_MAX_NODES = 400       # a report with an expression bigger than this is a big one
+BIG_SHOW_MAX_NODES = 80    # in a big report, an expression bigger than this is shown with names
+NAME_MIN_NODES = 12        # the sums inside it bigger than this get a name
 
 
 class Namer:
@@ -31,11 +32,18 @@ class Namer:
         self.prefix = prefix
         self.definitions: list[tuple[sp.Symbol, sp.Expr]] = []
         self._shown: dict = {}
+        self._budget = SHOW_MAX_NODES      # BIG_SHOW_MAX_NODES once an expression exceeded it
+
+    def _small(self, expr) -> bool:
+        if small(expr, self._budget):
+            return True
+        self._budget = BIG_SHOW_MAX_NODES
+        return small(expr, self._budget)
 
     def __call__(self, expr: sp.Expr) -> sp.Expr:
         """expr as shown: itself when small, else with its big sums named."""
         expr = sp.sympify(expr)
-        if small(expr, SHOW_MAX_NODES):
+        if self._small(expr):
             return expr
         return self._rebuilt(expr)
 
@@ -43,7 +51,7 @@ class Namer:
         """A sum given as terms (T, L, h, an equation) as shown: when the whole sum is big,
         the big sums inside every term are named, however small the term itself."""
         terms = [sp.sympify(term) for term in terms]
-        if small(sp.Add(*terms), SHOW_MAX_NODES):
+        if self._small(sp.Add(*terms)):
             return terms
         return [self._rebuilt(term) for term in terms]
 
