@@ -95,7 +95,11 @@ def matrix_block(name: str, entries: list[list[Tex]], kind: str) -> dict:
     col_widths = [max(entries[i][j].width for i in range(n_rows)) for j in range(n_cols)]
     single = all(len(e.lines) == 1 for row in entries for e in row)
     if single and n_cols <= MAX_MATRIX_COLS and sum(col_widths) + 2.0 * n_cols + 3.0 <= CONTENT_WIDTH:
-        body = r" \\ ".join(" & ".join(row) for row in entries)
+        if any(r"\frac" in e for row in entries for e in row):    # fractions at full size, rows apart
+            entries = [[rf"\displaystyle {e}" if r"\frac" in e else e for e in row] for row in entries]
+            body = r" \\[1ex] ".join(" & ".join(row) for row in entries)
+        else:
+            body = r" \\ ".join(" & ".join(row) for row in entries)
         return {"matrix": rf"{name} = \begin{{pmatrix}} {body} \end{{pmatrix}}", "rows": []}
     sep = "," if max(n_rows, n_cols) > 9 else ""
     out = []
@@ -148,6 +152,7 @@ def _context(d: Derivation, simplify: bool) -> dict:
         "potential_rows": [*rows("V", r["potential_energy"]), *rows("L", r["lagrangian"], "T - V")],
         "force_rows": column(r["generalized_forces"], "Q_{@}", "Q"),
         "nonconservative_rows": column(r["nonconservative_forces"], "Q'_{@}", "Q'"),
+        "nonconservative_vanish": all(e == "0" for e in r["nonconservative_forces"].values()),
         "forces_conservative": r["forces_conservative"],
         "force_potential_rows": [] if r["force_potential"] is None else rows("V'", r["force_potential"]),
         "constrained": bool(r["constraints"]),
