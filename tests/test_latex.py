@@ -36,7 +36,7 @@ SPEC_NAMES = sorted(p.stem for p in (ROOT / "specs").glob("*.yaml"))
 # The bicycles (tests/conftest.py HEAVY_SPECS) run with `pytest -m slow`.
 LATEX_SPEC_NAMES = SPEC_NAMES
 GOLDEN_SPECS = ["double_pendulum", "ex6_9_two_wheels_axle"]
-OVERFULL_LIMIT_PT = 50.0
+OVERFULL_LIMIT_PT = 5.0
 PDFLATEX = shutil.which("pdflatex")
 needs_pdflatex = pytest.mark.skipif(PDFLATEX is None, reason="pdflatex is not installed "
                                     "(apt-get install texlive-latex-base texlive-latex-recommended)")

@@ -67,11 +67,13 @@ def rows(label: str, tex: Tex, via: str | None = None) -> list[str]:
 
 
 def equation_rows(label: str, lhs: Tex, rhs: Tex) -> list[str]:
-    """`label: lhs = rhs` with the relation inside the content column."""
-    if lhs.width + rhs.width + 2.4 <= CONTENT_WIDTH:
+    """`label: lhs = rhs` with the relation inside the content column (whose lines have
+    the room of the "= " and "\\quad" that `CONTENT_WIDTH` keeps for other rows)."""
+    if lhs.width + rhs.width + 2.4 <= CONTENT_WIDTH + 4.0:
         return [f"{label} & {lhs} = {rhs}"]
     lines = list(lhs.lines)
-    if tex_width(lines[-1]) + rhs.width + 2.4 <= CONTENT_WIDTH and len(rhs.lines) == 1:
+    room = CONTENT_WIDTH + (4.0 if len(lines) == 1 else 2.0)
+    if tex_width(lines[-1]) + rhs.width + 2.4 <= room and len(rhs.lines) == 1:
         lines[-1] = f"{lines[-1]} = {rhs}"
     else:
         lines.append(f"= {rhs.lines[0]}")

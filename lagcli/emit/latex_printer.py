@@ -29,7 +29,7 @@ from lagcli.emit.escape import latex_text
 # Widths are in "ems" of the estimate below; 1 unit is about 6 pt at 10 pt type.
 # The standalone document's text is 16 cm (455 pt) wide.
 LINE_WIDTH = 76.0
-LABEL_WIDTH = 8.0                     # the label column of `align*` (e.g. "Q'_{\theta_{1}}" or "\ddot x\colon")
+LABEL_WIDTH = 9.0                     # the label column of `align*` (e.g. "Q'_{\theta_{1}}" or "\ddot x\colon")
 CONTENT_WIDTH = LINE_WIDTH - LABEL_WIDTH - 4.0   # minus "= " and the "\quad" of continuation lines
 
 # The report's own notation (T, V, L, M, Q, F, G, c in every report; see
@@ -248,6 +248,13 @@ _FUNCTIONS = {"sin", "cos", "tan", "sinh", "cosh", "tanh", "asin", "acos", "atan
 _INVISIBLE = {r"\left", r"\right", r"\bigl", r"\bigr", r"\Bigl", r"\Bigr", r"\biggl", r"\biggr",
               r"\mathrm", r"\dot", r"\ddot", r"\mathit", r"\mathbf", r"\operatorname", r"\displaystyle"}
 _SPACES = {r"\quad": 2.0, r"\qquad": 4.0, r"\,": 0.3, r"\;": 0.5, r"\:": 0.4, r"\!": -0.3, r"\ ": 0.5}
+# Widths of math italic letters and digits at 10 pt (Computer Modern), in units of 6 pt;
+# any other single character or command (a Greek letter) counts 1.
+_GLYPHS = {**dict.fromkeys("abcdeghkopqrsuvxyz", 0.85), **dict.fromkeys("fijlt", 0.65),
+           "m": 1.5, "n": 1.0, "w": 1.2,
+           **dict.fromkeys("ABCDEGHKNOQRUXZ", 1.35), **dict.fromkeys("FLPSTVY", 1.1),
+           "I": 0.75, "J": 0.95, "M": 1.65, "W": 1.6,
+           **dict.fromkeys("0123456789", 0.85), "(": 0.65, ")": 0.65}
 _BINARY = {"+": 2.2, "-": 2.2, "=": 2.4, r"\cdot": 1.4, r"\times": 2.2, ",": 0.8, r"\colon": 1.0}
 
 
@@ -285,9 +292,9 @@ def _group_width(tokens: list[str], i: int) -> tuple[float, int]:
         elif tok in _BINARY:
             width += _BINARY[tok]
         elif tok.startswith("\\") and tok[1:] in _FUNCTIONS:
-            width += len(tok) - 1 + 0.4
+            width += 0.8 * (len(tok) - 1) + 0.3      # upright letters, then the operator's space
         else:
-            width += 1.0
+            width += _GLYPHS.get(tok, 1.0)
     return width, i
 
 
