@@ -16,6 +16,7 @@ lagcli version: no dates, so the same spec gives the same bytes.
 """
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import sympy as sp
@@ -45,13 +46,27 @@ def latex_notation(d: Derivation) -> frozenset:
 
 
 def latex_fragment(derivation: Derivation, simplify: bool = True, parts=PARTS) -> str:
-    return render("latex/fragment.tex.jinja", **_context(derivation, simplify), parts=parts)
+    return _body(dict(_context(derivation, simplify), parts=parts))
 
 
 def latex_document(derivation: Derivation, simplify: bool = True, parts=PARTS) -> str:
     context = dict(_context(derivation, simplify), parts=parts, in_document=True)   # description = title
-    body = render("latex/fragment.tex.jinja", **context)
-    return render("latex/document.tex.jinja", body=body, **context)
+    return render("latex/document.tex.jinja", body=_body(context), **context)
+
+
+def _body(context: dict) -> str:
+    """The fragment, its "Named quantities" holding the definitions that the selected
+    parts use (directly or through a later definition that uses them)."""
+    body = render("latex/fragment.tex.jinja", **context, named_rows=[])
+    needed, shown = [], body
+    for symbol, expr in reversed(context["named"]):
+        if re.search(re.escape(symbol) + r"(?![\w{])", shown):
+            needed.append((symbol, expr))
+            shown += f" {expr}"
+    if not needed:
+        return body
+    named_rows = [row for symbol, expr in reversed(needed) for row in rows(symbol, expr)]
+    return render("latex/fragment.tex.jinja", **context, named_rows=named_rows)
 
 
 # -- rows of align* -----------------------------------------------------------------
@@ -177,8 +192,8 @@ def _context(d: Derivation, simplify: bool) -> dict:
         "gyroscopic": matrix_block("G", r["gyroscopic_matrix"], "skew"),
         "ignorable": LIST_SEP.join(qtex[name] for name in r["ignorable_coordinates"]),
         "conserved_rows": _conserved(r, qtex, r["energy_is_jacobi"]),
-        "named_rows": [row for named in r["named_quantities"]
-                       for row in rows(printer.doprint(sp.Symbol(named["name"])), named["expr"])],
+        "named": [(printer.doprint(sp.Symbol(named["name"])), named["expr"])
+                  for named in r["named_quantities"]],
         "jacobi": r["jacobi_integral"] is not None,
         "energy_is_jacobi": r["energy_is_jacobi"],
     }
