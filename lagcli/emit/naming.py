@@ -13,8 +13,8 @@ and so are the entries of M, F and the constraints made from them. The same sum 
 the same name wherever it occurs (in M, F, the constraints, T...), so each is defined
 once; definitions use earlier names (children are named before their parents). The
 budgets count tree nodes and the report's order of expressions is fixed, so the same
-spec always gives the same names. The
-JSON report never uses names: its expressions are complete and parse back.
+spec always gives the same names. The JSON report never uses names: its expressions
+are complete and parse back.
 """
 from __future__ import annotations
 
