@@ -16,6 +16,7 @@ lagcli version: no dates, so the same spec gives the same bytes.
 """
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import sympy as sp
@@ -45,13 +46,27 @@ def latex_notation(d: Derivation) -> frozenset:
 
 
 def latex_fragment(derivation: Derivation, simplify: bool = True, parts=PARTS) -> str:
-    return render("latex/fragment.tex.jinja", **_context(derivation, simplify), parts=parts)
+    return _body(dict(_context(derivation, simplify), parts=parts))
 
 
 def latex_document(derivation: Derivation, simplify: bool = True, parts=PARTS) -> str:
     context = dict(_context(derivation, simplify), parts=parts, in_document=True)   # description = title
-    body = render("latex/fragment.tex.jinja", **context)
-    return render("latex/document.tex.jinja", body=body, **context)
+    return render("latex/document.tex.jinja", body=_body(context), **context)
+
+
+def _body(context: dict) -> str:
+    """The fragment, its "Named quantities" holding the definitions that the selected
+    parts use (directly or through a later definition that uses them)."""
+    body = render("latex/fragment.tex.jinja", **context, named_rows=[])
+    needed, shown = [], body
+    for symbol, expr in reversed(context["named"]):
+        if re.search(re.escape(symbol) + r"(?![\w{])", shown):
+            needed.append((symbol, expr))
+            shown += f" {expr}"
+    if not needed:
+        return body
+    named_rows = [row for symbol, expr in reversed(needed) for row in rows(symbol, expr)]
+    return render("latex/fragment.tex.jinja", **context, named_rows=named_rows)
 
 
 # -- rows of align* -----------------------------------------------------------------
@@ -67,11 +82,13 @@ def rows(label: str, tex: Tex, via: str | None = None) -> list[str]:
 
 
 def equation_rows(label: str, lhs: Tex, rhs: Tex) -> list[str]:
-    """`label: lhs = rhs` with the relation inside the content column."""
-    if lhs.width + rhs.width + 2.4 <= CONTENT_WIDTH:
+    """`label: lhs = rhs` with the relation inside the content column (whose lines have
+    the room of the "= " and "\\quad" that `CONTENT_WIDTH` keeps for other rows)."""
+    if lhs.width + rhs.width + 2.4 <= CONTENT_WIDTH + 4.0:
         return [f"{label} & {lhs} = {rhs}"]
     lines = list(lhs.lines)
-    if tex_width(lines[-1]) + rhs.width + 2.4 <= CONTENT_WIDTH and len(rhs.lines) == 1:
+    room = CONTENT_WIDTH + (4.0 if len(lines) == 1 else 2.0)
+    if tex_width(lines[-1]) + rhs.width + 2.4 <= room and len(rhs.lines) == 1:
         lines[-1] = f"{lines[-1]} = {rhs}"
     else:
         lines.append(f"= {rhs.lines[0]}")
@@ -95,7 +112,11 @@ def matrix_block(name: str, entries: list[list[Tex]], kind: str) -> dict:
     col_widths = [max(entries[i][j].width for i in range(n_rows)) for j in range(n_cols)]
     single = all(len(e.lines) == 1 for row in entries for e in row)
     if single and n_cols <= MAX_MATRIX_COLS and sum(col_widths) + 2.0 * n_cols + 3.0 <= CONTENT_WIDTH:
-        body = r" \\ ".join(" & ".join(row) for row in entries)
+        if any(r"\frac" in e for row in entries for e in row):    # fractions at full size, rows apart
+            entries = [[rf"\displaystyle {e}" if r"\frac" in e else e for e in row] for row in entries]
+            body = r" \\[1ex] ".join(" & ".join(row) for row in entries)
+        else:
+            body = r" \\ ".join(" & ".join(row) for row in entries)
         return {"matrix": rf"{name} = \begin{{pmatrix}} {body} \end{{pmatrix}}", "rows": []}
     sep = "," if max(n_rows, n_cols) > 9 else ""
     out = []
@@ -148,6 +169,7 @@ def _context(d: Derivation, simplify: bool) -> dict:
         "potential_rows": [*rows("V", r["potential_energy"]), *rows("L", r["lagrangian"], "T - V")],
         "force_rows": column(r["generalized_forces"], "Q_{@}", "Q"),
         "nonconservative_rows": column(r["nonconservative_forces"], "Q'_{@}", "Q'"),
+        "nonconservative_vanish": all(e == "0" for e in r["nonconservative_forces"].values()),
         "forces_conservative": r["forces_conservative"],
         "force_potential_rows": [] if r["force_potential"] is None else rows("V'", r["force_potential"]),
         "constrained": bool(r["constraints"]),
@@ -170,8 +192,8 @@ def _context(d: Derivation, simplify: bool) -> dict:
         "gyroscopic": matrix_block("G", r["gyroscopic_matrix"], "skew"),
         "ignorable": LIST_SEP.join(qtex[name] for name in r["ignorable_coordinates"]),
         "conserved_rows": _conserved(r, qtex, r["energy_is_jacobi"]),
-        "named_rows": [row for named in r["named_quantities"]
-                       for row in rows(printer.doprint(sp.Symbol(named["name"])), named["expr"])],
+        "named": [(printer.doprint(sp.Symbol(named["name"])), named["expr"])
+                  for named in r["named_quantities"]],
         "jacobi": r["jacobi_integral"] is not None,
         "energy_is_jacobi": r["energy_is_jacobi"],
     }

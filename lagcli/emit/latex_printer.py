@@ -17,6 +17,7 @@ parentheses (`\\biggl( ... \\biggr)`, which need no pairing per line).
 """
 from __future__ import annotations
 
+import functools
 import re
 
 import sympy as sp
@@ -25,10 +26,11 @@ from sympy.printing.latex import LatexPrinter as SympyLatexPrinter
 
 from lagcli.emit.escape import latex_text
 
-# Widths are in "ems" of the estimate below; 1 unit is about 6 pt at 10 pt type.
-# The standalone document's text is 16 cm (455 pt) wide.
+# Widths are in units of the estimate below (`tex_width`), meant as 6 pt at 10 pt type;
+# measured with pdflatex on every line of the bundled specs' documents, a unit is 5.0 to
+# 6.4 pt (median 5.65). The standalone document's text is 16 cm (455 pt) wide.
 LINE_WIDTH = 76.0
-LABEL_WIDTH = 8.0                     # the label column of `align*` (e.g. "Q'_{\theta_{1}}" or "\ddot x\colon")
+LABEL_WIDTH = 9.0                     # the label column of `align*` (e.g. "Q'_{\theta_{1}}" or "\ddot x\colon")
 CONTENT_WIDTH = LINE_WIDTH - LABEL_WIDTH - 4.0   # minus "= " and the "\quad" of continuation lines
 
 # The report's own notation (T, V, L, M, Q, F, G, c in every report; see
@@ -73,6 +75,27 @@ class LatexPrinter(SympyLatexPrinter):
             names[info.symbol] = distinct_from_notation(info.latex or self._name(info.symbol.name), notation)
         for multiplier, label in multipliers:
             names[multiplier] = multiplier_latex(multiplier, label)
+        # Printed LaTeX and term order per subexpression: the line breaking measures a
+        # sum, then its terms, then their factors, so without these each subexpression
+        # would be printed (and its terms sorted) once per level above it.
+        self._printed: dict = {}
+        self._ordered: dict = {}
+
+    def _print(self, expr, **kwargs) -> str:
+        if kwargs or not isinstance(expr, sp.Basic):
+            return super()._print(expr, **kwargs)
+        tex = self._printed.get(expr)
+        if tex is None:
+            tex = self._printed[expr] = super()._print(expr)
+        return tex
+
+    def _as_ordered_terms(self, expr, order=None):
+        if order is not None:
+            return super()._as_ordered_terms(expr, order)
+        terms = self._ordered.get(expr)
+        if terms is None:
+            terms = self._ordered[expr] = super()._as_ordered_terms(expr)
+        return list(terms)
 
     def _accented(self, accent: str, q: sp.Symbol, user: str | None) -> str:
         if user:
@@ -226,11 +249,19 @@ _FUNCTIONS = {"sin", "cos", "tan", "sinh", "cosh", "tanh", "asin", "acos", "atan
 _INVISIBLE = {r"\left", r"\right", r"\bigl", r"\bigr", r"\Bigl", r"\Bigr", r"\biggl", r"\biggr",
               r"\mathrm", r"\dot", r"\ddot", r"\mathit", r"\mathbf", r"\operatorname", r"\displaystyle"}
 _SPACES = {r"\quad": 2.0, r"\qquad": 4.0, r"\,": 0.3, r"\;": 0.5, r"\:": 0.4, r"\!": -0.3, r"\ ": 0.5}
+# Widths of math italic letters and digits at 10 pt (Computer Modern), in units of 6 pt;
+# any other single character or command (a Greek letter) counts 1.
+_GLYPHS = {**dict.fromkeys("abcdeghkopqrsuvxyz", 0.85), **dict.fromkeys("fijlt", 0.65),
+           "m": 1.5, "n": 1.0, "w": 1.2,
+           **dict.fromkeys("ABCDEGHKNOQRUXZ", 1.35), **dict.fromkeys("FLPSTVY", 1.1),
+           "I": 0.75, "J": 0.95, "M": 1.65, "W": 1.6,
+           **dict.fromkeys("0123456789", 0.85), "(": 0.65, ")": 0.65}
 _BINARY = {"+": 2.2, "-": 2.2, "=": 2.4, r"\cdot": 1.4, r"\times": 2.2, ",": 0.8, r"\colon": 1.0}
 
 
+@functools.lru_cache(maxsize=65536)
 def tex_width(tex: str) -> float:
-    """A rough width of LaTeX math, in units of about 6 pt (wider rather than narrower)."""
+    """An estimate of the width of LaTeX math, in units of about 6 pt (see LINE_WIDTH)."""
     width, _ = _group_width(_TOKEN.findall(tex), 0)
     return width
 
@@ -262,9 +293,9 @@ def _group_width(tokens: list[str], i: int) -> tuple[float, int]:
         elif tok in _BINARY:
             width += _BINARY[tok]
         elif tok.startswith("\\") and tok[1:] in _FUNCTIONS:
-            width += len(tok) - 1 + 0.4
+            width += 0.8 * (len(tok) - 1) + 0.3      # upright letters, then the operator's space
         else:
-            width += 1.0
+            width += _GLYPHS.get(tok, 1.0)
     return width, i
 
 
