@@ -21,7 +21,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from lagcli.derive.result import Derivation
-from lagcli.emit.cse import CSE_OPTIMIZATIONS, Reduced, eliminate  # noqa: F401  (the pipeline's API)
+from lagcli.emit.cse import CSE_OPTIMIZATIONS, Reduced, basic_optimizations, eliminate  # noqa: F401
 from lagcli.emit.interface import Interface, interface  # noqa: F401
 from lagcli.emit.outputs import GROUPS, Outputs, collect, invariant_columns, tidied  # noqa: F401
 from lagcli.emit.slots import SlotPrinter, check_slots, slots
@@ -122,7 +122,8 @@ def reduced_outputs(d: Derivation) -> tuple[Outputs, Reduced]:
     746); on a bicycle-sized system the expansions share fewer parts than the derived
     expressions do (specs/benchmark_bicycle.yaml: 2618 against 2316)."""
     derived = collect(d, tidy=False)
-    candidates = [(outputs, eliminate(outputs)) for outputs in (tidied(derived, d.model.qd), derived)]
+    optimizations = basic_optimizations()      # one memo of `tidy.factored` for both
+    candidates = [(outputs, eliminate(outputs, optimizations)) for outputs in (tidied(derived, d.model.qd), derived)]
     return min(candidates, key=lambda pair: pair[1].operation_count(GROUPS))
 
 
