@@ -1,8 +1,10 @@
 """The language-independent half of code generation: a Derivation in, the
 strings-only context of every generated function body out (`generated_context`).
 
-    outputs.collect    every expression generated code evaluates, tidied (tidy.py)
-    cse.eliminate      ONE sympy.cse over all of them: temporaries are shared
+    outputs.collect    every expression generated code evaluates
+    reduced_outputs    ONE sympy.cse over all of them (cse.eliminate), of the tidied
+                       expressions (tidy.py) or of those as derived, whichever needs
+                       fewer operations: temporaries are shared
     slots.slots        symbol -> array slot; the language's `SlotPrinter` prints
     print_block        one function body: the temporaries it needs, then its values
     function_bodies    every body, plus the matrix rows, stabilisation terms and
@@ -19,9 +21,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from lagcli.derive.result import Derivation
-from lagcli.emit.cse import CSE_OPTIMIZATIONS, Reduced, eliminate  # noqa: F401  (the pipeline's API)
+from lagcli.emit.cse import CSE_OPTIMIZATIONS, Reduced, basic_optimizations, eliminate  # noqa: F401
 from lagcli.emit.interface import Interface, interface  # noqa: F401
-from lagcli.emit.outputs import GROUPS, Outputs, collect, invariant_columns  # noqa: F401
+from lagcli.emit.outputs import GROUPS, Outputs, collect, invariant_columns, tidied  # noqa: F401
 from lagcli.emit.slots import SlotPrinter, check_slots, slots
 from lagcli.emit.tidy import tidy_expression, trigsimp_safe  # noqa: F401
 from lagcli.numerics import CONSTRAINT_TOLERANCE
@@ -100,8 +102,7 @@ def generated_context(d: Derivation, printer_class, initial=None, initial_notes=
     `function_bodies`, the `Interface` (`initial`: see `interface.interface`), the
     sizes n and m, the printer's `literal` and `imports`, and the constraint tolerance
     (lagcli.numerics). The run rules are runtime code, not context (lagcli/runtime/)."""
-    outputs = collect(d)
-    reduced = eliminate(outputs)
+    outputs, reduced = reduced_outputs(d)
     printer = printer_class(slots(d, reduced, printer_class))
     n, m = d.n, len(d.constraints)
     bodies = function_bodies(reduced, printer, outputs, n, m)
@@ -111,6 +112,19 @@ def generated_context(d: Derivation, printer_class, initial=None, initial_notes=
         literal=printer_class.literal, imports=printer.imports(),
         constraint_tolerance=printer_class.literal(CONSTRAINT_TOLERANCE),
     )
+
+
+def reduced_outputs(d: Derivation) -> tuple[Outputs, Reduced]:
+    """The expressions generated code evaluates and their one CSE: of the tidied
+    expressions or of those as derived, whichever needs fewer operations (the tidied
+    on a tie). Tidying lowers each small expression's operation count, which is what
+    small systems gain from (the 8-link pendulum: 638 operations after CSE against
+    746); on a bicycle-sized system the expansions share fewer parts than the derived
+    expressions do (specs/benchmark_bicycle.yaml: 2618 against 2316)."""
+    derived = collect(d, tidy=False)
+    optimizations = basic_optimizations()      # one memo of `tidy.factored` for both
+    candidates = [(outputs, eliminate(outputs, optimizations)) for outputs in (tidied(derived, d.model.qd), derived)]
+    return min(candidates, key=lambda pair: pair[1].operation_count(GROUPS))
 
 
 def _rows(values: tuple[str, ...], cols: int) -> tuple[tuple[str, ...], ...]:

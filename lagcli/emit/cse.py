@@ -7,10 +7,22 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import sympy as sp
+from sympy.simplify.cse_opts import sub_post, sub_pre
 
 from lagcli.emit.outputs import Outputs
+from lagcli.emit.tidy import factored
 
-CSE_OPTIMIZATIONS = "basic"   # sympy.cse's: fewer operations for N = 2 and 8 links (docs/codegen.md)
+
+def basic_optimizations() -> list:
+    """sympy.cse's 'basic' optimizations (signs normalised, common factors pulled out
+    first: fewer operations for N = 2 and 8 links, docs/codegen.md) with `tidy.factored`,
+    linear in the distinct subexpressions, in place of sympy's factor_terms, which took
+    30 s of CPU on a bicycle-sized system (1.5 s with factored)."""
+    memo: dict = {}          # shared by all expressions: they share subexpressions
+    return [(sub_pre, sub_post), (lambda expr: factored(expr, memo), None)]
+
+
+CSE_OPTIMIZATIONS = "basic"   # `basic_optimizations`; None: no preprocessing
 
 
 @dataclass(frozen=True)
@@ -43,9 +55,12 @@ class Reduced:
 
 def eliminate(outputs: Outputs, optimizations=CSE_OPTIMIZATIONS) -> Reduced:
     """ONE `sympy.cse` over every group of `outputs` (or of any object whose `groups()`
-    is {name: expressions}, e.g. the Hamiltonian module's, lagcli/emit/hamilton.py)."""
+    is {name: expressions}, e.g. the Hamiltonian module's, lagcli/emit/hamilton.py);
+    `optimizations`: "basic" (`basic_optimizations`), None or a list for sympy.cse."""
     groups = outputs.groups()
     flat = [sp.sympify(e) for name in groups for e in groups[name]]
+    if optimizations == "basic":
+        optimizations = basic_optimizations()
     temporaries, reduced = sp.cse(flat, symbols=sp.numbered_symbols("x", cls=sp.Dummy),
                                   optimizations=optimizations, order="canonical")
     result, start = {}, 0

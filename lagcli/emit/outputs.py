@@ -1,6 +1,6 @@
 """Every expression a generated module evaluates, grouped by use (`Outputs`).
 
-`collect(d)` gathers them from a `Derivation` and tidies each small one
+`collect(d)` gathers them from a `Derivation`, `tidied` tidies each small one
 (`lagcli.emit.tidy`); the groups are then reduced by one CSE (`lagcli.emit.cse`).
 """
 from __future__ import annotations
@@ -47,14 +47,16 @@ GROUPS = ("mass_matrix", "forcing", "constraint_matrix", "constraint_bias",
 
 def collect(d: Derivation, tidy: bool = True) -> Outputs:
     """The expressions of `d` that generated code evaluates (see `Outputs`), each small
-    one simplified when that lowers its operation count (`tidy_expression`)."""
+    one simplified when that lowers its operation count (`tidied`) unless `tidy` is False."""
     outputs = _collect(d)
-    if not tidy:
-        return outputs
-    cache: dict = {}
-    return replace(outputs, **{name: tuple(tidy_expression(e, d.model.qd, cache) for e in exprs)
-                               for name, exprs in outputs.groups().items()})
+    return tidied(outputs, d.model.qd) if tidy else outputs
 
+
+def tidied(outputs: Outputs, velocities) -> Outputs:
+    """`outputs` with every expression through `tidy_expression` (each distinct one once)."""
+    cache: dict = {}
+    return replace(outputs, **{name: tuple(tidy_expression(e, velocities, cache) for e in exprs)
+                               for name, exprs in outputs.groups().items()})
 
 
 def _collect(d: Derivation) -> Outputs:

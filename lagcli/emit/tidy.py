@@ -13,7 +13,8 @@ import sympy as sp
 from sympy.core.mul import _keep_coeff
 
 TIDY_MAX_OPS = 80             # rewrite trigonometry only in expressions this small (bench/codegen.py)
-COLLECT_MAX_OPS = 5000        # expand + collect only expressions this small
+COLLECT_MAX_NODES = 5000      # expand + collect only expressions this small (tree nodes)
+COLLECT_MAX_TERMS = 500       # ... and with at most this many terms expanded (`expanded_terms`)
 MAX_POWER = 6                 # (a + b)**1000 counts as small, but expanding it would not be
 MAX_EXPANDED_TERMS = 20000    # expand only what has at most this many terms once expanded
 TRIGSIMP_FUNCTIONS = (sp.sin, sp.cos)   # rewrite only expressions calling nothing else
@@ -21,25 +22,27 @@ PRINTABLE = (sp.sin, sp.cos, sp.tan, sp.asin, sp.acos, sp.atan, sp.atan2, sp.sin
              sp.tanh, sp.exp, sp.log, sp.Abs, sp.sign, sp.Min, sp.Max)
 
 
-
 def tidy_expression(expr, velocities=(), cache: dict | None = None) -> sp.Expr:
     """The cheapest (sympy.count_ops) of: expr; expr expanded and collected over the
-    `velocities`, each coefficient collected over its function calls (the physical
-    grouping of F = sum c_jk q'_j q'_k + c_j q'_j + c_0); and `display_form` (the
-    reports' linear-time exact rewritings: sin^2 + cos^2 = 1, angle sums, common
+    `velocities`, each coefficient collected over its function calls (`collected`: the
+    physical grouping of F = sum c_jk q'_j q'_k + c_j q'_j + c_0); and `display_form`
+    (the reports' linear-time exact rewritings: sin^2 + cos^2 = 1, angle sums, common
     factors) of the better of these two when it has at most TIDY_MAX_OPS operations
-    and calls only sin and cos (`trigsimp_safe`). sympy's trigsimp found a little more
-    but took ~1 s per expression, most of `generate`'s time. A candidate may not call a function expr does
-    not already call: a new cos(q1 - q2) costs more at run time than the
-    multiplications it saves. The steps are bounded by operation counts only, and
-    expressions with high powers or big expansions are left alone."""
+    and calls only sin and cos (`trigsimp_safe`). A candidate may not call a function
+    expr does not already call: a new cos(q1 - q2) costs more at run time than the
+    multiplications it saves. Every step is bounded by sizes only: expressions over
+    COLLECT_MAX_NODES tree nodes, with high powers or over COLLECT_MAX_TERMS terms
+    expanded are left as they are (expanding costs time in proportion to the terms,
+    and the CSE shares the parts of big expressions better than it shares the terms
+    of their expansions)."""
     expr = sp.sympify(expr)
     if cache is not None and expr in cache:
         return cache[expr]
     result = expr
-    if not expr.is_Atom and expandable(expr) and sp.count_ops(expr) <= COLLECT_MAX_OPS:
+    if not expr.is_Atom and small(expr, COLLECT_MAX_NODES) and not has_high_power(expr) \
+            and expanded_terms(expr) <= COLLECT_MAX_TERMS:
         calls = expr.atoms(sp.Function)
-        result = _cheaper(expr, _collected(expr, list(velocities)), calls)
+        result = _cheaper(expr, collected(expr, velocities), calls)
         if sp.count_ops(result) <= TIDY_MAX_OPS and trigsimp_safe(result):
             result = _cheaper(result, display_form(result), calls)
     if cache is not None:
@@ -88,12 +91,113 @@ def expanded_terms(expr) -> int:
     return 1
 
 
-def _collected(expr, velocities: list) -> sp.Expr:
-    def by_calls(coefficient):
-        calls = sorted(coefficient.atoms(sp.Function), key=sp.default_sort_key)
-        return sp.factor_terms(sp.collect(coefficient, calls))
+def collected(expr, velocities) -> sp.Expr:
+    """expr expanded, its terms grouped by their monomial in the `velocities`, each
+    coefficient grouped by its product of function calls with common factors pulled
+    out: what `sympy.collect(expand(expr), velocities, func=lambda c:
+    factor_terms(collect(c, calls)))` gives, in one pass over the terms (sympy's
+    collect substitutes term by term, quadratic in their number)."""
+    velocities = frozenset(velocities)
+    expanded = expr if is_expanded(expr) else sp.expand(expr)
+    by_velocity = grouped_terms(expanded, lambda base: base in velocities)
+    return sp.Add(*(monomial * factored(_grouped_by_calls(sp.Add(*coefficients)))
+                    for monomial, coefficients in by_velocity.items()))
 
-    return sp.collect(sp.expand(expr), velocities, func=by_calls)
+
+def _grouped_by_calls(expr) -> sp.Expr:
+    by_call = grouped_terms(expr, lambda base: isinstance(base, sp.Function))
+    return sp.Add(*(calls * factored(sp.Add(*coefficients)) for calls, coefficients in by_call.items()))
+
+
+def grouped_terms(expr, in_key) -> dict:
+    """{key: [coefficient, ...]} of the terms of the sum expr, key the product of each
+    term's factors whose base satisfies `in_key`, coefficient the product of the others
+    (term = key * coefficient), keys in order of first appearance."""
+    groups: dict = {}
+    for term in sp.Add.make_args(expr):
+        key, rest = [], []
+        for factor in sp.Mul.make_args(term):
+            (key if in_key(factor.as_base_exp()[0]) else rest).append(factor)
+        groups.setdefault(sp.Mul(*key), []).append(sp.Mul(*rest))
+    return groups
+
+
+def factored(expr, memo: dict | None = None) -> sp.Expr:
+    """expr with the common factors of every sum pulled out, inner sums first: the
+    content (gcd of the numerators over the lcm of the denominators when no term has
+    an integer coefficient, negated when every term is negative) and the powers every
+    term has, of one sign (x**2*y + x**3 -> x**2*(x + y), y/x + z/x**2 -> (x*y + z)/x**2).
+    What sympy's `factor_terms` gives on the sums of a mechanical system, in one pass
+    over the distinct subexpressions (`memo`; factor_terms' gcd_terms costs
+    milliseconds per sum and is the whole time of sympy.cse's 'basic' preprocessing
+    on a bicycle-sized system)."""
+    if expr.is_Atom:
+        return expr
+    memo = {} if memo is None else memo
+    found = memo.get(expr)
+    if found is None:
+        node = _distributed(expr) if expr.is_Mul else expr
+        args = tuple(factored(a, memo) for a in node.args)
+        found = node if args == node.args else node.func(*args)
+        if found.is_Add:
+            found = _common_factor_out(found)
+        memo[expr] = found
+    return found
+
+
+def _distributed(mul) -> sp.Expr:
+    """A number times one sum, unevaluated (sympy.cse writes -(b - a) as 1*-1*(b - a)),
+    with the number multiplied into the sum, as factor_terms does before it factors."""
+    factors = [f for f in mul.args if f is not sp.S.One]
+    if len(factors) == 2 and factors[0].is_Number and factors[1].is_Add:
+        return sp.Mul(*factors)
+    return mul
+
+
+def _common_factor_out(add) -> sp.Expr:
+    """content * common powers * (the sum divided by them), or `add` when nothing is common."""
+    split = []
+    for term in add.args:
+        number, rest = term.as_coeff_Mul()
+        powers: dict = {}
+        for factor in sp.Mul.make_args(rest):
+            base, exponent = factor.as_base_exp()
+            if not exponent.is_Integer:     # sqrt(x) and x share nothing (factor_terms' radical=False)
+                base, exponent = factor, sp.S.One
+            powers[base] = powers.get(base, 0) + exponent
+        split.append((number, powers))
+    common = dict(split[0][1])
+    for _, powers in split[1:]:
+        common = {base: _common_exponent(e, powers[base]) for base, e in common.items() if base in powers}
+        common = {base: e for base, e in common.items() if e != 0}
+    content = _content([number for number, _ in split])
+    if content == 1 and not common:
+        return add
+    primitive = sp.Add(*((number / content) * sp.Mul(*(b ** (e - common.get(b, 0)) for b, e in powers.items()))
+                         for number, powers in split))
+    return _keep_coeff(content, sp.Mul(*(b ** e for b, e in common.items())) * primitive, clear=True, sign=True)
+
+
+def _common_exponent(a, b):
+    """The power of a base both terms share: the smaller one when both are of one sign, else 0."""
+    if a > 0 and b > 0:
+        return min(a, b)
+    if a < 0 and b < 0:
+        return max(a, b)
+    return 0
+
+
+def _content(numbers) -> sp.Rational:
+    """The numeric content of terms with these coefficients, as sympy's factor_terms
+    (clear=False) takes it; 1 when one is not rational."""
+    if not all(n.is_Rational for n in numbers):
+        return sp.S.One
+    numerator, denominator = 0, 1
+    for number in numbers:
+        numerator = math.gcd(numerator, abs(number.p))
+        denominator = math.lcm(denominator, number.q)
+    content = sp.Rational(numerator, denominator if all(n.q != 1 for n in numbers) else 1)
+    return -content if all(n.is_negative for n in numbers) else content
 
 
 def _cheaper(current, candidate, calls) -> sp.Expr:
