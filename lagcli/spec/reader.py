@@ -153,6 +153,8 @@ def _mark_loc(name: str, mark: Any) -> Loc:
 
 
 def _yaml_problem(name: str, exc: yaml.MarkedYAMLError) -> Problem:
+    if "maximum nesting depth" in (exc.problem or ""):  # PyYAML >= 6.0.3 scans ahead past MAX_DEPTH
+        return Problem(_mark_loc(name, exc.problem_mark), "spec nested too deeply")
     message = f"invalid YAML: {exc.problem or exc.context or 'cannot parse'}"
     if exc.context and exc.problem:
         where = f" at line {exc.context_mark.line + 1}" if exc.context_mark else ""
