@@ -87,3 +87,16 @@ def test_collected_is_equal_with_one_term_per_velocity_monomial():
 def test_collected_of_a_number_or_symbol_is_itself(velocities):
     for expr in (sp.S.Zero, sp.S(3), x, u1):
         assert collected(expr, velocities) == expr
+
+
+def test_signs_normalised_is_sympys_sub_pre():
+    """cse.signs_normalised (one memo over many expressions, no sort) gives exactly the
+    expressions of sympy's own sub_pre, sums of sums and shared sums included."""
+    from lagcli.emit.cse import signs_normalised
+
+    rng = random.Random(5)
+    normalise = signs_normalised({})
+    exprs = [_nested(rng) for _ in range(40)]
+    exprs += [-(x - y) * (y - x) + (z - x) ** 2, (l1 - l2) / (m2 - m1) - (x - y - z)]
+    for expr in exprs:
+        assert sp.srepr(normalise(expr)) == sp.srepr(sub_pre(expr)), expr

@@ -25,8 +25,10 @@ from lagcli.emit.cse import CSE_OPTIMIZATIONS, Reduced, basic_optimizations, eli
 from lagcli.emit.interface import Interface, interface  # noqa: F401
 from lagcli.emit.outputs import GROUPS, Outputs, collect, invariant_columns, tidied  # noqa: F401
 from lagcli.emit.slots import SlotPrinter, check_slots, slots
-from lagcli.emit.tidy import tidy_expression, trigsimp_safe  # noqa: F401
+from lagcli.emit.tidy import small, tidy_expression, trigsimp_safe  # noqa: F401
 from lagcli.numerics import CONSTRAINT_TOLERANCE
+
+TIDY_MAX_TOTAL_NODES = 30_000   # tidy generated code's expressions only when together this small
 
 SYSTEM = ("mass_matrix", "forcing", "constraint_matrix", "constraint_bias")
 POSITION = ("constraint_velocity", "constraint_position")
@@ -119,11 +121,16 @@ def reduced_outputs(d: Derivation) -> tuple[Outputs, Reduced]:
     expressions or of those as derived, whichever needs fewer operations (the tidied
     on a tie). Tidying lowers each small expression's operation count, which is what
     small systems gain from (the 8-link pendulum: 638 operations after CSE against
-    746); on a bicycle-sized system the expansions share fewer parts than the derived
-    expressions do (specs/benchmark_bicycle.yaml: 2618 against 2316)."""
+    746); on bigger systems the expansions share fewer parts than the derived
+    expressions do (the 12-link pendulum: 1540 against 1534; specs/benchmark_bicycle.yaml:
+    2618 against 2316), so outputs of more than TIDY_MAX_TOTAL_NODES tree nodes
+    together are not tidied at all (tidying was a third of `generate` of the 20-link
+    pendulum, bench/README.md)."""
     derived = collect(d, tidy=False)
     optimizations = basic_optimizations()      # one memo of `tidy.factored` for both
-    candidates = [(outputs, eliminate(outputs, optimizations)) for outputs in (tidied(derived, d.model.qd), derived)]
+    everything = [e for exprs in derived.groups().values() for e in exprs]
+    tried = [tidied(derived, d.model.qd), derived] if small(everything, TIDY_MAX_TOTAL_NODES) else [derived]
+    candidates = [(outputs, eliminate(outputs, optimizations)) for outputs in tried]
     return min(candidates, key=lambda pair: pair[1].operation_count(GROUPS))
 
 

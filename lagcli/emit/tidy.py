@@ -215,9 +215,12 @@ DISPLAY_MAX_NODES = 400       # tidy for display only expressions this small (tr
 
 
 def small(expr, budget: int = DISPLAY_MAX_NODES) -> bool:
-    """True when expr has at most `budget` tree nodes (stops counting past it: cheap on
-    the megabyte expressions of a big system, unlike count_ops)."""
-    for count, _ in enumerate(sp.preorder_traversal(expr), start=1):
+    """True when expr (or a list of expressions, together) has at most `budget` tree
+    nodes (stops counting past it: cheap on the megabyte expressions of a big system,
+    unlike count_ops)."""
+    nodes = (node for e in expr for node in sp.preorder_traversal(e)) if isinstance(expr, list) \
+        else sp.preorder_traversal(expr)
+    for count, _ in enumerate(nodes, start=1):
         if count > budget:
             return False
     return True
