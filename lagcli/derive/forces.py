@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import sympy as sp
 
-from sympy.integrals.manualintegrate import manualintegrate
 
 from lagcli.calculus import TimeDerivative, depends_on, numerically_zero
 from lagcli.derive.dissipation import dissipative_forces
@@ -59,6 +58,8 @@ def _integrate_potential(q, Q) -> sp.Expr | None:
     bounded search, unlike `integrate`'s Risch and Meijer-G fallbacks, so the same
     forces give the same answer in the same time everywhere); None when a part has
     no closed form by those rules."""
+    from sympy.integrals.manualintegrate import manualintegrate   # only specs with Q' need it
+
     V = sp.S.Zero
     for j, qj in enumerate(q):
         remainder = sp.expand(-Q[j] - V.diff(qj))
