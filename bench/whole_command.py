@@ -119,7 +119,7 @@ def bicycle(formats, repeats: int, spec: Path) -> None:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--n", type=int, nargs="+", default=[5, 10, 20, 40])
+    parser.add_argument("--n", type=int, nargs="*", default=[5, 10, 20, 40], help="chain lengths (none: only --bicycle)")
     parser.add_argument("--formats", nargs="+", default=list(COMMANDS), choices=list(COMMANDS))
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--lagranges-max", type=int, default=10,

@@ -132,3 +132,18 @@ def test_parameters_named_like_the_report_notation_are_shown_renamed(tmp_path):
     report = json.loads(_report(spec, "--json"))
     assert set(report["parameters"]) == {"L", "M", "h", "T", "g"}     # the JSON parses back
     assert report["renamed_parameters"] == {}
+
+
+@pytest.mark.parametrize("spec, reason", [
+    ("ex18_slider_compound_pendulum", "the non-conservative forces Q' are not zero"),   # F at the tip
+    ("ex19_oscillating_support", "L depends explicitly on t"),                        # support a cos(w t)
+    ("sphere_on_turntable", "constraint 1 has a term d free of velocities"),          # the table turns
+    ("double_pendulum", None),
+])
+def test_the_report_says_why_there_is_no_jacobi_integral(spec, reason):
+    """The physical obstacle, as the lecture notes state the conditions for h."""
+    content = json.loads(_report(SPECS / f"{spec}.yaml", "--json"))
+    assert content["no_jacobi_reason"] == reason
+    assert (content["jacobi_integral"] is None) == (reason is not None)
+    if reason:
+        assert f"no Jacobi integral: {reason}" in _report(SPECS / f"{spec}.yaml")

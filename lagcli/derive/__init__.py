@@ -15,7 +15,7 @@ from lagcli.derive.energy import energies
 from lagcli.derive.forcing import forcing
 from lagcli.derive.forces import applied_generalized_forces
 from lagcli.derive.invariants import (LagrangianProbe, conserved_quantities, ignorable_coordinates,
-                                      jacobi_integral, momenta)
+                                      jacobi_integral, jacobi_obstacle, momenta)
 from lagcli.derive.result import Derivation, Equation
 from lagcli.model_types import Model
 
@@ -45,7 +45,8 @@ def derive(model: Model) -> Derivation:
 
     probe = LagrangianProbe(M, a, e.T0, e.V)
     ignorable = ignorable_coordinates(model, probe, Q_applied, rows)
-    h = jacobi_integral(model, probe, T2, e.T0, e.V, Q_applied, rows)
+    no_jacobi = jacobi_obstacle(model, probe, Q_applied, rows)
+    h = None if no_jacobi else jacobi_integral(model, T2, e.T0, e.V)
     energy = T + e.V
     energy_is_jacobi = h is not None and numerically_zero([T1 + 2 * e.T0])
     return Derivation(
@@ -61,7 +62,7 @@ def derive(model: Model) -> Derivation:
         energy=energy, ignorable=ignorable,
         conserved=conserved_quantities(model, ignorable, momenta(M, a, model.qd, ignorable, model.q), h,
                                        energy_is_jacobi),
-        jacobi_integral=h, energy_is_jacobi=energy_is_jacobi,
+        jacobi_integral=h, energy_is_jacobi=energy_is_jacobi, no_jacobi_reason=no_jacobi,
         scleronomic=_is_scleronomic(model),
     )
 

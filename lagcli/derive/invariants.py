@@ -67,19 +67,27 @@ def _zero(exprs) -> bool:
     return not exprs or numerically_zero(exprs)
 
 
-def jacobi_integral(model, probe: LagrangianProbe, T2, T0, V, Q_applied, rows) -> sp.Expr | None:
-    if not numerically_zero(list(Q_applied)):
-        return None
-    t = model.t
-    for row in rows:
-        if any(depends_on(ak, (t,)) for ak in row.a) and not numerically_zero([ak.diff(t) for ak in row.a]):
-            return None
-        if row.d != 0 and not numerically_zero([row.d]):
-            return None
-    if probe.depends_on(t):
-        return None
+def jacobi_integral(model, T2, T0, V) -> sp.Expr:
+    """h = T2 - T0 + V (at t = 0 when an explicit t cancels out of L but not of h's form);
+    conserved only when `jacobi_obstacle` finds nothing."""
     h = T2 - T0 + V
-    return h.subs(t, 0) if depends_on(h, (t,)) else h
+    return h.subs(model.t, 0) if depends_on(h, (model.t,)) else h
+
+
+def jacobi_obstacle(model, probe: LagrangianProbe, Q_applied, rows) -> str | None:
+    """Why the Jacobi integral is not conserved, in words for the reports (None: it is):
+    Q' not zero, a constraint with a time-dependent row or a d term, or L with an explicit t."""
+    if not numerically_zero(list(Q_applied)):
+        return "the non-conservative forces Q' are not zero"
+    t = model.t
+    for number, row in enumerate(rows, start=1):
+        if any(depends_on(ak, (t,)) for ak in row.a) and not numerically_zero([ak.diff(t) for ak in row.a]):
+            return f"the row a of constraint {number} depends on t"
+        if row.d != 0 and not numerically_zero([row.d]):
+            return f"constraint {number} has a term d free of velocities"
+    if probe.depends_on(t):
+        return "L depends explicitly on t"
+    return None
 
 
 def conserved_quantities(model, ignorable, momenta, h, energy_is_jacobi):

@@ -86,6 +86,7 @@ class Derivation:
     jacobi_integral: sp.Expr | None
     energy_is_jacobi: bool
     scleronomic: bool
+    no_jacobi_reason: str | None = None      # why there is no Jacobi integral, in words
 
     # Whether Q' has a potential is for reports only: searched on first use (it may integrate).
     @functools.cached_property

@@ -196,7 +196,19 @@ def _context(d: Derivation, simplify: bool) -> dict:
                   for named in r["named_quantities"]],
         "jacobi": r["jacobi_integral"] is not None,
         "energy_is_jacobi": r["energy_is_jacobi"],
+        "no_jacobi_reason": _math_words(r["no_jacobi_reason"] or ""),
     }
+
+
+# The symbols in lagcli's own sentences (invariants.jacobi_obstacle), set as math.
+_MATH_WORDS = {"Q'": "$Q'$", "row a": "row $a$", "term d": "term $d$", "L depends": "$L$ depends",
+               "on t": "on $t$"}
+
+
+def _math_words(sentence: str) -> str:
+    for word, tex in _MATH_WORDS.items():
+        sentence = sentence.replace(word, tex)
+    return sentence
 
 
 def _energy_rows(r: dict) -> list[str]:

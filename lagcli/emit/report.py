@@ -178,6 +178,7 @@ def _content(d: Derivation, shown: Display, p, terms) -> dict:
                                  for c in d.conserved],
         "jacobi_integral": None if d.jacobi_integral is None else terms(shown.jacobi),
         "energy_is_jacobi": energy_is_jacobi,
+        "no_jacobi_reason": d.no_jacobi_reason,
     }
 
 
@@ -185,7 +186,7 @@ def check_content(d: Derivation) -> dict:
     """The one-screen summary of `lagcli check`, as plain strings and numbers."""
     m = d.model
     if d.jacobi_integral is None:
-        jacobi = "does not exist"
+        jacobi = f"does not exist ({d.no_jacobi_reason})"
     else:
         jacobi = "exists (= total energy)" if d.energy_is_jacobi else "exists (differs from the total energy)"
     return {
