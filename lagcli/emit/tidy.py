@@ -409,9 +409,31 @@ def _eliminate_square(expr, drop, keep) -> sp.Expr:
     if not powers:
         return expr
     table = {p: drop ** (int(p.exp) % 2) * (1 - keep ** 2) ** (int(p.exp) // 2) for p in powers}
-    # expr is expanded: only the terms with a replaced power need expanding again
-    return sp.Add(*(sp.expand(term.xreplace(table)) if term.has(*powers) else term
-                    for term in sp.Add.make_args(expr)))
+    terms = []
+    for term in sp.Add.make_args(expr):      # expr is expanded: only terms with a power change
+        if not term.has(*powers):
+            terms.append(term)
+        else:
+            terms.extend(_binomial_terms(term, powers, keep) or sp.Add.make_args(sp.expand(term.xreplace(table))))
+    return sp.Add(*terms)
+
+
+def _binomial_terms(term, powers, keep) -> list | None:
+    """The expansion of a product `rest * drop**e` with drop**2 = 1 - keep**2, written out
+    by the binomial theorem: rest * drop**(e % 2) * C(k, i) (-keep**2)**i, i = 0..k, k = e // 2
+    (what sympy.expand gives, without its general machinery: that was most of the
+    bicycle's report). None when the power is not a plain factor of `term`."""
+    factors = sp.Mul.make_args(term)
+    found = [f for f in factors if f in powers]
+    if len(found) != 1:
+        return None
+    power = found[0]
+    rest = sp.Mul(*(f for f in factors if f is not power))
+    if rest.has(*powers):
+        return None
+    k = int(power.exp) // 2
+    base = rest * power.base ** (int(power.exp) % 2)
+    return [base * (-1) ** i * math.comb(k, i) * keep ** (2 * i) for i in range(k + 1)]
 
 
 def pull_signs(expr, memo: dict | None = None) -> sp.Expr:
