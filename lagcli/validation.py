@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import random
 
-import numpy as np
+import mpmath
 import sympy as sp
 
 from lagcli.constants import ConstantError, value_at
@@ -103,6 +103,8 @@ def _real(expr: sp.Expr, values: dict) -> float | None:
 
 
 def _matrix(matrix, values: dict) -> np.ndarray | None:
+    import numpy as np    # here, not at the top: most derives never need it (`_clearly_regular`)
+
     entries = [_real(e, values) for e in matrix]
     if any(e is None for e in entries):
         return None
@@ -139,6 +141,8 @@ def _inertia_problems(body, values: dict, dimension: int) -> list[Problem]:
 
 
 def _tensor_problems(name: str, tensor: np.ndarray, where: Loc) -> list[Problem]:
+    import numpy as np
+
     scale = max(1.0, float(np.abs(tensor).max()))
     asymmetric = [(i, j) for i in range(3) for j in range(i + 1, 3)
                   if abs(tensor[i, j] - tensor[j, i]) > TOLERANCE * scale]
@@ -200,6 +204,10 @@ def _singular_directions(derivation, values: dict) -> list[str]:
     """The coordinates along which the mass matrix, restricted to the velocities the
     constraints allow, has no inertia at `values`; [] when it is regular there (or
     cannot be evaluated: that is reported elsewhere)."""
+    if not derivation.constraints and _clearly_regular(derivation.mass_matrix, values):
+        return []
+    import numpy as np
+
     M = _matrix(derivation.mass_matrix, values)
     A = _matrix(derivation.constraint_matrix, values) if derivation.constraints else np.zeros((0, len(M)))
     if M is None or A is None:
@@ -217,7 +225,29 @@ def _singular_directions(derivation, values: dict) -> list[str]:
     return [q.name for q, b in zip(derivation.model.q, big) if b]
 
 
+def _clearly_regular(matrix, values: dict) -> bool:
+    """True when the symmetric `matrix` at `values` is positive definite with its smallest
+    eigenvalue above SINGULAR times its largest entry: M - SINGULAR*scale*I has a Cholesky
+    factor (mpmath, which sympy has loaded already: numpy's import was a tenth of a small
+    `derive`). False also when it cannot tell (then numpy's eigenvalues decide)."""
+    entries = [_real(e, values) for e in matrix]
+    if any(e is None for e in entries):
+        return False
+    n = matrix.shape[0]
+    scale = max((abs(e) for e in entries), default=0.0)
+    shifted = mpmath.fp.matrix(n, n)
+    for k, entry in enumerate(entries):
+        shifted[k // n, k % n] = entry - (SINGULAR * scale if k // n == k % n else 0.0)
+    try:
+        mpmath.fp.cholesky(shifted)
+    except (ValueError, ZeroDivisionError):
+        return False
+    return scale > 0
+
+
 def _null_space(A: np.ndarray) -> np.ndarray:
+    import numpy as np
+
     _, s, vt = np.linalg.svd(A)
     rank = int((s > SINGULAR * max(1.0, s.max(initial=0.0))).sum())
     return vt[rank:].T
