@@ -384,17 +384,27 @@ def _two_angles(term):
 def pythagorean(expr) -> sp.Expr:
     """expr (expanded) with sin(x)**2 + cos(x)**2 = 1 used for each argument x whose
     sin**2 and cos**2 both appear, in the direction (eliminating sin**2 or cos**2)
-    that leaves fewer terms (then fewer distinct powers, then fewer minus signs)."""
+    that leaves fewer terms (then fewer distinct powers, then fewer minus signs).
+    Repeated while it helps, at most once per argument: one identity can open the way
+    for another (sin(b)**2 + cos(b)**2*(sin(c)**2 + cos(c)**2) needs c, then b)."""
+    for _ in range(len(_square_arguments(expr))):
+        before = expr
+        for x in _square_arguments(expr):
+            options = [expr, _eliminate_square(expr, sp.sin(x), sp.cos(x)),
+                       _eliminate_square(expr, sp.cos(x), sp.sin(x))]
+            expr = min(options, key=_pythagorean_cost)
+        if expr == before:
+            break
+    return expr
+
+
+def _square_arguments(expr) -> list:
+    """The arguments x of which both sin(x)**k and cos(x)**l (k, l >= 2) appear in expr."""
     squares = {p.base for p in expr.atoms(sp.Pow) if isinstance(p.base, (sp.sin, sp.cos))
                and p.exp.is_Integer and p.exp >= 2}
-    arguments = sorted({f.args[0] for f in squares if f.func(f.args[0]) in squares
-                        and (sp.cos if f.func == sp.sin else sp.sin)(f.args[0]) in squares},
-                       key=sp.default_sort_key)
-    for x in arguments:
-        options = [expr, _eliminate_square(expr, sp.sin(x), sp.cos(x)),
-                   _eliminate_square(expr, sp.cos(x), sp.sin(x))]
-        expr = min(options, key=_pythagorean_cost)
-    return expr
+    return sorted({f.args[0] for f in squares if f.func(f.args[0]) in squares
+                   and (sp.cos if f.func == sp.sin else sp.sin)(f.args[0]) in squares},
+                  key=sp.default_sort_key)
 
 
 def _pythagorean_cost(expr) -> tuple[int, int, int]:
