@@ -19,7 +19,11 @@ from __future__ import annotations
 import ast
 import difflib
 import math
+import re
+import sys
 from collections.abc import Callable, Mapping
+from contextlib import contextmanager
+from dataclasses import dataclass
 
 import sympy as sp
 
@@ -35,6 +39,38 @@ MAX_LITERAL_DIGITS = 40  # digits in one numeric literal
 MAX_RESULT_NODES = 20_000  # tree size of one expression after definitions are substituted
 MAX_RESULT_DEPTH = 100     # its nesting depth (sympy recurses, and slows, with depth)
 MAX_EXACT_DIGITS = 20      # digits of a number kept exact under a fractional power
+
+
+@dataclass(frozen=True)
+class Limits:
+    """How large a text `parse` takes: a spec's expressions are untrusted and small; the
+    expressions lagcli printed itself (JSON reports, parsed back by `parse_output`) can
+    be megabytes for a bicycle-sized system."""
+
+    text: int = MAX_TEXT
+    nodes: int = MAX_NODES
+    depth: int = MAX_DEPTH
+    result_nodes: int = MAX_RESULT_NODES
+    flat_sums: bool = False     # a + b + ... counts as one level, however many terms (see `_sum`)
+
+
+SPEC_LIMITS = Limits()
+OUTPUT_LIMITS = Limits(text=50_000_000, nodes=10_000_000, depth=200, result_nodes=10_000_000, flat_sums=True)
+OUTPUT_SUM_TERMS = 20_000   # Python's own parser recurses once per term of a sum: room for this many
+
+
+_LINES = re.compile(r"[^\r\n]*(?:\r\n|\r|\n)|[^\r\n]+$")   # the lines ast numbers (no form feeds)
+
+
+@contextmanager
+def _recursion_limit(limit: int):
+    """Python's parser builds a sum of n terms as a tree n deep, recursively."""
+    old = sys.getrecursionlimit()
+    sys.setrecursionlimit(max(old, limit))
+    try:
+        yield
+    finally:
+        sys.setrecursionlimit(old)
 
 
 def _atan2(y, x):
@@ -93,28 +129,31 @@ class Scope:
         return Scope({**self.names, name: value}, self.t, self.time_derivative, self.builder)
 
 
-def parse(text: str, scope: Scope, loc: Loc, vector: bool = False) -> sp.Expr:
+def parse(text: str, scope: Scope, loc: Loc, vector: bool = False, limits: Limits = SPEC_LIMITS) -> sp.Expr:
     """Parse `text` into a sympy expression using only names in `scope` (a vector
-    expression, lagcli/vectors.py's `Vector`, when `vector` is true)."""
-    if len(text) > MAX_TEXT:
-        _fail(loc, f"expression is too large ({len(text)} characters, at most {MAX_TEXT})")
+    expression, lagcli/vectors.py's `Vector`, when `vector` is true), refusing a text
+    beyond `limits`."""
+    if len(text) > limits.text:
+        _fail(loc, f"expression is too large ({len(text)} characters, at most {limits.text})")
     # `^` is a power, as in most maths notations; Python's ^ would bind looser than `*`.
     source = text.replace("^", "**").strip()
     if not source:
         _fail(loc, "empty expression")
     try:
-        tree = ast.parse(source, mode="eval")
+        with _recursion_limit(OUTPUT_SUM_TERMS if limits.flat_sums else 0):
+            tree = ast.parse(source, mode="eval")
     except SyntaxError as exc:
         _fail(loc, f"invalid expression {text!r}: {exc.msg}"
                    + (f" at column {exc.offset}" if exc.offset else ""), expression_syntax_hint(text))
     except (RecursionError, MemoryError, ValueError):
         _fail(loc, f"expression is too deeply nested or too large: {_short(text)!r}")
-    _check_size(tree, text, loc)
+    _check_size(tree, text, loc, limits)
     builder = scope.builder(scope, loc, text)
+    builder.flat_sums = limits.flat_sums
     value = builder.finish(builder.build(tree.body), vector)
     for part in getattr(value, "components", (value,)):
-        if _tree_size_exceeds(part, MAX_RESULT_NODES):
-            _fail(loc, f"expression is too large once names are substituted (more than {MAX_RESULT_NODES} "
+        if _tree_size_exceeds(part, limits.result_nodes):
+            _fail(loc, f"expression is too large once names are substituted (more than {limits.result_nodes} "
                        "terms); split it or simplify the definitions it uses")
         if part.has(sp.I, sp.zoo, sp.nan, sp.oo):
             _fail(loc, f"{_short(text)!r} is complex or infinite; expressions must be real")
@@ -141,21 +180,33 @@ def _tree_size_exceeds(expr: sp.Expr, limit: int) -> bool:
     return False
 
 
-def _check_size(tree: ast.AST, text: str, loc: Loc) -> None:
+def _check_size(tree: ast.AST, text: str, loc: Loc, limits: Limits) -> None:
     count = 0
     stack = [(tree, 0)]
     while stack:
         node, depth = stack.pop()
         count += 1
-        if count > MAX_NODES:
-            _fail(loc, f"expression is too large (more than {MAX_NODES} terms)")
-        if depth > MAX_DEPTH:
-            _fail(loc, f"expression is nested too deeply (more than {MAX_DEPTH} levels): {_short(text)!r}")
-        stack.extend((child, depth + 1) for child in ast.iter_child_nodes(node))
+        if count > limits.nodes:
+            _fail(loc, f"expression is too large (more than {limits.nodes} terms)")
+        if depth > limits.depth:
+            _fail(loc, f"expression is nested too deeply (more than {limits.depth} levels): {_short(text)!r}")
+        stack.extend((child, depth if limits.flat_sums and _continues_sum(node, child) else depth + 1)
+                     for child in ast.iter_child_nodes(node))
+
+
+def _is_sum(node: ast.AST) -> bool:
+    return isinstance(node, ast.BinOp) and isinstance(node.op, (ast.Add, ast.Sub))
+
+
+def _continues_sum(node: ast.AST, child: ast.AST) -> bool:
+    """child is the rest of the sum node: a + b + c is ((a + b) + c) in Python's tree."""
+    return _is_sum(node) and child is node.left and _is_sum(child)
 
 
 class _Builder:
     """Walks a parsed tree, accepting only whitelisted nodes, and builds sympy objects."""
+
+    flat_sums = False     # build a + b + ... without recursing down it (`Limits.flat_sums`)
 
     def __init__(self, scope: Scope, loc: Loc, text: str):
         self.scope, self.loc, self.text = scope, loc, text
@@ -166,6 +217,21 @@ class _Builder:
 
     def fail(self, message: str, hint: str = "") -> None:
         raise SpecError(Problem(self.loc, f"in {_short(self.text)!r}: {message}", hint))
+
+    def segment(self, node: ast.AST) -> str | None:
+        """The source text of `node`, as `ast.get_source_segment` gives it, from lines split
+        once (get_source_segment splits the whole text at every call: quadratic in a
+        report's long expressions)."""
+        if not hasattr(self, "_lines"):
+            self._lines = [line.encode() for line in _LINES.findall(self.source)]
+        if getattr(node, "end_lineno", None) is None:
+            return None
+        first, last = node.lineno - 1, node.end_lineno - 1
+        if first == last:
+            return self._lines[first][node.col_offset:node.end_col_offset].decode()
+        parts = [self._lines[first][node.col_offset:], *self._lines[first + 1:last],
+                 self._lines[last][:node.end_col_offset]]
+        return b"".join(parts).decode()
 
     def scalar(self, node: ast.AST) -> sp.Expr:
         """An operand that must be a scalar (every operand here; vectors.py checks it)."""
@@ -236,7 +302,7 @@ class _Builder:
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             kind = "strings" if isinstance(value, (str, bytes)) else f"{type(value).__name__} literals"
             self.fail(f"{kind} are not allowed in expressions")
-        literal = ast.get_source_segment(self.source, node) or repr(value)
+        literal = self.segment(node) or repr(value)
         if sum(c.isdigit() for c in literal) > MAX_LITERAL_DIGITS:
             self.fail(f"numeric literal {literal[:20]}... is too large")
         if isinstance(value, int):
@@ -273,7 +339,21 @@ class _Builder:
         self.fail(f"operator '{type(op).__name__}' is not allowed")
 
     def _BinOp(self, node: ast.BinOp) -> sp.Expr:
+        if self.flat_sums and _is_sum(node):
+            return self._sum(node)
         return self.binary(node.op, self.scalar(node.left), self.scalar(node.right))
+
+    def _sum(self, node: ast.BinOp) -> sp.Expr:
+        """a + b - c + ...: Python's tree nests a sum of n terms n deep; walked down in a
+        loop and added at once (a report's sum can have thousands of terms; adding them
+        one by one costs n^2)."""
+        top, terms = node, []
+        while _is_sum(node):
+            right = self.scalar(node.right)
+            terms.append(-right if isinstance(node.op, ast.Sub) else right)
+            node = node.left
+        terms.append(self.build(node))
+        return self.guarded(sp.Add(*reversed(terms)), top)
 
     def binary(self, op_node: ast.operator, left: sp.Expr, right: sp.Expr) -> sp.Expr:
         if isinstance(op_node, ast.Pow):

@@ -59,6 +59,6 @@ def output_names(model, multipliers=()) -> dict:
 def parse_output(text: str, model, multipliers=()) -> sp.Expr:
     """Parse an expression lagcli printed (JSON/text) back into sympy, with lagcli's own parser."""
     from lagcli.errors import Loc
-    from lagcli.expr import Scope, parse
+    from lagcli.expr import OUTPUT_LIMITS, Scope, parse
 
-    return parse(text, Scope(output_names(model, multipliers), model.t), Loc("<output>"))
+    return parse(text, Scope(output_names(model, multipliers), model.t), Loc("<output>"), limits=OUTPUT_LIMITS)
