@@ -55,6 +55,23 @@ simulate: {t_end: 0.05, dt: 0.01}
 """
 
 
+# A pushed pendulum whose input has a default that is not 0 (cart_pole's F defaults to 0).
+INPUT_SPEC = """\
+name: pushed_pendulum
+coordinates: [th]
+parameters: {m: 1.0, l: 0.5, g: 9.81}
+inputs:
+  tau: {value: 0.3, description: torque at the pivot}
+gravity: [0, -g]
+particles:
+  P: {mass: m, position: [l*sin(th), -l*cos(th)]}
+forces:
+  - {at: P, force: [tau*cos(th)/l, tau*sin(th)/l]}
+initial: {th: 0.2}
+simulate: {t_end: 0.2, dt: 0.05}
+"""
+
+
 def cargo(args, cwd: Path, target: Path) -> subprocess.CompletedProcess:
     env = {**os.environ, "CARGO_TARGET_DIR": str(target), "CARGO_TERM_COLOR": "never"}
     env["PATH"] = str(Path(CARGO).parent) + os.pathsep + env.get("PATH", "")
@@ -84,6 +101,9 @@ def binaries(tmp_path_factory):
     keyword = folder / "keyword.yaml"
     keyword.write_text(KEYWORD_SPEC)
     specs["keyword"] = keyword
+    pushed = folder / "pushed_pendulum.yaml"
+    pushed.write_text(INPUT_SPEC)
+    specs["pushed_pendulum"] = pushed
     specs["all_functions"] = ALL_FUNCTIONS
     return build_workspace(specs, folder / "ws")
 
@@ -96,8 +116,8 @@ def run(binary: Path, *args: str, stdin: str = "") -> subprocess.CompletedProces
 def test_rhs_matches_engine(spec, binaries, derived, rng):
     d = derived(str(spec))
     cases = [c for c in random_inputs(d, rng, 6) if c["alpha"] == 0 and c["beta"] == 0]
-    for case in cases:        # the example binary holds the inputs (spec `inputs:`) at 0
-        case["u"] = [0.0] * len(d.model.inputs)
+    for case in cases:        # --rhs reads t, y, p: the inputs (spec `inputs:`) keep their defaults
+        case["u"] = [float(u.value) for u in d.model.inputs]
     lines = "".join(" ".join(repr(float(v)) for v in [c["t"], *c["y"], *c["p"]]) + "\n" for c in cases)
     done = run(binaries[spec.stem], "--rhs", stdin=lines)
     assert done.returncode == 0, done.stderr
@@ -130,6 +150,27 @@ def test_example_csv_matches_simulate(spec, binaries):
     assert done.returncode == 0, done.stderr
     header, rows = parse_csv(done.stdout)
     assert_rows_agree(header, rows, lagcli.load(spec).simulate(t_end=SIM_T_END), CSV_TOL, spec.stem)
+
+
+@pytest.mark.parametrize("sets", [(), ("tau=-1.25",), ("tau=2", "m=1.5")], ids=["default", "set", "set-both"])
+def test_example_takes_input_defaults_and_set(sets, binaries, tmp_path):
+    """Inputs start at the spec's defaults and `--set NAME=VALUE` holds one, as in
+    `lagcli simulate` (the engine's run, an independent integration of the same spec)."""
+    import lagcli
+
+    args = [arg for item in sets for arg in ("--set", item)]
+    done = run(binaries["pushed_pendulum"], *args)
+    assert done.returncode == 0, done.stderr
+    header, rows = parse_csv(done.stdout)
+    values = dict(item.split("=") for item in sets)
+    inputs = {k: float(v) for k, v in values.items() if k == "tau"}
+    parameters = {k: float(v) for k, v in values.items() if k != "tau"}
+    spec = tmp_path / "pushed_pendulum.yaml"
+    spec.write_text(INPUT_SPEC)
+    expected = lagcli.load(spec).simulate(inputs=inputs, parameters=parameters)
+    assert_rows_agree(header, rows, expected, CSV_TOL, f"pushed pendulum {sets}")
+    still = lagcli.load(spec).simulate(inputs={"tau": 0.0}, parameters=parameters)
+    assert np.max(np.abs(still.data[-1] - rows[-1])) > 1e-4, "the input must move the pendulum"
 
 
 def test_keyword_names_and_escaped_text(binaries):

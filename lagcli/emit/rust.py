@@ -125,6 +125,7 @@ def rust_context(d: Derivation, initial=None, initial_notes=()) -> dict:
     names = i.state + tuple(p for p, _ in i.parameters) + i.multipliers + i.invariants
     return dict(context, crate=crate_name(d.model.name), settings=layout.settings,
                 inputs=tuple(x.name for x in layout.inputs),
+                input_defaults=tuple(context["literal"](x.default) for x in layout.inputs),
                 nsys=context["n"] + context["m"],
                 header=("t",) + i.state + i.multipliers + i.invariants,
                 fields=identifiers(names, RESERVED, "Rust"),

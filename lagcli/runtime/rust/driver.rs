@@ -5,6 +5,8 @@
 //!
 //!     <name> [--t-end T] [--dt DT] [--method RK45|DOP853] [--rtol R] [--atol A]
 //!            [--set NAME=VALUE]... [--init NAME=VALUE]... [--baumgarte ALPHA BETA]
+//!                               (--set: a parameter, or an input held at VALUE; inputs
+//!                               not set keep the spec's defaults, as in the C driver)
 //!     <name> --rhs              read lines "t y... p..." on stdin, print dy/dt per line
 //!     <name> --bench-rhs N      the same states: N right-hand-side calls, ns per call on stderr
 //!
@@ -57,6 +59,7 @@ pub struct Model {
     pub parameter_names: &'static [&'static str],
     pub parameter_defaults: &'static [f64],
     pub input_names: &'static [&'static str],
+    pub input_defaults: &'static [f64],
     pub multiplier_names: &'static [&'static str],
     pub invariant_names: &'static [&'static str],
     pub residual_column: Option<usize>,
@@ -80,6 +83,7 @@ struct Settings {
     alpha: f64,
     beta: f64,
     p: Vec<f64>,
+    u: Vec<f64>,
     y0: Vec<f64>,
     mode: Mode,
 }
@@ -136,7 +140,8 @@ fn parse(model: &Model, args: &[String]) -> Result<Settings, String> {
         t_end: model.t_end, dt: model.dt,
         method: ode::Method::from_name(model.method).unwrap_or(ode::Method::Dop853),
         rtol: model.rtol, atol: model.atol, alpha: model.baumgarte[0], beta: model.baumgarte[1],
-        p: model.parameter_defaults.to_vec(), y0: model.initial_state.to_vec(), mode: Mode::Simulate,
+        p: model.parameter_defaults.to_vec(), u: model.input_defaults.to_vec(),
+        y0: model.initial_state.to_vec(), mode: Mode::Simulate,
     };
     let mut i = 1;
     while i < args.len() {
@@ -164,7 +169,10 @@ fn parse(model: &Model, args: &[String]) -> Result<Settings, String> {
             "--atol" => s.atol = positive("--atol")?,
             "--method" => s.method = ode::Method::from_name(&value)
                 .ok_or("--method: the Rust driver implements RK45 and DOP853")?,
-            "--set" => assign("--set", &value, model.parameter_names, "parameter", &mut s.p)?,
+            "--set" if model.input_names.iter().any(|n| value.split_once('=').map_or(false, |(name, _)| name == *n)) =>
+                assign("--set", &value, model.input_names, "input", &mut s.u)?,
+            "--set" => assign("--set", &value, model.parameter_names,
+                              if model.input_names.is_empty() { "parameter" } else { "parameter or input" }, &mut s.p)?,
             "--init" => assign("--init", &value, model.state_names, "coordinate or velocity", &mut s.y0)?,
             "--rhs" => s.mode = Mode::Rhs,
             "--bench-rhs" => s.mode = Mode::Bench(number(&value).filter(|v| *v >= 1.0 && *v <= 1e9)
@@ -228,10 +236,10 @@ fn trim_zeros(text: &str) -> &str {
 
 fn simulate(model: &Model, s: &Settings) -> i32 {
     let (nlambda, ninv) = (model.multiplier_names.len(), model.invariant_names.len());
-    let u = vec![0.0; model.input_names.len()];
+    let u = s.u.as_slice();
     let (mut dydt, mut lambda, mut inv) = (vec![0.0; s.y0.len()], vec![0.0; nlambda], vec![0.0; ninv]);
     if let Some(column) = model.residual_column {
-        let _ = (model.invariants)(0.0, &s.y0, &s.p, &u, &mut inv);
+        let _ = (model.invariants)(0.0, &s.y0, &s.p, u, &mut inv);
         if !(inv[column] <= CONSTRAINT_TOLERANCE) {
             eprintln!("warning: the initial state violates the constraints: constraint_residual = {:.3e} \
                        (more than {:e}); integrating it as given", inv[column], CONSTRAINT_TOLERANCE);
@@ -244,11 +252,11 @@ fn simulate(model: &Model, s: &Settings) -> i32 {
     let _ = writeln!(out, "{}", header.join(","));
     let mut failure: Option<(f64, ModelError)> = None;
     let mut row = |t: f64, y: &[f64]| -> bool {
-        if let Err(e) = (model.rhs_stabilized)(t, y, &s.p, &u, s.alpha, s.beta, &mut dydt, &mut lambda) {
+        if let Err(e) = (model.rhs_stabilized)(t, y, &s.p, u, s.alpha, s.beta, &mut dydt, &mut lambda) {
             failure = Some((t, e));
             return false;
         }
-        let _ = (model.invariants)(t, y, &s.p, &u, &mut inv); // non-finite values are printed as such
+        let _ = (model.invariants)(t, y, &s.p, u, &mut inv); // non-finite values are printed as such
         let values: Vec<String> = std::iter::once(t).chain(y.iter().copied()).chain(lambda.iter().copied())
             .chain(inv.iter().copied()).map(g17).collect();
         writeln!(out, "{}", values.join(",")).is_ok()
@@ -261,7 +269,7 @@ fn simulate(model: &Model, s: &Settings) -> i32 {
     let mut rhs_failure: Option<(f64, ModelError)> = None;
     let mut stage_lambda = vec![0.0; nlambda];
     let rhs = |t: f64, y: &[f64], d: &mut [f64]| -> bool {
-        match (model.rhs_stabilized)(t, y, &s.p, &u, s.alpha, s.beta, d, &mut stage_lambda) {
+        match (model.rhs_stabilized)(t, y, &s.p, u, s.alpha, s.beta, d, &mut stage_lambda) {
             Ok(()) => true,
             Err(e) => {
                 rhs_failure = Some((t, e));
@@ -297,7 +305,7 @@ fn fail(t: f64, reason: &str) -> i32 {
 /// stdin; --bench-rhs N: N calls cycling over those states, ns per call on stderr.
 fn evaluate(model: &Model, bench: Option<u64>) -> i32 {
     let (nstate, nparam) = (model.state_names.len(), model.parameter_names.len());
-    let u = vec![0.0; model.input_names.len()];
+    let u = model.input_defaults; // --rhs reads t, y, p: the inputs keep their defaults
     let mut points = Vec::new();
     for (k, line) in std::io::stdin().lock().lines().enumerate() {
         let line = line.unwrap_or_default();
@@ -322,7 +330,7 @@ fn evaluate(model: &Model, bench: Option<u64>) -> i32 {
         let start = std::time::Instant::now();
         for k in 0..calls as usize {
             let v = &points[k % points.len()];
-            let _ = (model.rhs_stabilized)(v[0], &v[1..1 + nstate], &v[1 + nstate..], &u, 0.0, 0.0, &mut dydt, &mut lambda);
+            let _ = (model.rhs_stabilized)(v[0], &v[1..1 + nstate], &v[1 + nstate..], u, 0.0, 0.0, &mut dydt, &mut lambda);
             sink += dydt[nstate - 1];
         }
         let ns = start.elapsed().as_secs_f64() * 1e9 / calls as f64;
@@ -332,7 +340,7 @@ fn evaluate(model: &Model, bench: Option<u64>) -> i32 {
     let stdout = std::io::stdout();
     let mut out = BufWriter::new(stdout.lock());
     for v in &points {
-        let line = match (model.rhs_stabilized)(v[0], &v[1..1 + nstate], &v[1 + nstate..], &u, 0.0, 0.0, &mut dydt, &mut lambda) {
+        let line = match (model.rhs_stabilized)(v[0], &v[1..1 + nstate], &v[1 + nstate..], u, 0.0, 0.0, &mut dydt, &mut lambda) {
             Ok(()) => dydt.iter().map(|x| format!("{:e}", x)).collect::<Vec<_>>().join(" "),
             Err(e) => format!("error: {}", e.message()),
         };

@@ -35,6 +35,8 @@ pub const STATE_NAMES: [&str; NSTATE] = ["theta1", "theta2", "theta1_dot", "thet
 pub const PARAMETER_NAMES: [&str; NPARAM] = ["m1", "m2", "l1", "l2", "g"];
 pub const PARAMETER_DEFAULTS: [f64; NPARAM] = [1.0, 1.0, 1.0, 1.0, 9.81];
 pub const INPUT_NAMES: [&str; NINPUT] = [];
+/// The inputs' values when a run does not set them (the spec's `inputs:` defaults).
+pub const INPUT_DEFAULTS: [f64; NINPUT] = [];
 pub const MULTIPLIER_NAMES: [&str; NLAMBDA] = [];
 pub const INVARIANT_NAMES: [&str; NINV] = ["energy", "jacobi"];
 /// The default initial state, consistent with the constraints.
@@ -261,6 +263,7 @@ pub static MODEL: driver::Model = driver::Model {
     parameter_names: &PARAMETER_NAMES,
     parameter_defaults: &PARAMETER_DEFAULTS,
     input_names: &INPUT_NAMES,
+    input_defaults: &INPUT_DEFAULTS,
     multiplier_names: &MULTIPLIER_NAMES,
     invariant_names: &INVARIANT_NAMES,
     residual_column: None,

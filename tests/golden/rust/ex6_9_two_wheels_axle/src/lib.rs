@@ -35,6 +35,8 @@ pub const STATE_NAMES: [&str; NSTATE] = ["x", "y", "phi", "x_dot", "y_dot", "phi
 pub const PARAMETER_NAMES: [&str; NPARAM] = ["m", "l"];
 pub const PARAMETER_DEFAULTS: [f64; NPARAM] = [1.0, 0.5];
 pub const INPUT_NAMES: [&str; NINPUT] = [];
+/// The inputs' values when a run does not set them (the spec's `inputs:` defaults).
+pub const INPUT_DEFAULTS: [f64; NINPUT] = [];
 pub const MULTIPLIER_NAMES: [&str; NLAMBDA] = ["lambda_1"];
 pub const INVARIANT_NAMES: [&str; NINV] = ["energy", "jacobi", "p_phi", "constraint_residual"];
 /// The default initial state, consistent with the constraints.
@@ -265,6 +267,7 @@ pub static MODEL: driver::Model = driver::Model {
     parameter_names: &PARAMETER_NAMES,
     parameter_defaults: &PARAMETER_DEFAULTS,
     input_names: &INPUT_NAMES,
+    input_defaults: &INPUT_DEFAULTS,
     multiplier_names: &MULTIPLIER_NAMES,
     invariant_names: &INVARIANT_NAMES,
     residual_column: Some(3),
