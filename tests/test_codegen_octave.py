@@ -7,7 +7,10 @@ All specs run in ONE octave process (octave starts slowly):
   solved independently with mpmath, to 1e-12 relative (the reference of
   test_codegen_python.py), the Baumgarte-stabilised multipliers included;
 - the script `<name>_run` (ode45) writes the CSV of `lagcli simulate`: the same header
-  and rows agreeing to 1e-6 (relative to 1 + |value|) over a short span;
+  and rows agreeing to 1e-6 (relative to 1 + |value|) over the spec's whole time span
+  (10 s for most), both at the spec's tolerances; where those tolerances themselves
+  allow more than 1e-6 of difference between two correct integrators (TIGHTER), both
+  run at rtol 1e-11, atol 1e-13 instead;
 - the text is MATLAB as well as Octave: no Octave-only syntax (`#` comments, `!=`, `!`,
   `++`, `+=`, `endfunction`, `printf`, double-quoted strings);
 - names that are MATLAB keywords get a trailing underscore in `<name>_info`, and spec
@@ -31,8 +34,12 @@ from test_codegen_python import SPEC_FILES, assert_close, random_inputs, referen
 from test_codegen_rust import assert_rows_agree, parse_csv
 
 OCTAVE = shutil.which("octave-cli")
-SIM_T_END = 0.5
 CSV_TOL = 1e-6
+# Specs whose own tolerances do not pin the trajectory to 1e-6 over their span: the bead
+# on the hoop passes near its unstable top, and at rtol 1e-9 lagcli's DOP853 differs from
+# itself at rtol 1e-12 by 5e-7 over 10 s, ode45 by 1.5e-6: a property of the motion and
+# the tolerance, not of the code, so both integrate it tighter.
+TIGHTER = {"bead_on_spinning_hoop": {"rtol": 1e-11, "atol": 1e-13}}
 
 pytestmark = pytest.mark.skipif(OCTAVE is None, reason="no octave-cli (Debian package `octave`)")
 
@@ -83,9 +90,15 @@ def run_all(specs: dict[str, Path], folder: Path, cases: dict) -> subprocess.Com
                          f"{case['alpha']!r}, {case['beta']!r});")
             lines.append("fprintf(fid, '%.17g ', [dydt; lambda]); fprintf(fid, '\\n');")
         lines.append("fclose(fid);")
-        lines.append(f"options = {{'t_end', {SIM_T_END}}}; csv_file = '{folder / key / 'run.csv'}'; {name}_run;")
+        lines.append(f"options = {{{run_options(key)}}}; csv_file = '{folder / key / 'run.csv'}'; {name}_run;")
         lines.append(f"rmpath('{folder / key}'); clear options csv_file;")
     return octave("\n".join(lines), folder)
+
+
+def run_options(key: str, t_end: float | None = None) -> str:
+    """The run script's `options` cell: the spec's own span unless `t_end`, TIGHTER's tolerances."""
+    pairs = {**({"t_end": t_end} if t_end is not None else {}), **TIGHTER.get(key, {})}
+    return ", ".join(f"'{name}', {value!r}" for name, value in pairs.items())
 
 
 @pytest.fixture(scope="module")
@@ -126,7 +139,8 @@ def test_run_script_csv_matches_simulate(spec, results):
 
     folder, _ = results
     header, rows = parse_csv((folder / spec.stem / "run.csv").read_text())
-    assert_rows_agree(header, rows, lagcli.load(spec).simulate(t_end=SIM_T_END), CSV_TOL, spec.stem)
+    expected = lagcli.load(spec).simulate(**TIGHTER.get(spec.stem, {}))
+    assert_rows_agree(header, rows, expected, CSV_TOL, spec.stem)
 
 
 @pytest.mark.parametrize("spec", DEFAULT_SPECS, ids=lambda p: p.stem)
@@ -163,7 +177,7 @@ def test_octave_string_escaping(tmp_path):
 
 
 @pytest.mark.slow
-@pytest.mark.timeout(3600)      # deriving and generating the bicycle takes minutes
+@pytest.mark.timeout(600)       # the bicycle: ~5 s to derive, generate and run (a margin for a loaded machine)
 @pytest.mark.parametrize("spec", [p for p in SPEC_FILES if p.stem in HEAVY_SPECS], ids=lambda p: p.stem)
 def test_heavy_spec(spec, tmp_path, derived):
     import lagcli
@@ -173,4 +187,4 @@ def test_heavy_spec(spec, tmp_path, derived):
     assert done.returncode == 0, done.stderr
     check_rhs(derived(spec.stem), cases, (tmp_path / spec.stem / "rhs.txt").read_text(), spec.stem)
     header, rows = parse_csv((tmp_path / spec.stem / "run.csv").read_text())
-    assert_rows_agree(header, rows, lagcli.load(spec).simulate(t_end=SIM_T_END), CSV_TOL, spec.stem)
+    assert_rows_agree(header, rows, lagcli.load(spec).simulate(**TIGHTER.get(spec.stem, {})), CSV_TOL, spec.stem)
