@@ -1,4 +1,6 @@
-"""Same spec -> same bytes, for every output of `derive` and `generate`.
+"""Same spec -> same bytes, for every output of `derive` (text, JSON, LaTeX) and of
+`generate` in every language (Python, C, Octave, Rust, LaTeX, and the FMU's zip, its
+compiled binary included: zip entries carry a fixed date and cc is deterministic).
 
 Each command runs in fresh processes, several at once while other processes keep the
 CPU busy, each with its own PYTHONHASHSEED and an empty cache directory; every
@@ -26,8 +28,12 @@ COMMANDS = {
     "latex-standalone": ["derive", "--latex", "--standalone"],
     "python": ["generate", "--lang", "python"],
     "c": ["generate", "--lang", "c"],
+    "octave": ["generate", "--lang", "octave"],
+    "rust": ["generate", "--lang", "rust"],
+    "fmu": ["generate", "--lang", "fmu"],
     "latex-document": ["generate", "--lang", "latex"],
 }
+DIRECTORIES = ("c", "octave", "rust")   # -o names a folder; the others write one file
 BURNERS = 2          # busy processes alongside the runs
 PARALLEL = 4         # runs at once
 
@@ -38,11 +44,11 @@ def _run(spec: Path, name: str, seed: str, workdir: Path) -> dict[str, bytes]:
     out.mkdir()
     cache = workdir / f"cache-{spec.stem}-{name}-{seed}"
     args = [sys.executable, "-m", "lagcli", *COMMANDS[name][:1], str(spec), *COMMANDS[name][1:]]
-    args += ["-o", str(out if name == "c" else out / "output")]
+    args += ["-o", str(out if name in DIRECTORIES else out / "output")]
     env = {**os.environ, "PYTHONHASHSEED": seed, "XDG_CACHE_HOME": str(cache)}
     done = subprocess.run(args, env=env, capture_output=True, timeout=900)
     assert done.returncode == 0, done.stderr.decode()
-    return {path.name: path.read_bytes() for path in sorted(out.iterdir())}
+    return {str(path.relative_to(out)): path.read_bytes() for path in sorted(out.rglob("*")) if path.is_file()}
 
 
 @pytest.fixture(scope="module")
