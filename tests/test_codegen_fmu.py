@@ -98,8 +98,7 @@ def test_fmu_validates_and_agrees_with_simulate(name, derived, tmp_path):
     compare(system, fmu, min(SHORT_SPAN, layout.settings.t_end), "ModelExchange")
 
 
-@pytest.mark.slow
-@pytest.mark.parametrize("name", SPEC_NAMES)
+@pytest.mark.parametrize("name", SPEC_NAMES)      # the bicycles: -m slow (conftest)
 def test_fmu_agrees_over_the_whole_span(name, derived, tmp_path):
     system = system_of(derived, name)
     compare(system, write_fmu(system, tmp_path), system.layout.settings.t_end, "ModelExchange")
