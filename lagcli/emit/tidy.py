@@ -387,14 +387,16 @@ def pythagorean(expr) -> sp.Expr:
     that leaves fewer terms (then fewer distinct powers, then fewer minus signs).
     Repeated while it helps, at most once per argument: one identity can open the way
     for another (sin(b)**2 + cos(b)**2*(sin(c)**2 + cos(c)**2) needs c, then b)."""
-    for _ in range(len(_square_arguments(expr))):
+    arguments = _square_arguments(expr)
+    for _ in range(len(arguments)):
         before = expr
-        for x in _square_arguments(expr):
+        for x in arguments:
             options = [expr, _eliminate_square(expr, sp.sin(x), sp.cos(x)),
                        _eliminate_square(expr, sp.cos(x), sp.sin(x))]
             expr = min(options, key=_pythagorean_cost)
         if expr == before:
             break
+        arguments = _square_arguments(expr)
     return expr
 
 
