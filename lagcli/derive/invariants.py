@@ -30,8 +30,8 @@ class LagrangianProbe:
     """Does L depend on a symbol? Probes T0 - V, then a, then M (each compiled once, lazily)."""
 
     def __init__(self, M, a, T0, V):
-        n = M.rows
-        self.groups = [[T0 - V], list(a), [M[i, j] for i in range(n) for j in range(i, n)]]
+        upper = [entry for (i, j), entry in sorted(M.todok().items()) if i <= j]
+        self.groups = [[T0 - V], [e for e in a if e != 0], upper]
         self.names = [set().union(*(sp.sympify(e).free_symbols for e in g)) for g in self.groups]
         self.probes: list[DependenceProbe | None] = [None] * len(self.groups)
 
