@@ -39,6 +39,8 @@ MAX_LITERAL_DIGITS = 40  # digits in one numeric literal
 MAX_RESULT_NODES = 20_000  # tree size of one expression after definitions are substituted
 MAX_RESULT_DEPTH = 100     # its nesting depth (sympy recurses, and slows, with depth)
 MAX_EXACT_DIGITS = 20      # digits of a number kept exact under a fractional power
+MAX_EXACT_NUMBER_DIGITS = 1_000  # digits of the numerator or denominator of any exact number built
+MAX_LITERAL_EXPONENT = 400       # |e| in a literal 1e-400: beyond it the double is 0 or inf anyway
 
 
 @dataclass(frozen=True)
@@ -266,12 +268,14 @@ class _Builder:
         if self.depth(value) > MAX_RESULT_DEPTH:
             self.too_deep()
         for part in (value,) if self.is_constant(value) else value.args:
+            if part.is_Rational and exact_digits(part) > MAX_EXACT_NUMBER_DIGITS:
+                self.too_many_digits(exact_digits(part))
             if self.is_constant(part):
                 try:
                     constant_value(part, self.values)
                 except ConstantError as exc:
                     written = ast.get_source_segment(self.source, node) if part is value else None
-                    self.fail(f"the constant {_short(written or str(part))} {exc}",
+                    self.fail(f"the constant {_short(written) if written else _number_text(part)} {exc}",
                               "constants must be finite real numbers within the double range")
         return value
 
@@ -285,6 +289,11 @@ class _Builder:
     def too_deep(self) -> None:
         self.fail(f"expression is nested too deeply once names are substituted (more than "
                   f"{MAX_RESULT_DEPTH} levels)", "split the chain of definitions, or simplify it")
+
+    def too_many_digits(self, digits: int) -> None:
+        self.fail(f"an exact number here has about {digits} digits, more than the {MAX_EXACT_NUMBER_DIGITS} "
+                  "that exact arithmetic is allowed", "write the numbers as floating-point values with fewer "
+                  "digits, or simplify the arithmetic on them")
 
     def is_zero(self, value: sp.Expr) -> bool:
         """Exactly zero, or a constant whose double value is 0 (a 0.0 parameter value)."""
@@ -309,6 +318,11 @@ class _Builder:
             return sp.Integer(value)
         if not math.isfinite(value):
             self.fail(f"numeric literal {literal} is too large")
+        if _literal_exponent(literal) > MAX_LITERAL_EXPONENT:  # 1e-1000000000: no billion-digit rational
+            if value != 0 or not any(c in "123456789" for c in literal.lower().partition("e")[0]):
+                return sp.Float(value)
+            self.fail(f"the constant {literal} is too small (below 1e-300; it would be 0 in double precision)",
+                      "constants must be finite real numbers within the double range")
         # Exact rationals keep symbolic results clean (0.5 -> 1/2).
         return sp.Rational(literal.replace("_", "")) if _is_plain_decimal(literal) else sp.Float(value)
 
@@ -368,7 +382,10 @@ class _Builder:
     def _power(self, base: sp.Expr, exponent: sp.Expr) -> sp.Expr:
         if exponent.is_Number:
             if abs(exponent) > MAX_EXPONENT:
-                self.fail(f"exponent {_short(str(exponent))} is too large (at most {MAX_EXPONENT})")
+                self.fail(f"exponent {_number_text(exponent)} is too large (at most {MAX_EXPONENT})")
+            if base.is_Rational and exponent.is_Integer and \
+                    exact_digits(base) * abs(int(exponent)) > MAX_EXACT_NUMBER_DIGITS:
+                self.too_many_digits(exact_digits(base) * abs(int(exponent)))
             size = abs(constant_value(base, self.values)) if self.is_constant(base) else 0.0
             if size != 0 and abs(float(exponent) * math.log10(size)) > 300:
                 self.fail("numeric power is too large or too small for double precision")
@@ -382,7 +399,7 @@ class _Builder:
         result = base ** exponent
         # sympy merges (x**a)**b into x**(a*b): bound the merged exponent too
         if result.is_Pow and result.exp.is_Number and abs(result.exp) > MAX_EXPONENT:
-            self.fail(f"exponent {_short(str(result.exp))} is too large (at most {MAX_EXPONENT})")
+            self.fail(f"exponent {_number_text(result.exp)} is too large (at most {MAX_EXPONENT})")
         if result.has(sp.I, sp.zoo, sp.nan, sp.oo):
             self.fail("the expression is complex or infinite; expressions must be real")
         return result
@@ -423,6 +440,32 @@ class _Builder:
         if self.scope.time_derivative is None:
             self.fail("diff(expr, t) is not available here")
         return self.scope.time_derivative(self.scalar(node.args[0]))
+
+
+def exact_digits(number: sp.Rational) -> int:
+    """About how many decimal digits the longer of the numerator and denominator has (no
+    conversion to text: Python refuses to print an integer of over 4300 digits)."""
+    return 1 + int(max(abs(number.p).bit_length(), number.q.bit_length()) * 0.30103)
+
+
+def _number_text(number: sp.Number) -> str:
+    """A number for a message: exact when short, else its floating-point value."""
+    if number.is_Rational and exact_digits(number) > 20:
+        value = float(number)
+        if math.isfinite(value) and value != 0:
+            return f"{value:.6g}"
+        exponent = (abs(number.p).bit_length() - number.q.bit_length()) * 0.30103
+        return f"of about {'-' if number.p < 0 else ''}1e{round(exponent):+d}"
+    return _short(str(number))  # a Float, or a short exact number
+
+
+def _literal_exponent(literal: str) -> int:
+    """|e| of a literal written 1.5e-7 (0 without an exponent)."""
+    mantissa, e, exponent = literal.lower().replace("_", "").partition("e")
+    if not e or "x" in mantissa:
+        return 0
+    digits = exponent.lstrip("+-")
+    return MAX_LITERAL_EXPONENT + 1 if len(digits) > 6 else int(digits or 0)
 
 
 def _is_plain_decimal(literal: str) -> bool:
