@@ -39,6 +39,7 @@ MAX_LITERAL_DIGITS = 40  # digits in one numeric literal
 MAX_RESULT_NODES = 20_000  # tree size of one expression after definitions are substituted
 MAX_RESULT_DEPTH = 100     # its nesting depth (sympy recurses, and slows, with depth)
 MAX_EXACT_DIGITS = 20      # digits of a number kept exact under a fractional power
+MAX_EXACT_ROOT = 12        # ... and the highest root kept exact (x**(1/3) yes, 12**-0.007 no)
 MAX_EXACT_NUMBER_DIGITS = 1_000  # digits of the numerator or denominator of any exact number built
 MAX_LITERAL_EXPONENT = 400       # |e| in a literal 1e-400: beyond it the double is 0 or inf anyway
 
@@ -392,9 +393,10 @@ class _Builder:
             if self.is_zero(base) and exponent.is_negative:
                 self.fail("division by zero (0 to a negative power)")
             if base.is_Rational and not exponent.is_Integer and \
-                    max(len(str(abs(base.p))), len(str(base.q))) > MAX_EXACT_DIGITS:
-                # sympy factors the integers of an exact root (to pull out perfect powers):
-                # unbounded work for big numbers, so those roots are taken in floating point
+                    (exact_digits(base) > MAX_EXACT_DIGITS or exponent.is_Rational and exponent.q > MAX_EXACT_ROOT):
+                # sympy factors the integers of an exact root (to pull out perfect powers) and raises
+                # them to the exponent's numerator first: unbounded work for big numbers or roots of
+                # a high degree (12**-0.007 is a 1000th root), so those are taken in floating point
                 base = sp.Float(base, 17)
         result = base ** exponent
         # sympy merges (x**a)**b into x**(a*b): bound the merged exponent too

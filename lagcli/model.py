@@ -165,7 +165,8 @@ class _ModelBuilder:
             settings=self._settings(),
             dampers=tuple(self._damper(d, where) for d in spec.dampers),
             dissipation=self.expr(spec.dissipation, sp.S.Zero, self.no_accelerations),
-            units={item.name: (item.unit, item.loc.child("unit")) for item in (*spec.coordinates, *spec.parameters)
+            units={item.name: (item.unit, item.loc.child("unit")) for item in (*spec.coordinates, *spec.parameters,
+                                                                          *spec.inputs)
                    if item.unit is not None},
             locs=_item_locs(spec),
             inputs=inputs,

@@ -155,10 +155,11 @@ class _SpecChecker(FrameChecks, Checker):
         if not isinstance(value, dict):
             src = self.expr(path, value) if value is not None else None
             return Input(name, src, None, None, loc) if src or value is None else None
-        table = self.table(path, value, ("value", "latex", "description"))
+        table = self.table(path, value, ("value", "latex", "description", "unit"))
         src = self.expr(path + ("value",), table["value"]) if "value" in table else None
         return Input(name, src, self.latex_symbol(table, path),
-                     self.optional_string(table, path, "description"), loc)
+                     self.optional_string(table, path, "description"), loc,
+                     self.optional_string(table, path, "unit"))
 
     def latex_symbol(self, table: dict, path: KeyPath) -> str | None:
         """The item's `latex:`, when it is in the safe subset of lagcli/spec/latex_subset.py."""
