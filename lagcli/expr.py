@@ -119,17 +119,21 @@ class Scope:
     expression for known functions and definitions). `time_derivative` is the
     total time derivative operator used by `diff(expr, t)`. `builder` is the tree
     walker (`_Builder` here; lagcli/vectors.py's adds vectors, frames and kinematics).
+    `elsewhere` maps names of the spec that cannot be used here to (message, hint), said
+    instead of "unknown name" (a parameter in another parameter's value).
     """
 
     def __init__(self, names: Mapping[str, sp.Expr], t: sp.Symbol,
-                 time_derivative: Callable[[sp.Expr], sp.Expr] | None = None, builder: type | None = None):
+                 time_derivative: Callable[[sp.Expr], sp.Expr] | None = None, builder: type | None = None,
+                 elsewhere: Mapping[str, tuple[str, str]] | None = None):
         self.names = dict(names)
         self.t = t
         self.time_derivative = time_derivative
         self.builder = builder or _Builder
+        self.elsewhere = dict(elsewhere or {})
 
     def with_name(self, name: str, value: sp.Expr) -> "Scope":
-        return Scope({**self.names, name: value}, self.t, self.time_derivative, self.builder)
+        return Scope({**self.names, name: value}, self.t, self.time_derivative, self.builder, self.elsewhere)
 
 
 def parse(text: str, scope: Scope, loc: Loc, vector: bool = False, limits: Limits = SPEC_LIMITS) -> sp.Expr:
@@ -146,8 +150,8 @@ def parse(text: str, scope: Scope, loc: Loc, vector: bool = False, limits: Limit
         with _recursion_limit(OUTPUT_SUM_TERMS if limits.flat_sums else 0):
             tree = ast.parse(source, mode="eval")
     except SyntaxError as exc:
-        _fail(loc, f"invalid expression {text!r}: {exc.msg}"
-                   + (f" at column {exc.offset}" if exc.offset else ""), expression_syntax_hint(text))
+        _fail(loc, f"invalid expression {text!r}: {exc.msg}" + (f" at column {exc.offset}" if exc.offset else ""),
+              expression_syntax_hint(text, toml=loc.file.endswith(".toml")))
     except (RecursionError, MemoryError, ValueError):
         _fail(loc, f"expression is too deeply nested or too large: {_short(text)!r}")
     _check_size(tree, text, loc, limits)
@@ -163,10 +167,12 @@ def parse(text: str, scope: Scope, loc: Loc, vector: bool = False, limits: Limit
     return value
 
 
-def parse_constant(text: str, loc: Loc, extra: Mapping[str, sp.Expr] | None = None) -> float:
-    """Parse a constant expression (numbers, pi, and `extra` names) to a float."""
+def parse_constant(text: str, loc: Loc, extra: Mapping[str, sp.Expr] | None = None,
+                   elsewhere: Mapping[str, tuple[str, str]] | None = None) -> float:
+    """Parse a constant expression (numbers, pi, and `extra` names) to a float; `elsewhere`
+    as for `Scope`."""
     names = {"pi": sp.pi, **(extra or {})}
-    value = parse(text, Scope(names, sp.Symbol("t")), loc)
+    value = parse(text, Scope(names, sp.Symbol("t"), elsewhere=elsewhere), loc)
     if value.free_symbols:
         names_used = ", ".join(sorted(str(s) for s in value.free_symbols))
         _fail(loc, f"{_short(text)!r} must be a constant, but uses {names_used}")
@@ -337,6 +343,8 @@ class _Builder:
             return self.scope.t
         if name in FUNCTIONS:
             self.fail(f"'{name}' is a function; call it as {name}(...)")
+        if name in self.scope.elsewhere:
+            self.fail(*self.scope.elsewhere[name])
         close = difflib.get_close_matches(name, list(self.scope.names) + ["t"], n=3)
         self.fail(f"unknown name '{name}'",
                   f"did you mean {' or '.join(repr(c) for c in close)}?" if close
