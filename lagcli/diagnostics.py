@@ -15,6 +15,7 @@ from dataclasses import dataclass
 from typing import Callable
 
 from lagcli.errors import LagcliError, Loc, Problem, SpecError, SpecWarning, clip_message
+from lagcli.spec.files import STDIN, STDIN_NAME
 
 
 @dataclass(frozen=True)
@@ -43,7 +44,7 @@ def check_file(path: str, summarise: Callable[[str], str]) -> Verdict:
             warnings.showwarning(item.message, item.category, item.filename, item.lineno)
         else:
             shown.setdefault(str(item.message), item.message)
-    return Verdict(path, summary, error, tuple(shown.values()))
+    return Verdict(STDIN_NAME if path == STDIN else path, summary, error, tuple(shown.values()))
 
 
 def records(verdicts: list[Verdict]) -> list[dict]:

@@ -115,6 +115,12 @@ def test_check_json_records_locate_every_problem(tmp_path):
                        "hint": "allowed keys are: mass, position"}
 
 
+def test_check_json_names_stdin_like_its_messages():
+    done = invoke(["check", "--json", "-"], input="coordinates: [x]\nkinetic: x_dot**2/2 +\n")
+    (record,) = json.loads(done.stdout)
+    assert record["file"] == record["problems"][0]["file"] == "<stdin>"
+
+
 def test_check_json_of_valid_files_exits_0():
     done = invoke(["check", "--json", CART_POLE, SPECS / "atwood.yaml"])
     assert done.exit_code == 0
