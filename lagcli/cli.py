@@ -9,12 +9,12 @@ import warnings
 import click
 
 from lagcli import __version__, commands
-from lagcli.emit import LANGUAGES
-from lagcli.emit.escape import terminal_text
+from lagcli.targets import LANGUAGES
+from lagcli.render.escape import terminal_text
 from lagcli.errors import LagcliError, SpecWarning
-from lagcli.numerics import METHODS
-from lagcli.interrupts import interrupt_on_termination
-from lagcli.output import open_output, write_output
+from lagcli.interface import METHODS
+from lagcli.render.interrupts import interrupt_on_termination
+from lagcli.render.output import open_output, write_output
 
 SPEC = click.Path(dir_okay=False, path_type=str)
 
@@ -169,7 +169,7 @@ def simulate(ctx, spec, t_end, dt, method, rtol, atol, sets, inits, backend, bau
       lagcli simulate specs/double_pendulum.yaml -o traj.csv --plot traj.png
       lagcli simulate specs/cart_pole.yaml --plot p.png --columns x,theta,x_dot --phase theta -o c.csv
     """
-    from lagcli.simulate.options import Request
+    from lagcli.run.options import Request
 
     if (columns or phase) and not plot:
         raise click.UsageError("--columns and --phase choose what --plot draws: give --plot FILE.png")
@@ -252,7 +252,7 @@ def animate(ctx, spec, csv_path, t_end, dt, sets, inits, links, traces, fps, fra
       lagcli simulate specs/rolling_disc.yaml -o disc.csv
       lagcli animate specs/rolling_disc.yaml --csv disc.csv --trace disc --frame 2.5 -o disc.png
     """
-    from lagcli.simulate.options import Request
+    from lagcli.run.options import Request
 
     request = Request(spec, t_end, dt, sets=tuple(sets), inits=tuple(inits))
     drawing = {"links": links, "traces": traces, "fps": fps, "frame": frame}
@@ -286,7 +286,7 @@ def examples(ctx, name, copy_to, output):
       lagcli examples double_pendulum -o dp.yaml
       lagcli examples --copy my_specs/ && lagcli derive my_specs/double_pendulum.yaml
     """
-    from lagcli import examples as bundled
+    from lagcli.spec import examples as bundled
 
     def action():
         if copy_to:
@@ -318,7 +318,7 @@ def cache_info():
     Example:
       XDG_CACHE_HOME=/tmp/c lagcli cache info
     """
-    from lagcli.simulate import cache_admin
+    from lagcli.run import cache_admin
 
     click.echo(cache_admin.describe(cache_admin.info()), nl=False)
 
@@ -331,7 +331,7 @@ def cache_clear():
     Example:
       lagcli cache clear
     """
-    from lagcli.simulate import cache_admin
+    from lagcli.run import cache_admin
 
     click.echo(cache_admin.describe_cleared(*cache_admin.clear()), nl=False)
 
