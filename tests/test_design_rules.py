@@ -11,7 +11,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 PACKAGE = ROOT / "lagcli"
-FACES = {"__init__", "__main__", "cli", "commands", "system", "interface", "errors", "trajectory"}
+FACES = {"__init__", "__main__", "cli", "cli_options", "commands", "system", "interface", "errors", "trajectory"}
 
 
 def modules() -> list[Path]:
