@@ -345,6 +345,30 @@ def examples(ctx, name, copy_to, output):
     _run(ctx, action)
 
 
+@cli.command()
+@click.option("-o", "--output", default=None, help="Output file ('-' or none: stdout).")
+@quiet_option
+@click.pass_context
+def schema(ctx, output):
+    """Print the JSON Schema (draft 2020-12) of spec files: editors complete and check specs with it.
+
+    It is made from the tables `lagcli check` uses; it sees keys and the shapes of values,
+    not what expressions mean (docs/spec.md, "Editor support").
+
+    \b
+    Examples:
+      lagcli schema -o lagcli.schema.json
+      # then, as a spec's first line: # yaml-language-server: $schema=lagcli.schema.json
+    """
+    from lagcli.spec.json_schema import json_schema_text
+
+    def action():
+        write_output(output, json_schema_text())
+        if output not in (None, "-"):
+            note(f"wrote {output}")
+    _run(ctx, action)
+
+
 @cli.group()
 def cache():
     """Inspect or empty the cache of compiled drivers and generated modules.
