@@ -16,7 +16,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any, Union
 
-from lagcli.numerics import METHODS
+from lagcli.interface import METHODS
 
 Shape = Union["Table", dict]
 

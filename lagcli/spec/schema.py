@@ -14,14 +14,14 @@ from pathlib import Path
 from typing import Any, Callable
 
 from lagcli.errors import SpecError
-from lagcli.numerics import METHODS
+from lagcli.interface import METHODS
 from lagcli.spec.checker import IDENTIFIER, Checker, describe, did_you_mean
 from lagcli.spec.frames import FrameChecks
 from lagcli.spec.latex_subset import HINT as LATEX_HINT
 from lagcli.spec.latex_subset import latex_problem
 from lagcli.spec.files import STDIN_NAME
 from lagcli.spec.reader import KeyPath, RawDoc
-from lagcli.spec.dissipation import dissipation_fields
+from lagcli.spec.dampers import dissipation_fields
 from lagcli.spec import format as fmt
 from lagcli.spec.slips import axis_hint, misplaced_toml_keys, misplaced_toml_pairs
 from lagcli.spec.types import (Body, Constraint, Coordinate, Force, Input, Named, Parameter, Particle,
