@@ -21,7 +21,7 @@ import pytest
 from click.testing import CliRunner
 
 from lagcli.cli import cli
-from lagcli.emit import LANGUAGES
+from lagcli.targets import LANGUAGES
 from lagcli.spec.files import MAX_BYTES
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -226,7 +226,7 @@ def test_unknown_set_name_gets_a_did_you_mean(args, tmp_path, monkeypatch):
 
 
 def test_did_you_mean_ignores_letter_case():
-    from lagcli.simulate.options import closest_name
+    from lagcli.run.options import closest_name
 
     assert closest_name("K", ["k", "m"]) == "k"
     assert closest_name("MC", ["mc", "m", "l"]) == "mc"

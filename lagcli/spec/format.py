@@ -16,7 +16,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any, Union
 
-from lagcli.numerics import METHODS
+from lagcli.interface import METHODS
 
 Shape = Union["Table", dict]
 
@@ -93,8 +93,8 @@ COORDINATE = Table("coordinate", "a coordinate with its LaTeX symbol or unit",
                    {"name": NAME, "latex": STRING, "unit": STRING}, ("name",))
 PARAMETER = Table("parameter", "a parameter's default value with its symbol, description or unit",
                   {"value": EXPRESSION, "latex": STRING, "description": STRING, "unit": STRING}, ("value",))
-INPUT = Table("input", "an input's default value with its symbol or description",
-              {"value": EXPRESSION, "latex": STRING, "description": STRING})
+INPUT = Table("input", "an input's default value with its symbol, description or unit",
+              {"value": EXPRESSION, "latex": STRING, "description": STRING, "unit": STRING})
 PARTICLE = Table("particle", "a point mass", {"mass": EXPRESSION, "position": VECTOR}, ("mass", "position"))
 BODY = Table("body", "a rigid body: planar with angle, spatial with orientation or frame",
              {"mass": EXPRESSION, "inertia": INERTIA, "position": VECTOR, "angle": EXPRESSION,
