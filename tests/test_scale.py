@@ -12,10 +12,10 @@ import time
 import pytest
 import sympy as sp
 
-from lagcli.api import load_model
+from lagcli.derive.pipeline import load_model
 from lagcli.derive import derive
 from lagcli.errors import SpecError
-from lagcli.expr import MAX_DEPTH, Scope, parse
+from lagcli.model.expr import MAX_DEPTH, Scope, parse
 from lagcli.errors import Loc
 
 
