@@ -1,7 +1,8 @@
 """How lagcli scales with the size of a system: the planar N-link chain, N = 5 .. 100.
 
 Run:  python bench/scaling.py [--n 5 10 20 40 70 100] [--kane-max 40] [--lagranges-max 10]
-                              [--pinocchio] [--rhs-calls 20000] [--plot bench/scaling.png]
+                              [--pinocchio] [--rhs-calls 20000] > scaling.txt
+      python bench/scaling.py --plot scaling.txt bench/scaling.png     # the picture of a run
 
 Per N, each in a fresh process (imports included), CPU seconds (user + system of that
 child, from os.wait4: the machine is shared, wall times mean little) and peak memory
@@ -34,7 +35,6 @@ from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
-from codegen import spec_text  # noqa: E402
 
 MECHANICS = """
 import sys
@@ -81,14 +81,15 @@ int main(int argc, char **argv)
 CFLAGS = ["-std=c99", "-O2", "-Wall", "-Wextra", "-Werror", "-pedantic"]
 
 
-def child(args: list[str], cwd=None) -> tuple[float, float]:
-    """(CPU seconds, peak MB) of one child process."""
-    process = subprocess.Popen(args, cwd=cwd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
-    _, status, usage = os.wait4(process.pid, 0)
-    stderr = process.stderr.read().decode()
-    process.stderr.close()
+def child(args: list[str]) -> tuple[float, float]:
+    """(CPU seconds, peak MB) of one child process, started by posix_spawn (a forked child
+    would count this process's memory in its peak), output discarded."""
+    actions = [(os.POSIX_SPAWN_OPEN, 1, os.devnull, os.O_WRONLY, 0),
+               (os.POSIX_SPAWN_OPEN, 2, os.devnull, os.O_WRONLY, 0)]
+    pid = os.posix_spawn(args[0], args, dict(os.environ), file_actions=actions)
+    _, status, usage = os.wait4(pid, 0)
     if status != 0:
-        raise SystemExit(f"failed: {' '.join(args)}\n{stderr}")
+        raise SystemExit(f"failed ({status}): {' '.join(args)}")
     return usage.ru_utime + usage.ru_stime, usage.ru_maxrss / 1024
 
 
@@ -127,12 +128,50 @@ def pinocchio_microseconds(n: int, calls: int = 20000) -> float:
     return best * 1e6
 
 
+def pinocchio_in_child(n: int) -> float:
+    code = f"import sys; sys.path.insert(0, {str(HERE)!r}); import scaling; print(scaling.pinocchio_microseconds({n}))"
+    return float(subprocess.run([sys.executable, "-c", code], check=True, capture_output=True, text=True).stdout)
+
+
 def exponent(ns, values) -> float:
     (n0, v0), (n1, v1) = list(zip(ns, values))[-2:]
     return math.log(v1 / v0) / math.log(n1 / n0)
 
 
+def plot(table: Path, picture: Path) -> None:
+    """Log-log picture of a printed table: command CPU seconds, and right-hand side microseconds."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    rows = [line.split() for line in table.read_text().splitlines() if line.split() and line.split()[0].isdigit()]
+    columns = {name: k for k, name in ((1, "lagcli derive --json"), (3, "lagcli generate --lang c"),
+                                       (6, "sympy KanesMethod"), (7, "sympy LagrangesMethod"),
+                                       (5, "generated C rhs"), (8, "Pinocchio ABA (from Python)"))}
+    figure, (left, right) = plt.subplots(1, 2, figsize=(10, 4))
+    for name, k in columns.items():
+        points = [(int(r[0]), float(r[k])) for r in rows if r[k] != "nan"]
+        if points:
+            axis = right if k in (5, 8) else left
+            axis.loglog(*zip(*points), "o-", label=name)
+    left.set(xlabel="links N", ylabel="CPU s (whole command, fresh process)", title="derivation")
+    right.set(xlabel="links N", ylabel="us per call (CPU)", title="right-hand side")
+    for axis in (left, right):
+        axis.legend(fontsize=8)
+        axis.grid(True, which="both", alpha=0.3)
+    figure.tight_layout()
+    figure.savefig(picture, dpi=100)
+
+
+def spec_text(n: int) -> str:
+    from codegen import spec_text as chain     # imported here: it loads lagcli (and, in a fork, its memory)
+
+    return chain(n)
+
+
 def main() -> None:
+    if sys.argv[1:2] == ["--plot"]:
+        return plot(Path(sys.argv[2]), Path(sys.argv[3]))
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--n", type=int, nargs="+", default=[5, 10, 20, 40, 70, 100])
     parser.add_argument("--kane-max", type=int, default=40)
@@ -144,11 +183,11 @@ def main() -> None:
     print(f"{'N':>4} {'derive s':>9} {'MB':>6} {'generate s':>10} {'MB':>6} {'C rhs us':>9} "
           f"{'Kane s':>8} {'Lagrange s':>10} {'pin aba us':>10}", flush=True)
     rows = []
-    overhead = pinocchio_microseconds(1) if args.pinocchio else float("nan")
+    overhead = pinocchio_in_child(1) if args.pinocchio else float("nan")
     with tempfile.TemporaryDirectory() as tmp:
         for n in args.n:
             spec = Path(tmp) / f"pendulum{n}.yaml"
-            spec.write_text(spec_text(n))
+            spec.write_text(spec_text(n))      # bench/codegen.py's chain: positions as flat sums
             lagcli = [sys.executable, "-m", "lagcli"]
             derive, derive_mb = child([*lagcli, "derive", str(spec), "--json", "-o", f"{tmp}/out{n}.json"])
             folder = Path(tmp) / f"c{n}"
@@ -159,7 +198,7 @@ def main() -> None:
                 if n <= args.kane_max else float("nan")
             lagrange = child([*mechanics, MECHANICS.format(here=str(HERE), n=n, method="lagrange")])[0] \
                 if n <= args.lagranges_max else float("nan")
-            aba = pinocchio_microseconds(n) if args.pinocchio else float("nan")
+            aba = pinocchio_in_child(n) if args.pinocchio else float("nan")
             rows.append((n, derive, generate, rhs))
             print(f"{n:>4} {derive:>9.2f} {derive_mb:>6.0f} {generate:>10.2f} {generate_mb:>6.0f} {rhs:>9.3f} "
                   f"{kane:>8.2f} {lagrange:>10.2f} {aba:>10.3f}", flush=True)

@@ -7,6 +7,7 @@ derivative, which is much faster than sympy's `Function`/`Derivative` objects:
 """
 from __future__ import annotations
 
+import functools
 import math
 import random
 from collections.abc import Iterable, Sequence
@@ -137,9 +138,12 @@ def jacobian_columns(exprs, variables, memo: dict) -> list[tuple[int, tuple[sp.E
     return columns
 
 
-def depends_on(expr: sp.Expr, symbols: Iterable[sp.Symbol]) -> bool:
-    """Structural dependence (cheap; may say True for a dependence that cancels)."""
-    return bool(sp.sympify(expr).free_symbols & set(symbols))
+def depends_on(expr: sp.Expr, symbols: Iterable[sp.Symbol], memo: dict | None = None) -> bool:
+    """Structural dependence (cheap; may say True for a dependence that cancels); with a
+    `free_symbols` memo, the subexpressions already seen are not walked again."""
+    expr = sp.sympify(expr)
+    found = expr.free_symbols if memo is None else free_symbols(expr, memo)
+    return bool(found & set(symbols))
 
 
 def numerically_zero(exprs: Iterable[sp.Expr], trials: int = 3, seed: int = 20261121) -> bool:
@@ -250,6 +254,13 @@ class DependenceProbe:
         return done == 0  # no point could be evaluated: undecided, so assume dependence
 
 
+@functools.lru_cache(maxsize=1 << 16)
+def _rough(expr: sp.Basic) -> bool:
+    """expr.has(DiracDelta, Heaviside, Derivative), remembered for shared subexpressions
+    (the entries of a chain's M and F share most of theirs: `has` walked each whole tree)."""
+    return isinstance(expr, (sp.DiracDelta, sp.Heaviside, sp.Derivative)) or any(_rough(a) for a in expr.args)
+
+
 def almost_everywhere(value):
     """Derivatives of abs/sign/min/max taken almost everywhere: DiracDelta -> 0, d sign -> 0 and
     Heaviside(x) -> (1 + sign(x))/2, so every result prints in the spec language and in C."""
@@ -257,7 +268,7 @@ def almost_everywhere(value):
         changed = {key: almost_everywhere(e) for key, e in value.todok().items()}
         return sp.ImmutableMatrix(sp.SparseMatrix(value.shape[0], value.shape[1], changed))
     value = sp.sympify(value)
-    if not value.has(sp.DiracDelta, sp.Heaviside, sp.Derivative):
+    if not _rough(value):
         return value
     # sympy leaves d/dx sign(u) unevaluated when it cannot prove u real (u = 1/x): it is 0 too
     value = value.replace(lambda e: isinstance(e, sp.Derivative) and isinstance(e.expr, sp.sign),
