@@ -8,12 +8,18 @@ with the report's conventions.
                                 (`mathml_terms`), as `lagcli.report.display.signed_sum` does
 
 Browsers render MathML natively (MathML Core): the page needs no JavaScript for its
-equations. Symbol names are printed by sympy from the spec's names (theta1 -> θ₁); a
-spec's `latex:` strings are LaTeX, not MathML, and are not used here.
+equations. A spec's `latex:` name is used when it is a plain symbol (a letter, a Greek
+letter or \\ell, with a one-group subscript or superscript: `m_c`, `\\theta_1`,
+`\\ell`: `latex_symbol`); any other symbol is printed by sympy from its name
+(theta1 -> θ₁), so the page shows the same letters as the LaTeX report for the
+common cases.
 """
 from __future__ import annotations
 
+import re
+import unicodedata
 from collections.abc import Sequence
+from html import escape
 
 import sympy as sp
 from sympy.printing.mathml import MathMLPresentationPrinter
@@ -23,16 +29,66 @@ from lagcli.model.symbols import Acceleration, Velocity
 ACCENTS = {Velocity: "\u02d9", Acceleration: "\u00a8"}       # ˙ and ¨ over the letter
 
 
-class MathMLPrinter(MathMLPresentationPrinter):
-    """sympy's MathML presentation printer with accents for q̇ and q̈."""
+_LATEX_SYMBOL = re.compile(r"(\\[A-Za-z]+|[A-Za-z])(?:([_^])(\{[A-Za-z0-9]+\}|[A-Za-z0-9]))?")
 
-    def __init__(self):
+
+def latex_symbol(latex: str) -> str | None:
+    """A spec's `latex:` name as MathML when it is a plain symbol (`m_c`, `\\theta_1`,
+    `\\ell`, `x^{*}` is not), else None."""
+    match = _LATEX_SYMBOL.fullmatch(latex.strip())
+    if not match:
+        return None
+    base, kind, script = match.groups()
+    letter = _letter(base)
+    if letter is None:
+        return None
+    out = f"<mi>{escape(letter)}</mi>"
+    if kind:
+        script = script.strip("{}")
+        tag = "mn" if script.isdigit() else "mi"
+        element = "msub" if kind == "_" else "msup"
+        out = f"<{element}>{out}<{tag}>{escape(script)}</{tag}></{element}>"
+    return out
+
+
+def _letter(base: str) -> str | None:
+    if not base.startswith("\\"):
+        return base
+    name = base[1:]
+    if name == "ell":
+        return "\u2113"
+    case = "CAPITAL" if name[0].isupper() else "SMALL"
+    try:
+        return unicodedata.lookup(f"GREEK {case} LETTER {name.upper().removeprefix('VAR')}")
+    except KeyError:
+        return None
+
+
+def model_names(model) -> dict:
+    """{symbol: MathML} of the model's symbols whose `latex:` name is a plain symbol."""
+    given = [*model.coordinate_latex.items(), *((p.symbol, p.latex) for p in model.parameters),
+             *((u.symbol, u.latex) for u in model.inputs)]
+    names = {symbol: latex_symbol(latex) for symbol, latex in given if latex}
+    return {symbol: shown for symbol, shown in names.items() if shown}
+
+
+class MathMLPrinter(MathMLPresentationPrinter):
+    """sympy's MathML presentation printer with accents for q̇ and q̈ and the spec's names."""
+
+    def __init__(self, names: dict | None = None):
         super().__init__({"mul_symbol": None, "fold_short_frac": False})
+        self.names = {symbol.name: shown for symbol, shown in (names or {}).items()}
+
+    def _named(self, name: str):
+        from xml.dom.minidom import parseString
+
+        shown = self.names.get(name)
+        return None if shown is None else parseString(shown).documentElement
 
     def _print_Symbol(self, sym, style="plain"):
         for kind, accent in ACCENTS.items():
             if isinstance(sym, kind):
-                base = super()._print_Symbol(sp.Symbol(sym.coordinate), style)
+                base = self._named(sym.coordinate) or super()._print_Symbol(sp.Symbol(sym.coordinate), style)
                 over = self.dom.createElement("mover")
                 over.setAttribute("accent", "true")
                 mark = self.dom.createElement("mo")
@@ -46,17 +102,18 @@ class MathMLPrinter(MathMLPresentationPrinter):
                 over.appendChild(base)
                 over.appendChild(mark)
                 return over
-        return super()._print_Symbol(sym, style)
+        return self._named(sym.name) or super()._print_Symbol(sym, style)
 
     _print_Dummy = _print_Symbol
 
 
-def mathml(expr) -> str:
-    """One expression as a MathML fragment (an <mrow>, without the <math> element)."""
-    return MathMLPrinter().doprint(sp.sympify(expr))
+def mathml(expr, names: dict | None = None) -> str:
+    """One expression as a MathML fragment (without the <math> element); `names`:
+    `model_names(model)`."""
+    return MathMLPrinter(names).doprint(sp.sympify(expr))
 
 
-def mathml_terms(terms: Sequence[sp.Expr]) -> str:
+def mathml_terms(terms: Sequence[sp.Expr], names: dict | None = None) -> str:
     """An ordered sum, each term printed with its sign pulled out (the report's order)."""
     if not terms:
         return "<mn>0</mn>"
@@ -64,7 +121,7 @@ def mathml_terms(terms: Sequence[sp.Expr]) -> str:
     for i, term in enumerate(terms):
         negative = term.could_extract_minus_sign()
         body = -term if negative else term
-        shown = mathml(body)
+        shown = mathml(body, names)
         if body.is_Add:
             shown = f"<mrow><mo>(</mo>{shown}<mo>)</mo></mrow>"
         if i == 0:

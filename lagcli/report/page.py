@@ -27,13 +27,14 @@ import tempfile
 import sympy as sp
 
 from lagcli.render.escape import html_text
-from lagcli.report.mathml import math_block, mathml, mathml_terms, mi
+from lagcli.report.mathml import math_block, mathml, mathml_terms, mi, model_names
 
 STYLE = """
 body { font-family: system-ui, sans-serif; max-width: 60rem; margin: 2rem auto; padding: 0 1rem;
        line-height: 1.45; color: #222; }
 h1 { margin-bottom: 0.2rem; } h2 { border-bottom: 1px solid #ddd; margin-top: 2rem; }
 .eq { overflow-x: auto; padding: 0.1rem 0; }
+math { font-family: "STIX Two Math", "STIX Math", "Cambria Math", "Latin Modern Math", math; }
 math[display="block"] { margin: 0.4rem 0; }
 table { border-collapse: collapse; margin: 0.5rem 0; }
 td, th { border: 1px solid #ddd; padding: 0.2rem 0.6rem; text-align: left; }
@@ -72,22 +73,25 @@ def _version() -> str:
 def _content(system) -> dict:
     from lagcli.report.content import ReportPrinter, report_content
 
-    return report_content(system.derivation, ReportPrinter(mathml, mathml_terms), named=True)
+    names = model_names(system.model)
+    printer = ReportPrinter(lambda e: mathml(e, names), lambda terms: mathml_terms(terms, names))
+    content = report_content(system.derivation, printer, named=True)
+    return {**content, "names": names}
 
 
 # -- sections ---------------------------------------------------------------------------
 
 def _system_section(system, r: dict) -> str:
-    d, units = system.derivation, r.get("units", {})
-    rows = "".join(f"<tr><td>{_math(mathml(p.symbol))}</td><td>{p.value:g}</td>"
+    d, units, names = system.derivation, r.get("units", {}), r["names"]
+    rows = "".join(f"<tr><td>{_math(mathml(p.symbol, names))}</td><td>{p.value:g}</td>"
                    f"<td>{html_text(units.get(p.symbol.name, ''))}</td>"
                    f"<td>{html_text(p.description or '')}</td></tr>" for p in d.model.parameters)
-    inputs = "".join(f"<tr><td>{_math(mathml(u.symbol))}</td><td>{u.value:g}</td>"
+    inputs = "".join(f"<tr><td>{_math(mathml(u.symbol, names))}</td><td>{u.value:g}</td>"
                      f"<td>{html_text(units.get(u.symbol.name, ''))}</td>"
                      f"<td>{html_text(u.description or '')}</td></tr>" for u in d.model.inputs)
     counts = r["counts"]
     n, h, g = counts["coordinates"], counts["holonomic"], counts["nonholonomic"]
-    parts = [f"<h2>System</h2>\n<p>Coordinates {_math(_list(d.model.q))}; "
+    parts = [f"<h2>System</h2>\n<p>Coordinates {_math(_list(d.model.q, names))}; "
              f"{n} coordinate{'s' * (n != 1)}, {h} holonomic and {g} nonholonomic "
              f"constraint{'s' * (h + g != 1)}: {d.dof} degree{'s' * (d.dof != 1)} of freedom. "
              f"The system is {'scleronomic' if r['scleronomic'] else 'rheonomic'}.</p>"]
@@ -101,9 +105,10 @@ def _system_section(system, r: dict) -> str:
 
 
 def _equations_section(d, r: dict) -> str:
-    out = ["<h2>Energies</h2>", _eq(mi("T"), r["kinetic_energy"]["T"]), _eq(mi("V"), r["potential_energy"]),
-           _eq(mi("L"), r["lagrangian"]), "<p>Mass matrix (T<sub>2</sub> = ½ q̇ᵀ M q̇):</p>",
-           _eq(mi("M"), _matrix(r["mass_matrix"]))]
+    own = _own_letters(d)
+    out = ["<h2>Energies</h2>", _eq(own["T"], r["kinetic_energy"]["T"]), _eq(own["V"], r["potential_energy"]),
+           _eq(own["L"], r["lagrangian"]), "<p>Mass matrix (the bold M: T<sub>2</sub> = ½ q̇ᵀ 𝐌 q̇):</p>",
+           _eq(mi("\U0001d40c"), _matrix(r["mass_matrix"]))]
     out.append("<h2>Equations of motion</h2>\n<p>d/dt(∂L/∂q̇<sub>i</sub>) − ∂L/∂q<sub>i</sub> − "
                "Q′<sub>i</sub> = Σ<sub>j</sub> λ<sub>j</sub> a<sub>ji</sub>, one per coordinate:</p>")
     out += [_block(eq["lhs"], "<mo>=</mo>", eq["rhs"]) for eq in r["equations"]]
@@ -176,6 +181,17 @@ def _animation(system, trajectory) -> str | None:
             return base64.b64encode(f.read()).decode("ascii")
 
 
+# The page's own quantities in letters no spec name can take: the mass matrix bold, and
+# T, V, L in script letters when a parameter or input is called T, V or L (the user's
+# names win: the spec's L stays L).
+SCRIPT = {"T": "\U0001d4af", "V": "\U0001d4b1", "L": "\u2112"}
+
+
+def _own_letters(d) -> dict:
+    taken = {s.name for s in (*d.model.parameter_symbols, *d.model.input_symbols)}
+    return {letter: mi(SCRIPT[letter] if letter in taken else letter) for letter in SCRIPT}
+
+
 def _math(body: str) -> str:
     return f"<math>{body}</math>"
 
@@ -188,8 +204,8 @@ def _block(*pieces: str) -> str:
     return f"<div class=\"eq\">{math_block(*pieces)}</div>"
 
 
-def _list(symbols) -> str:
-    return "<mo>,</mo>".join(mathml(s) for s in symbols)
+def _list(symbols, names: dict) -> str:
+    return "<mo>,</mo>".join(mathml(s, names) for s in symbols)
 
 
 def _name(name: str) -> str:
