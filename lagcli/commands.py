@@ -55,8 +55,8 @@ PLOT_ROWS = 20_000     # --plot draws at most 2 x this many rows (evenly thinned
 def simulate(request, output: str | None = None, plot: str | None = None,
              note=lambda text: None, progress=None, columns=None, phase=()) -> None:
     """`lagcli simulate`: run `request` (a lagcli.simulate.options.Request), writing the
-    CSV to `output` (stdout for None or '-') row by row as it is computed, then the PNG
-    to `plot`.  Both targets are checked, and `output` opened, before any work starts.
+    CSV to `output` (stdout for None or '-') row by row as it is computed, then the
+    picture to `plot` (PNG, SVG or PDF by its extension).  Both targets are checked, and `output` opened, before any work starts.
     The CSV is kept even when the integration fails or is interrupted (the rows so
     far); the error is raised after it.  `note` and `progress`: see
     lagcli.simulate.run.simulate."""
@@ -66,7 +66,9 @@ def simulate(request, output: str | None = None, plot: str | None = None,
     from lagcli.simulate.trajectory import CsvSink, Decimated, Tee
 
     if plot:
+        from lagcli.simulate.plot import figure_format
         resolve_target(plot)
+        figure_format(plot)
     with open_output(output) as out:
         csv = CsvSink(out.stream)
         shown = Decimated(PLOT_ROWS) if plot else None        # the plot's bounded copy
@@ -74,10 +76,10 @@ def simulate(request, output: str | None = None, plot: str | None = None,
     sink = outcome.trajectory
     plot_error = None
     if plot and sink.rows:
-        from lagcli.simulate.plot import plot_png
+        from lagcli.simulate.plot import plot_file
         try:
-            plot_png(shown.trajectory(), outcome.coordinates, outcome.energy_conserved, plot, request.spec,
-                     _plot_options(request.spec, columns, phase))
+            title, options = _plot_options(request.spec, columns, phase)
+            plot_file(shown.trajectory(), outcome.coordinates, outcome.energy_conserved, plot, title, options)
         except SimulationError as exc:
             plot_error = exc
     where = "stdout" if output in (None, "-") else output
@@ -92,12 +94,14 @@ def simulate(request, output: str | None = None, plot: str | None = None,
 
 
 def _plot_options(spec: str, columns, phase):
-    """What `--plot` draws: the coordinates split into angles and lengths (the model says
-    which are angles), or the `--columns`; `--phase` portraits."""
+    """The title of `--plot` (the spec's name, as `Trajectory.plot`) and what it draws: the
+    coordinates split into angles and lengths (the model says which are angles), or the
+    `--columns`; `--phase` portraits."""
     from lagcli.api import load_model
     from lagcli.simulate.plot import PlotOptions, angle_coordinates
 
-    return PlotOptions(columns, tuple(phase), angle_coordinates(load_model(spec)))
+    model = load_model(spec)
+    return model.name, PlotOptions(columns, tuple(phase), angle_coordinates(model))
 
 
 def generate(path: str, lang: str, output: str | None = None, form: str = "lagrangian",

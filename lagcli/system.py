@@ -177,7 +177,15 @@ class System:
                                             baumgarte=baumgarte), self.layout.settings.as_dict())
         start = self.initial_state(parameters, initial)
         rows = self.run(settings, {**self._parameters(parameters), **self._inputs(inputs)}, start, backend)
-        return from_rows(self.layout, rows, start.notes, self.energy_conserved)
+        return from_rows(self.layout, rows, start.notes, self.energy_conserved, self.angles)
+
+    @property
+    def angles(self) -> frozenset:
+        """The coordinates that are angles (`lagcli.simulate.plot.angle_coordinates`): the
+        angle panel of a plot."""
+        from lagcli.simulate.plot import angle_coordinates
+
+        return self._once("_angles", lambda: angle_coordinates(self.model))
 
     def run(self, settings, values: dict[str, float], start, backend: str, sink=None, progress=None):
         """One run's rows, given to `sink` (a `lagcli.simulate.trajectory.RowSink`; in

@@ -194,3 +194,96 @@ def test_every_result_shows_itself_in_a_notebook(cart_pole, hoop):
     well_formed_latex(lagcli.load(SPECS / "spherical_pendulum.yaml").routh()._repr_latex_())
     sweep = lagcli.load(SPECS / "rolling_disc.yaml").linearize_sweep("w", [2, 4], at={"phi_dot": "w"})
     well_formed_html(sweep._repr_html_())
+
+
+# -- the Trajectory ------------------------------------------------------------------
+
+@pytest.fixture(scope="module")
+def swing(tmp_path_factory):
+    import os
+
+    os.environ.setdefault("XDG_CACHE_HOME", str(tmp_path_factory.mktemp("xdg-cache")))
+    return lagcli.load(SPECS / "double_pendulum.yaml").simulate(t_end=5.0, dt=0.01)
+
+
+def test_columns_are_names_and_each_indexes_the_trajectory(swing):
+    assert swing.columns == ("t", "theta1", "theta2", "theta1_dot", "theta2_dot", "energy", "jacobi")
+    for name in swing.columns:
+        assert swing[name].shape == (501,)
+    assert swing[swing.columns[1]][0] == swing.states[0, 0]
+    assert [(c.name, c.kind) for c in swing.column_info][:2] == [("t", "time"), ("theta1", "coordinate")]
+    with pytest.raises(KeyError, match="no column 'theta3'"):
+        swing["theta3"]
+
+
+def test_short_repr_and_html_table(swing):
+    assert repr(swing) == "Trajectory of double_pendulum: 501 rows \u00d7 7 columns, t = 0\u20265"
+    html = swing._repr_html_()
+    table = well_formed_html(html).find("table")
+    rows = table.findall("tr")
+    assert [th.text for th in rows[0]] == list(swing.columns)
+    assert len(rows) == 1 + 5 + 1 + 5                      # header, first five, ellipsis, last five
+    assert all(td.text == "\u2026" for td in rows[6])
+    assert [float(td.text) for td in rows[-1]][0] == 5.0 and "501 rows \u00d7 7 columns" in table.find("caption").text
+    assert len(html) < 4000
+
+
+def test_to_pandas_is_indexed_by_t(swing):
+    pd = pytest.importorskip("pandas")
+    frame = swing.to_pandas()
+    assert isinstance(frame.index, pd.Index) and frame.index.name == "t"
+    assert frame.shape == (501, 6) and list(frame.columns) == list(swing.columns[1:])
+    assert frame.loc[2.5, "theta1"] == swing["theta1"][250]
+
+
+MAGIC = {"png": (b"\x89PNG",), "svg": (b"<?xml", b"<svg"), "pdf": (b"%PDF",)}
+
+
+@pytest.mark.parametrize("suffix", ["png", "svg", "pdf"])
+def test_plot_and_simulate_plot_write_the_format_the_extension_names(tmp_path, suffix, monkeypatch):
+    """The same figure from `Trajectory.plot` and `lagcli simulate --plot`, byte for byte,
+    in the format the file name says; SVG and PDF the same bytes on every run."""
+    pytest.importorskip("matplotlib")
+    from click.testing import CliRunner
+
+    from lagcli.cli import cli
+
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    spec = SPECS / "cart_pole.yaml"
+    lagcli.load(spec).simulate(t_end=0.5, backend="python").plot(tmp_path / f"api.{suffix}")
+    for name in ("cli", "again"):
+        done = CliRunner().invoke(cli, ["simulate", str(spec), "--t-end", "0.5", "--backend", "python",
+                                        "-o", str(tmp_path / "c.csv"), "--plot", str(tmp_path / f"{name}.{suffix}")])
+        assert done.exit_code == 0, done.output
+    data = (tmp_path / f"cli.{suffix}").read_bytes()
+    assert data.startswith(MAGIC[suffix])
+    assert data == (tmp_path / f"api.{suffix}").read_bytes() == (tmp_path / f"again.{suffix}").read_bytes()
+
+
+@pytest.mark.parametrize("name", ["p.jpg", "plot"])
+def test_plot_refuses_a_format_it_cannot_name(tmp_path, name):
+    from click.testing import CliRunner
+
+    from lagcli.cli import cli
+
+    done = CliRunner().invoke(cli, ["simulate", str(SPECS / "cart_pole.yaml"), "--t-end", "0.1",
+                                    "-o", str(tmp_path / "c.csv"), "--plot", str(tmp_path / name)])
+    assert done.exit_code == 2 and "Traceback" not in done.output
+    assert "extension names the picture's format: .png, .svg, .pdf" in done.output and "hint:" in done.output
+    assert not (tmp_path / "c.csv").exists()                 # refused before any work
+
+
+def test_animate_writes_one_frame_as_svg_or_pdf(tmp_path):
+    pytest.importorskip("matplotlib")
+    from click.testing import CliRunner
+
+    from lagcli.cli import cli
+
+    for suffix in ("svg", "pdf"):
+        out = tmp_path / f"frame.{suffix}"
+        done = CliRunner().invoke(cli, ["animate", str(SPECS / "cart_pole.yaml"), "--t-end", "0.2",
+                                        "--frame", "0.1", "-o", str(out)])
+        assert done.exit_code == 0, done.output
+        assert out.read_bytes().startswith(MAGIC[suffix])
+    done = CliRunner().invoke(cli, ["animate", str(SPECS / "cart_pole.yaml"), "-o", str(tmp_path / "m.svg")])
+    assert done.exit_code == 2 and "one frame: give --frame T" in done.output
