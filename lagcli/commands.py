@@ -1,7 +1,7 @@
 """What each CLI command does, without click: path + options in, text out.
 
 `derive`, `check`, `generate` and `simulate` are thin clients of the Python API
-(`lagcli.system.System`; `simulate` through `lagcli.simulate.run`, whose cold path
+(`lagcli.system.System`; `simulate` through `lagcli.run.simulate`, whose cold path
 loads a System). The engine (sympy) is imported inside the functions, not at the
 top: `lagcli simulate` with a warm C cache must start without importing sympy at all.
 """
@@ -39,10 +39,10 @@ def derive_latex(path: str, simplify: bool = True, standalone: bool = False,
 
 def check_summary(path: str) -> str:
     """Validate the spec (through the derivation, which classifies constraints) and summarise."""
-    from lagcli.emit.report import check_content
-    from lagcli.emit.templates import render
+    from lagcli.report.content import check_content
+    from lagcli.render.templates import render
 
-    from lagcli.units import check_derivation_units
+    from lagcli.model.units import check_derivation_units
 
     derivation = _derive(path)
     check_derivation_units(derivation)
@@ -54,19 +54,19 @@ PLOT_ROWS = 20_000     # --plot draws at most 2 x this many rows (evenly thinned
 
 def simulate(request, output: str | None = None, plot: str | None = None,
              note=lambda text: None, progress=None, columns=None, phase=()) -> None:
-    """`lagcli simulate`: run `request` (a lagcli.simulate.options.Request), writing the
+    """`lagcli simulate`: run `request` (a lagcli.run.options.Request), writing the
     CSV to `output` (stdout for None or '-') row by row as it is computed, then the
     picture to `plot` (PNG, SVG or PDF by its extension).  Both targets are checked, and `output` opened, before any work starts.
     The CSV is kept even when the integration fails or is interrupted (the rows so
     far); the error is raised after it.  `note` and `progress`: see
-    lagcli.simulate.run.simulate."""
+    lagcli.run.simulate.simulate."""
     from lagcli.errors import SimulationError
-    from lagcli.output import open_output, resolve_target
-    from lagcli.simulate.run import Interrupted, simulate as run
-    from lagcli.simulate.trajectory import CsvSink, Decimated, Tee
+    from lagcli.render.output import open_output, resolve_target
+    from lagcli.run.simulate import Interrupted, simulate as run
+    from lagcli.run.rows import CsvSink, Decimated, Tee
 
     if plot:
-        from lagcli.simulate.plot import figure_format
+        from lagcli.viz.plot import figure_format
         resolve_target(plot)
         figure_format(plot)
     with open_output(output) as out:
@@ -76,7 +76,7 @@ def simulate(request, output: str | None = None, plot: str | None = None,
     sink = outcome.trajectory
     plot_error = None
     if plot and sink.rows:
-        from lagcli.simulate.plot import plot_file
+        from lagcli.viz.plot import plot_file
         try:
             title, options = _plot_options(request.spec, columns, phase)
             plot_file(shown.trajectory(), outcome.coordinates, outcome.energy_conserved, plot, title, options)
@@ -97,8 +97,8 @@ def _plot_options(spec: str, columns, phase):
     """The title of `--plot` (the spec's name, as `Trajectory.plot`) and what it draws: the
     coordinates split into angles and lengths (the model says which are angles), or the
     `--columns`; `--phase` portraits."""
-    from lagcli.api import load_model
-    from lagcli.simulate.plot import PlotOptions, angle_coordinates
+    from lagcli.derive.pipeline import load_model
+    from lagcli.viz.plot import PlotOptions, angle_coordinates
 
     model = load_model(spec)
     return model.name, PlotOptions(columns, tuple(phase), angle_coordinates(model))
@@ -106,23 +106,23 @@ def _plot_options(spec: str, columns, phase):
 
 def generate(path: str, lang: str, output: str | None = None, form: str = "lagrangian",
              note=lambda text: None) -> None:
-    """`lagcli generate`: code or a document for `path` in `lang` (see lagcli.emit.LANGUAGES).
+    """`lagcli generate`: code or a document for `path` in `lang` (see lagcli.targets.LANGUAGES).
 
     One-file languages write to `output` (stdout for None or '-'; the FMU's zip needs
     `output`, '-' for stdout); C writes its files
     into the directory `output` (required; created if only it is missing), each
     atomically, after all are made.  The target is checked before deriving.
-    `form="hamiltonian"`: the Python module in (q, p) of lagcli/emit/hamilton.py.
+    `form="hamiltonian"`: the Python module in (q, p) of lagcli/targets/hamilton.py.
     `note(text)` is told what was written ("wrote dp_c/: 8 files"), unless it went to stdout."""
-    from lagcli.emit import LANGUAGES
+    from lagcli.targets import LANGUAGES
     from lagcli.errors import UsageError
-    from lagcli.output import check_directory_output, open_output
+    from lagcli.render.output import check_directory_output, open_output
     from lagcli.system import load
 
     if form == "hamiltonian":
         if lang != "python":
             raise UsageError(f"--form hamiltonian: generated for --lang python only (not {lang})")
-        from lagcli.emit.hamilton import hamilton_module
+        from lagcli.targets.hamilton import hamilton_module
         with open_output(output) as out:
             out.stream.write(hamilton_module(_derive(path)))
         _wrote(output, note)
@@ -188,8 +188,8 @@ def linearize(path: str, at=(), independent=(), inputs=(), sweep: str | None = N
 
 def _symbolic_linear(system, points, inputs, fmt: str) -> str:
     from lagcli.analysis import report
-    from lagcli.emit.latex_printer import LatexPrinter
-    from lagcli.spec_printer import spec_str
+    from lagcli.report.latex_printer import LatexPrinter
+    from lagcli.render.spec_printer import spec_str
 
     d = system.derivation
     lin = system.linearize_symbolic(points, inputs)
@@ -201,7 +201,7 @@ def _symbolic_linear(system, points, inputs, fmt: str) -> str:
 
 def _constants(system, sets) -> tuple[dict, dict]:
     """`--set NAME=VALUE` of parameters and inputs -> (parameters, inputs) by name."""
-    from lagcli.simulate.options import parse_assignments as assignments
+    from lagcli.run.options import parse_assignments as assignments
 
     layout = system.layout
     given = assignments(tuple(sets), "--set", [*layout.parameter_names, *layout.input_names],
@@ -212,7 +212,7 @@ def _constants(system, sets) -> tuple[dict, dict]:
 
 def _guesses(system, guesses) -> list[dict]:
     """`--guess theta=1.2,phi=0` (one starting point each) -> [{name: value}]."""
-    from lagcli.simulate.options import parse_assignments as assignments
+    from lagcli.run.options import parse_assignments as assignments
 
     d = system.derivation
     names = [s.name for s in (*d.model.q, *d.multipliers)]
@@ -222,7 +222,7 @@ def _guesses(system, guesses) -> list[dict]:
 def equilibria(path: str, sets=(), guesses=(), fmt: str = "text") -> str:
     """`lagcli equilibria`: static and relative equilibria with their stability (`System.equilibria`)."""
     from lagcli.analysis import report
-    from lagcli.spec_printer import spec_str
+    from lagcli.render.spec_printer import spec_str
     from lagcli.system import load
 
     system = load(Path(path))
@@ -235,9 +235,9 @@ def equilibria(path: str, sets=(), guesses=(), fmt: str = "text") -> str:
 def routh(path: str, momenta=(), sets=(), guesses=(), fmt: str = "text") -> str:
     """`lagcli routh`: the Routhian over the cyclic coordinates and the steady motions (`System.routh`)."""
     from lagcli.analysis import report
-    from lagcli.layout import momentum_name
-    from lagcli.simulate.options import parse_assignments as assignments
-    from lagcli.spec_printer import spec_str
+    from lagcli.interface import momentum_name
+    from lagcli.run.options import parse_assignments as assignments
+    from lagcli.render.spec_printer import spec_str
     from lagcli.system import load
 
     system = load(Path(path))
@@ -252,7 +252,7 @@ def routh(path: str, momenta=(), sets=(), guesses=(), fmt: str = "text") -> str:
 def hamiltonian(path: str, fmt: str = "text") -> str:
     """`lagcli hamiltonian`: momenta, H(q, p, t) and Hamilton's equations (`System.hamiltonian`)."""
     from lagcli.analysis import report
-    from lagcli.spec_printer import spec_str
+    from lagcli.render.spec_printer import spec_str
     from lagcli.system import load
 
     found = load(Path(path)).hamiltonian()
@@ -266,7 +266,7 @@ def sweep(spec: str, plan_options: dict, options: dict, note=lambda text: None, 
     """`lagcli sweep`: the runs of a grid, samples or a table through the compiled driver;
     the summary written to options["output"] (docs/sweep.md)."""
     import lagcli
-    from lagcli.simulate.options import parse_assignments
+    from lagcli.run.options import parse_assignments
     from lagcli.sweep import SweepOptions, make_plan, sweep as run_sweep
 
     plan = make_plan(**plan_options)                   # option mistakes before deriving
@@ -285,15 +285,15 @@ def sweep(spec: str, plan_options: dict, options: dict, note=lambda text: None, 
 def animate(spec: str, csv_path: str | None, request, output: str, drawn: dict, note=lambda text: None):
     """`lagcli animate`: the motion of SPEC from a CSV of `lagcli simulate` (--csv) or a
     run made here with the request's settings (docs/animate.md); `drawn`: links,
-    traces, fps, frame (the options of lagcli.animate.Request)."""
+    traces, fps, frame (the options of lagcli.viz.animate.Request)."""
     import numpy as np
 
     import lagcli
-    from lagcli.animate import Request, animate as draw, check_names, parse_links
+    from lagcli.viz.animate import Request, animate as draw, check_names, parse_links
     from lagcli.errors import UsageError
-    from lagcli.simulate.options import parse_assignments
-    from lagcli.simulate.run import simulate as run
-    from lagcli.simulate.trajectory import parse_csv
+    from lagcli.run.options import parse_assignments
+    from lagcli.run.simulate import simulate as run
+    from lagcli.run.rows import parse_csv
 
     system = lagcli.load(Path(spec))
     names = list(system.layout.parameter_names)

@@ -3,11 +3,11 @@
 `Trajectory.data` holds one row per output time and one column per entry of
 `layout.columns` (the CSV columns, each with its kind: docs/design.md, "CSV
 columns"). `traj.columns` are the column names, each read by `traj[name]`;
-`traj.column_info` says what each is (`lagcli.layout.Column`: its kind), and
+`traj.column_info` says what each is (`lagcli.interface.Column`: its kind), and
 `traj.of_kind("momentum")` reads the columns of one kind, never by guessing from a
 name pattern. In a notebook a trajectory shows its first and last rows.
 
-Built, for now, from the backends' CSV-formatted rows (`lagcli.simulate.trajectory`,
+Built, for now, from the backends' CSV-formatted rows (`lagcli.run.rows`,
 the row source `lagcli simulate` writes): `from_rows` is the one adapter.
 """
 from __future__ import annotations
@@ -18,7 +18,7 @@ from html import escape
 
 import numpy as np
 
-from lagcli.layout import TIME, Column, Layout
+from lagcli.interface import TIME, Column, Layout
 
 HTML_ROWS = 5     # rows shown at each end by _repr_html_
 
@@ -43,7 +43,7 @@ class Trajectory:
 
     @property
     def column_info(self) -> tuple[Column, ...]:
-        """Each column's name and kind (`lagcli.layout.Column`), in CSV order."""
+        """Each column's name and kind (`lagcli.interface.Column`), in CSV order."""
         return self.layout.columns
 
     def __getitem__(self, name: str) -> np.ndarray:
@@ -69,7 +69,7 @@ class Trajectory:
         return self._kinds("coordinate", "velocity")
 
     def of_kind(self, kind: str) -> dict[str, np.ndarray]:
-        """{name: column} of every column of `kind` (lagcli.layout.COLUMN_KINDS)."""
+        """{name: column} of every column of `kind` (lagcli.interface.COLUMN_KINDS)."""
         return {c.name: self.data[:, i] for i, c in enumerate(self.column_info) if c.kind == kind}
 
     def _kinds(self, *kinds: str) -> np.ndarray:
@@ -93,8 +93,8 @@ class Trajectory:
     def plot(self, path: str | None = None, columns=None, phase=()):
         """The figure of `lagcli simulate --plot` (`--columns`, `--phase`; needs matplotlib),
         written to `path` when given, as the PNG, SVG or PDF its extension names."""
-        from lagcli.simulate import plot
-        from lagcli.simulate.trajectory import Trajectory as Rows
+        from lagcli.run.rows import Trajectory as Rows
+        from lagcli.viz import plot
 
         rows = Rows(list(self.columns), self.to_csv().splitlines()[1:])
         conserved = any(c.kind == "jacobi" for c in self.column_info) and self.energy_is_jacobi
@@ -126,7 +126,7 @@ class Trajectory:
 
 
 def from_rows(layout: Layout, rows, notes=(), energy_is_jacobi: bool = False, angles=frozenset()) -> Trajectory:
-    """The adapter from a backend's rows (`lagcli.simulate.trajectory.Trajectory`: CSV
+    """The adapter from a backend's rows (`lagcli.run.rows.Trajectory`: CSV
     lines under a header that must be the layout's)."""
     if tuple(rows.header) != layout.header:
         raise ValueError(f"backend header {rows.header} is not the layout's {layout.header}")

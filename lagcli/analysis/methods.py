@@ -66,7 +66,7 @@ def linearize_symbolic(system, at=None, extra_inputs=()):
 
 def linearization(d, lm, st) -> Linearization:
     """The typed value of a `linearize.LinearModel` and its `stability.Stability`."""
-    from lagcli.emit.latex_printer import LatexPrinter
+    from lagcli.report.latex_printer import LatexPrinter
 
     model, p = d.model, lm.point
     point = OperatingPoint({s.name: float(v) for s, v in zip(model.q, p.q)},
@@ -100,7 +100,7 @@ def _constants(system, parameters, inputs) -> dict[str, float]:
 
 def _guesses(d, guesses) -> list[dict]:
     """Starting points [{coordinate or multiplier: value}], names checked."""
-    from lagcli.simulate.options import _hint
+    from lagcli.run.options import _hint
 
     names = [s.name for s in (*d.model.q, *d.multipliers)]
     for guess in guesses or []:
@@ -133,7 +133,7 @@ def routh(system, momenta=None, parameters=None, inputs=None, guesses=None) -> R
     given = {k: float(v) for k, v in (momenta or {}).items()}
     unknown = [k for k in given if k not in names]
     if unknown:
-        from lagcli.simulate.options import _hint
+        from lagcli.run.options import _hint
         raise UsageError(f"momenta=: unknown momentum {unknown[0]!r}" + _hint(unknown[0], names, "momenta"))
     motions = ()
     if given:

@@ -230,7 +230,7 @@ def routh_content(r, printer) -> dict:
 
 def routh_rows(r, d) -> list[str]:
     """`lhs &= rhs` LaTeX rows of a `results.Routh` (the notebook's display)."""
-    from lagcli.emit.latex import latex_printer
+    from lagcli.report.latex import latex_printer
 
     printer = latex_printer(d)
     model = d.model
@@ -287,7 +287,7 @@ SOLVED_H = r"H &= \tfrac12 (p - a)^\mathsf{T} M^{-1} (p - a) - T_0 + V"
 
 def hamilton_rows(form, d) -> list[str]:
     """`lhs &= rhs` LaTeX rows: H and Hamilton's equations (H alone, solved, when M is large)."""
-    from lagcli.emit.latex_printer import LatexPrinter
+    from lagcli.report.latex_printer import LatexPrinter
 
     if form.H is None:
         return [SOLVED_H]

@@ -187,7 +187,7 @@ class Hamiltonian:
     form: object = field(repr=False, default=None)
 
     def __repr__(self) -> str:
-        from lagcli.spec_printer import spec_str
+        from lagcli.render.spec_printer import spec_str
 
         return f"<Hamiltonian of {self.name}: H = {spec_str(self.H) if self.H is not None else '(solved form)'}>"
 
