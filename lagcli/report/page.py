@@ -33,7 +33,7 @@ STYLE = """
 body { font-family: system-ui, sans-serif; max-width: 60rem; margin: 2rem auto; padding: 0 1rem;
        line-height: 1.45; color: #222; }
 h1 { margin-bottom: 0.2rem; } h2 { border-bottom: 1px solid #ddd; margin-top: 2rem; }
-.eq { overflow-x: auto; padding: 0.1rem 0; }
+.eq { overflow-x: auto; overflow-y: hidden; padding: 0.2rem 0; }
 math { font-family: "STIX Two Math", "STIX Math", "Cambria Math", "Latin Modern Math", math; }
 math[display="block"] { margin: 0.4rem 0; }
 table { border-collapse: collapse; margin: 0.5rem 0; }
