@@ -22,7 +22,7 @@ from lagcli.interface import acceleration_name, velocity_name
 from lagcli.model.model_types import (AppliedForce, ConstraintSpec, InputInfo, LinearDamper, LinearSpring,
                                 Model, ParameterInfo, PointMass, RigidBody, Settings)
 from lagcli.model.kinematics import AXES, Entity, Vector, frame_chains
-from lagcli.model.rolling import rolling_constraints
+from lagcli.model.rolling import rolling_constraints, rolling_contact
 from lagcli.spec.types import Body, Spec, Src, VectorSrc
 from lagcli.model.symbols import Acceleration, Velocity
 from lagcli.model.vectors import VectorBuilder
@@ -170,6 +170,7 @@ class _ModelBuilder:
                    if item.unit is not None},
             locs=_item_locs(spec),
             inputs=inputs,
+            rolling=tuple(rolling_contact(item, self) for item in spec.rolling),
         )
         if self.problems:
             raise SpecError(self.problems)
