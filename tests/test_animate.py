@@ -178,3 +178,22 @@ def test_dampers_are_drawn_between_their_ends(tmp_path):
     (line,) = drawing.dampers
     np.testing.assert_allclose(np.array(line.get_data()).T, [[traj["x"][row], 0], [0, 0]], atol=1e-12)
     assert line.get_linestyle() == "--"
+
+
+def test_a_fast_spinning_angle_gets_its_own_panel():
+    """The rolling disc's spin angle phi grows to tens of rad while the tilt theta moves
+    by hundredths: they are drawn on separate axes (each panel's columns within a factor
+    SCALE_SPLIT of each other's range), not one flattening the other."""
+    from lagcli.viz.plot import SCALE_SPLIT, by_scale
+
+    column = {"a": np.array([0.0, 0.1]), "b": np.array([0.0, 0.5]), "c": np.array([0.0, 500.0])}
+    assert by_scale([("angle (rad)", ["c", "a", "b"])], column) == [("angle (rad)", ["a", "b"]),
+                                                                    ("angle (rad)", ["c"])]
+    system = lagcli.load(spec_path("rolling_disc_frames"))
+    figure = system.simulate(t_end=3.0).plot()
+    lines = {line.get_label(): ax for ax in figure.axes for line in ax.get_lines()}
+    assert lines["phi"] is not lines["theta"]
+    for ax in figure.axes[:-1]:
+        spans = [float(np.ptp(line.get_ydata())) for line in ax.get_lines()]
+        if len(spans) > 1 and min(spans) > 0:
+            assert max(spans) <= SCALE_SPLIT * min(spans)
