@@ -193,6 +193,8 @@ def generate(ctx, spec, lang, output, form):
               help="c (compiled driver, cached) is the default when `cc` exists; else python.")
 @click.option("--baumgarte", nargs=2, type=float, metavar="ALPHA BETA",
               help="Constraint stabilisation gains (default 10 10).")
+@click.option("--max-steps", type=int, metavar="N",
+              help="Stop with an error after N integrator steps (default 20000 + 1000 per output interval).")
 @click.option("-o", "--output", default=None, help="CSV file ('-' or none: stdout).")
 @click.option("--plot", default=None, metavar="FILE.png",
               help="Also plot coordinates and drift (needs matplotlib).")
@@ -202,7 +204,7 @@ def generate(ctx, spec, lang, output, form):
               help="With --plot: add the phase portrait (Q_dot against Q) of coordinate Q (repeatable).")
 @quiet_option
 @click.pass_context
-def simulate(ctx, spec, t_end, dt, method, rtol, atol, sets, inits, backend, baumgarte, output, plot,
+def simulate(ctx, spec, t_end, dt, method, rtol, atol, sets, inits, backend, baumgarte, max_steps, output, plot,
              columns, phase):
     """Integrate the equations of motion of SPEC and write the trajectory as CSV.
 
@@ -216,7 +218,7 @@ def simulate(ctx, spec, t_end, dt, method, rtol, atol, sets, inits, backend, bau
     if (columns or phase) and not plot:
         raise click.UsageError("--columns and --phase choose what --plot draws: give --plot FILE.png")
     request = Request(spec, t_end, dt, method, rtol, atol, tuple(sets), tuple(inits), backend,
-                      tuple(baumgarte) if baumgarte else None)
+                      tuple(baumgarte) if baumgarte else None, max_steps)
     chosen = tuple(c.strip() for c in columns.split(",")) if columns else None
     _run(ctx, lambda: commands.simulate(request, output, plot, note=note,
                                         progress=_progress_bar, columns=chosen, phase=tuple(phase)))
