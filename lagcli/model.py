@@ -21,6 +21,7 @@ from lagcli.expr import Scope, parse, parse_constant
 from lagcli.layout import acceleration_name, velocity_name
 from lagcli.model_types import (AppliedForce, ConstraintSpec, InputInfo, LinearDamper, LinearSpring,
                                 Model, ParameterInfo, PointMass, RigidBody, Settings)
+from lagcli.hybrid.model import hybrid_fields
 from lagcli.kinematics import AXES, Entity, Vector, frame_chains
 from lagcli.rolling import rolling_constraints
 from lagcli.spec.types import Body, Spec, Src, VectorSrc
@@ -169,6 +170,7 @@ class _ModelBuilder:
                    if item.unit is not None},
             locs=_item_locs(spec),
             inputs=inputs,
+            **hybrid_fields(self),
         )
         if self.problems:
             raise SpecError(self.problems)

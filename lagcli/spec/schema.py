@@ -20,6 +20,7 @@ from lagcli.spec.latex_subset import HINT as LATEX_HINT
 from lagcli.spec.latex_subset import latex_problem
 from lagcli.spec.reader import KeyPath, RawDoc
 from lagcli.spec.dissipation import DISSIPATION_KEYS, dissipation_fields
+from lagcli.spec.events import events_field, input_laws
 from lagcli.spec.slips import axis_hint, misplaced_toml_keys
 from lagcli.spec.types import (Body, Constraint, Coordinate, Force, Input, Named, Parameter, Particle,
                                SimulateSettings, Spec, Spring, Src, Vector, VectorSrc)
@@ -27,10 +28,10 @@ from lagcli.spec.types import (Body, Constraint, Coordinate, Force, Input, Named
 TOP_KEYS = ("name", "description", "coordinates", "parameters", "inputs", "known", "definitions",
             "gravity", "particles", "bodies", "forces", "springs", "potential", "kinetic",
             "generalized_forces", "constraints", "initial", "simulate", "frames", "rolling")
-TOP_KEYS += DISSIPATION_KEYS
+TOP_KEYS += DISSIPATION_KEYS + ("events",)
 BODY_KEYS = ("mass", "inertia", "position", "angle", "orientation", "frame")
 FORCE_KEYS = ("at", "point", "body", "force", "torque")
-SIMULATE_KEYS = ("t_end", "dt", "method", "rtol", "atol")
+SIMULATE_KEYS = ("t_end", "dt", "method", "rtol", "atol", "inputs")
 AXES = ("x", "y", "z")
 SPATIAL_INERTIA = "[I1, I2, I3], 6 values [Ixx, Iyy, Izz, Ixy, Iyz, Izx] or a 3x3 list"
 
@@ -88,6 +89,7 @@ class _SpecChecker(FrameChecks, Checker):
                                        self.keyed_by(self.state_names(), "coordinate or velocity")),
             simulate=self.simulate(top.get("simulate")),
             **dissipation_fields(self, top),
+            events=events_field(self, top),
             name=self.identifier(("name",), top["name"]) if "name" in top else None,
             description=self.optional_string(top, (), "description") or "",
         )
@@ -357,9 +359,10 @@ class _SpecChecker(FrameChecks, Checker):
         if not table:
             return SimulateSettings()
         numbers = {key: self.expr(path + (key,), table[key]) for key in SIMULATE_KEYS
-                   if key in table and key != "method"}
+                   if key in table and key not in ("method", "inputs")}
         method = self.method(path + ("method",), table["method"]) if "method" in table else None
-        return SimulateSettings(method=method, **numbers)
+        laws = input_laws(self, path + ("inputs",), table["inputs"]) if "inputs" in table else ()
+        return SimulateSettings(method=method, inputs=laws, **numbers)
 
     def method(self, path: KeyPath, value: Any) -> str | None:
         if value in METHODS:
