@@ -148,11 +148,17 @@ def generate(ctx, spec, lang, output, form):
               help="Override a parameter (repeatable); VALUE may be a constant expression.")
 @click.option("--init", "inits", multiple=True, metavar="NAME=VALUE",
               help="Initial value of a coordinate or <q>_dot (repeatable); overrides `initial:`.")
+@click.option("--input", "inputs", multiple=True, metavar="NAME=EXPR",
+              help="A law for an input, of t, coordinates, velocities, parameters (repeatable; "
+                   "overrides the spec's simulate: inputs:), e.g. --input 'F=-k*x - c*x_dot'.")
 @click.option("--backend", type=click.Choice(["python", "c"]),
-              help="c (compiled driver, cached) is the default when `cc` exists; else python.")
+              help="c (compiled driver, cached) is the default when `cc` exists; else python "
+                   "(and for runs with events or input laws).")
 @click.option("--baumgarte", nargs=2, type=float, metavar="ALPHA BETA",
               help="Constraint stabilisation gains (default 10 10).")
 @click.option("-o", "--output", default=None, help="CSV file ('-' or none: stdout).")
+@click.option("--events", "events_path", default=None, metavar="FILE.csv",
+              help="Write one row per event (t, event, action, state before and after, impulse).")
 @click.option("--plot", default=None, metavar="FILE.png",
               help="Also plot coordinates and drift (needs matplotlib).")
 @click.option("--columns", default=None, metavar="NAME[,NAME...]",
@@ -160,24 +166,26 @@ def generate(ctx, spec, lang, output, form):
 @click.option("--phase", "phase", multiple=True, metavar="Q",
               help="With --plot: add the phase portrait (Q_dot against Q) of coordinate Q (repeatable).")
 @click.pass_context
-def simulate(ctx, spec, t_end, dt, method, rtol, atol, sets, inits, backend, baumgarte, output, plot,
-             columns, phase):
+def simulate(ctx, spec, t_end, dt, method, rtol, atol, sets, inits, inputs, backend, baumgarte, output,
+             events_path, plot, columns, phase):
     """Integrate the equations of motion of SPEC and write the trajectory as CSV.
 
     \b
     Examples:
       lagcli simulate specs/double_pendulum.yaml -o traj.csv --plot traj.png
       lagcli simulate specs/cart_pole.yaml --plot p.png --columns x,theta,x_dot --phase theta -o c.csv
+      lagcli simulate specs/hybrid/bouncing_ball.yaml --events bounces.csv -o ball.csv
     """
     from lagcli.simulate.options import Request
 
     if (columns or phase) and not plot:
         raise click.UsageError("--columns and --phase choose what --plot draws: give --plot FILE.png")
     request = Request(spec, t_end, dt, method, rtol, atol, tuple(sets), tuple(inits), backend,
-                      tuple(baumgarte) if baumgarte else None)
+                      tuple(baumgarte) if baumgarte else None, tuple(inputs))
     chosen = tuple(c.strip() for c in columns.split(",")) if columns else None
     _run(ctx, lambda: commands.simulate(request, output, plot, note=lambda text: click.echo(text, err=True),
-                                        progress=_progress_bar, columns=chosen, phase=tuple(phase)))
+                                        progress=_progress_bar, columns=chosen, phase=tuple(phase),
+                                        events=events_path))
 
 
 @cli.command()

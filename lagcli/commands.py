@@ -53,25 +53,28 @@ PLOT_ROWS = 20_000     # --plot draws at most 2 x this many rows (evenly thinned
 
 
 def simulate(request, output: str | None = None, plot: str | None = None,
-             note=lambda text: None, progress=None, columns=None, phase=()) -> None:
+             note=lambda text: None, progress=None, columns=None, phase=(), events: str | None = None) -> None:
     """`lagcli simulate`: run `request` (a lagcli.simulate.options.Request), writing the
     CSV to `output` (stdout for None or '-') row by row as it is computed, then the PNG
     to `plot`.  Both targets are checked, and `output` opened, before any work starts.
     The CSV is kept even when the integration fails or is interrupted (the rows so
     far); the error is raised after it.  `note` and `progress`: see
-    lagcli.simulate.run.simulate."""
+    lagcli.simulate.run.simulate. `events`: the file of one row per event (`--events`),
+    written after the run; a run with events also says on stderr what happened."""
     from lagcli.errors import SimulationError
     from lagcli.output import open_output, resolve_target
     from lagcli.simulate.run import Interrupted, simulate as run
     from lagcli.simulate.trajectory import CsvSink, Decimated, Tee
 
-    if plot:
-        resolve_target(plot)
+    for target in (plot, events):
+        if target:
+            resolve_target(target)
     with open_output(output) as out:
         csv = CsvSink(out.stream)
         shown = Decimated(PLOT_ROWS) if plot else None        # the plot's bounded copy
         outcome = run(request, note, progress, Tee(csv, shown) if shown else csv)
     sink = outcome.trajectory
+    _report_events(sink, outcome, events, note)
     plot_error = None
     if plot and sink.rows:
         from lagcli.simulate.plot import plot_png
@@ -89,6 +92,19 @@ def simulate(request, output: str | None = None, plot: str | None = None,
         raise Interrupted(f"{request.spec}: interrupted ({kept})")
     if plot_error:
         raise plot_error
+
+
+def _report_events(sink, outcome, events: str | None, note) -> None:
+    """The summary line and the end note of a run with events on stderr; the --events file."""
+    from lagcli.hybrid.records import events_csv, summary
+    from lagcli.output import write_output
+
+    if sink.events or outcome.watched_events:
+        note(summary(sink.events))
+    if sink.end_note:
+        note(f"note: {sink.end_note}")
+    if events:
+        write_output(events, events_csv(sink.events, outcome.states))
 
 
 def _plot_options(spec: str, columns, phase):

@@ -196,8 +196,8 @@ class _State:
     def _check_constraints(self, e, t, y_plus, residual) -> None:
         from lagcli.numerics import CONSTRAINT_TOLERANCE
 
-        value = residual(t, y_plus) if residual is not None else 0.0
-        if value > CONSTRAINT_TOLERANCE:
+        value = residual(t, y_plus)
+        if value is not None and value > CONSTRAINT_TOLERANCE:
             raise SimulationError(f"at t = {t:.10g}: event '{e.name}' (reset) gives a state that violates the "
                                   f"constraints (constraint_residual = {value:.3g}); reset the dependent "
                                   "coordinates and velocities consistently")
