@@ -392,11 +392,14 @@ def _format(as_json: bool, as_latex: bool = False) -> str:
               help="With --sweep: find where the number of unstable eigenvalues changes (brentq).")
 @click.option("--symbolic", is_flag=True,
               help="A and B as expressions of the parameters (small unconstrained systems).")
+@click.option("--closed-loop", "closed", is_flag=True,
+              help="Substitute the spec's input laws (simulate: inputs:) first: the closed-loop A.")
 @click.option("--json", "as_json", is_flag=True, help="JSON (full precision).")
 @click.option("--latex", "as_latex", is_flag=True, help="A LaTeX fragment (amsmath).")
 @click.option("-o", "--output", default=None, help="Output file ('-' or none: stdout).")
 @click.pass_context
-def linearize(ctx, spec, at, independent, inputs, sweep, find_critical, symbolic, as_json, as_latex, output):
+def linearize(ctx, spec, at, independent, inputs, sweep, find_critical, symbolic, closed, as_json, as_latex,
+              output):
     """Linearize SPEC about an operating point: A, B, M, C, K, eigenvalues and a stability verdict.
 
     \b
@@ -404,12 +407,13 @@ def linearize(ctx, spec, at, independent, inputs, sweep, find_critical, symbolic
       lagcli linearize specs/bead_on_spinning_hoop.yaml --at theta=0
       lagcli linearize specs/cart_pole.yaml --input F --json
       lagcli linearize specs/cart_pole.yaml --input F --symbolic
+      lagcli linearize specs/hybrid/cart_pole_lqr.yaml --closed-loop
       lagcli linearize specs/rolling_disc.yaml --at phi_dot=w --at x_dot=r*w \\
           --sweep w=0:10:101 --find-critical
     """
     fmt = _format(as_json, as_latex)
     _run(ctx, lambda: write_output(output, commands.linearize(spec, at, independent, inputs, sweep,
-                                                              find_critical, fmt, symbolic)))
+                                                              find_critical, fmt, symbolic, closed)))
 
 
 @cli.command()

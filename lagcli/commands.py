@@ -156,8 +156,10 @@ def generate(path: str, lang: str, output: str | None = None, form: str = "lagra
 # -- analysis: lagcli linearize / equilibria / hamiltonian / routh (lagcli/analysis/) --
 
 def linearize(path: str, at=(), independent=(), inputs=(), sweep: str | None = None,
-              find_critical: bool = False, fmt: str = "text", symbolic: bool = False) -> str:
-    """`lagcli linearize`: the linear model about `--at`, or the eigenvalue table of a sweep."""
+              find_critical: bool = False, fmt: str = "text", symbolic: bool = False,
+              closed: bool = False) -> str:
+    """`lagcli linearize`: the linear model about `--at`, or the eigenvalue table of a sweep;
+    `closed`: with the spec's input laws substituted (lagcli/hybrid/closed_loop.py)."""
     from lagcli.analysis import report
     from lagcli.analysis.linearize import CompiledSystem, linearize as linear_model
     from lagcli.analysis.operating_point import evaluate, parse_assignments
@@ -166,6 +168,9 @@ def linearize(path: str, at=(), independent=(), inputs=(), sweep: str | None = N
     from lagcli.errors import UsageError
 
     d = _derive(path)
+    if closed:
+        from lagcli.hybrid.closed_loop import closed_loop
+        d = closed_loop(d)
     span = parse_sweep(sweep) if sweep else None
     if find_critical and span is None:
         raise UsageError("--find-critical needs --sweep NAME=START:STOP:COUNT")
