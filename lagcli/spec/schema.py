@@ -18,6 +18,7 @@ from lagcli.spec.checker import IDENTIFIER, Checker, describe, did_you_mean
 from lagcli.spec.frames import FrameChecks
 from lagcli.spec.latex_subset import HINT as LATEX_HINT
 from lagcli.spec.latex_subset import latex_problem
+from lagcli.spec.files import STDIN_NAME
 from lagcli.spec.reader import KeyPath, RawDoc
 from lagcli.spec.dissipation import DISSIPATION_KEYS, dissipation_fields
 from lagcli.spec.events import events_field, input_laws
@@ -53,8 +54,9 @@ def check(raw: RawDoc) -> tuple[Spec, list]:
 
 
 def default_name(file: str) -> str:
-    """The file stem made into an identifier: `double-pendulum.yaml` -> `double_pendulum`."""
-    name = re.sub(r"[^A-Za-z0-9_]", "_", Path(file).stem)
+    """The file stem made into an identifier: `double-pendulum.yaml` -> `double_pendulum`
+    (`<stdin>` -> `stdin`)."""
+    name = re.sub(r"[^A-Za-z0-9_]", "_", "stdin" if file == STDIN_NAME else Path(file).stem)
     return name if IDENTIFIER.fullmatch(name) else f"_{name}"
 
 
