@@ -242,6 +242,8 @@ def simulate(ctx, spec, t_end, dt, method, rtol, atol, sets, inits, inputs, back
 @click.option("--set", "sets", multiple=True, metavar="NAME=VALUE", help="A parameter for every run (repeatable).")
 @click.option("--init", "inits", multiple=True, metavar="NAME=VALUE",
               help="An initial value for every run (repeatable).")
+@click.option("--input", "inputs", multiple=True, metavar="NAME=EXPR",
+              help="A law for an input (not run by the compiled driver yet: refused with a clear error).")
 @click.option("--exceed", "exceed", multiple=True, metavar="NAME=VALUE",
               help="Summary column exceed_NAME: first output time with |NAME| > VALUE (repeatable).")
 @click.option("--t-end", type=float, help="End time (default: the spec's simulate.t_end, else 10).")
@@ -258,8 +260,8 @@ def simulate(ctx, spec, t_end, dt, method, rtol, atol, sets, inits, inputs, back
 @click.option("-o", "--output", required=True, help="Summary file: .csv, or .parquet (pyarrow).")
 @quiet_option
 @click.pass_context
-def sweep(ctx, spec, grids, samples, count, seed, runs, sets, inits, exceed, t_end, dt, method, rtol, atol,
-          baumgarte, trajectories, workers, scheduler, output):
+def sweep(ctx, spec, grids, samples, count, seed, runs, sets, inits, inputs, exceed, t_end, dt, method, rtol,
+          atol, baumgarte, trajectories, workers, scheduler, output):
     """Run SPEC many times (a grid, random samples or a table) and summarise each run.
 
     One row per run in the summary: the varied values, ok/failed and why, the final
@@ -275,7 +277,7 @@ def sweep(ctx, spec, grids, samples, count, seed, runs, sets, inits, exceed, t_e
     options = {"t_end": t_end, "dt": dt, "method": method, "rtol": rtol, "atol": atol,
                "baumgarte": tuple(baumgarte) if baumgarte else None, "parameters": sets, "initial": inits,
                "exceed": exceed, "output": output, "trajectories": trajectories, "workers": workers,
-               "scheduler": scheduler}
+               "scheduler": scheduler, "inputs": inputs}
     _run(ctx, lambda: commands.sweep(spec, plan, options, note=note,
                                      progress=_count_bar))
 
@@ -288,6 +290,8 @@ def sweep(ctx, spec, grids, samples, count, seed, runs, sets, inits, exceed, t_e
 @click.option("--set", "sets", multiple=True, metavar="NAME=VALUE",
               help="A parameter (repeatable; with --csv, the values the CSV was made with).")
 @click.option("--init", "inits", multiple=True, metavar="NAME=VALUE", help="Without --csv: an initial value.")
+@click.option("--input", "inputs", multiple=True, metavar="NAME=EXPR",
+              help="Without --csv: a law for an input, as for simulate (repeatable).")
 @click.option("--link", "links", multiple=True, metavar="A:B",
               help="Draw a rod between two points (particle/body names or 'origin'; repeatable).")
 @click.option("--trace", "traces", multiple=True, metavar="POINT", help="Draw the path of a point (repeatable).")
@@ -296,7 +300,7 @@ def sweep(ctx, spec, grids, samples, count, seed, runs, sets, inits, exceed, t_e
 @click.option("-o", "--output", required=True, help="motion.gif, motion.mp4 (ffmpeg) or frame.png (--frame).")
 @quiet_option
 @click.pass_context
-def animate(ctx, spec, csv_path, t_end, dt, sets, inits, links, traces, fps, frame, output):
+def animate(ctx, spec, csv_path, t_end, dt, sets, inits, inputs, links, traces, fps, frame, output):
     """Draw the motion of SPEC: particles, bodies' axes, springs, rods, traces and the time.
 
     \b
@@ -307,7 +311,7 @@ def animate(ctx, spec, csv_path, t_end, dt, sets, inits, links, traces, fps, fra
     """
     from lagcli.simulate.options import Request
 
-    request = Request(spec, t_end, dt, sets=tuple(sets), inits=tuple(inits))
+    request = Request(spec, t_end, dt, sets=tuple(sets), inits=tuple(inits), inputs=tuple(inputs))
     drawing = {"links": links, "traces": traces, "fps": fps, "frame": frame}
     _run(ctx, lambda: commands.animate(spec, csv_path, request, output, drawing,
                                        note=note))

@@ -303,8 +303,14 @@ def sweep(spec: str, plan_options: dict, options: dict, note=lambda text: None, 
     from lagcli.simulate.options import parse_assignments
     from lagcli.sweep import SweepOptions, make_plan, sweep as run_sweep
 
+    from lagcli.errors import UsageError
+
+    laws = options.pop("inputs", ())
     plan = make_plan(**plan_options)                   # option mistakes before deriving
     system = lagcli.load(Path(spec))
+    if laws or system.model.events or system.model.laws:
+        raise UsageError(f"{spec}: lagcli sweep runs the compiled C driver, which does not run events or "
+                         "input laws yet\n  hint: loop over `lagcli simulate` (the Python backend runs them)")
     names = [*system.layout.parameter_names, *system.layout.state_names]
     fixed = {key: parse_assignments(options.pop(key), f"--{flag}", names, what, "names")
              for key, flag, what in (("parameters", "set", "parameter"), ("initial", "init", "initial value"),
