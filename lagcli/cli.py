@@ -10,12 +10,12 @@ import click
 
 from lagcli import __version__, commands
 from lagcli.cli_options import LanguageChoice, note, quiet, quiet_option
-from lagcli.emit import LANGUAGES
-from lagcli.emit.escape import terminal_text
+from lagcli.targets import LANGUAGES
+from lagcli.render.escape import terminal_text
 from lagcli.errors import LagcliError, SpecWarning
-from lagcli.numerics import METHODS
-from lagcli.interrupts import interrupt_on_termination
-from lagcli.output import open_output, write_output
+from lagcli.interface import METHODS
+from lagcli.render.interrupts import interrupt_on_termination
+from lagcli.render.output import open_output, write_output
 from lagcli.runtime.run_rules import EXPLICIT_METHODS
 
 SPEC = click.Path(dir_okay=False, path_type=str)
@@ -130,7 +130,7 @@ def check(ctx, specs, as_json):
       lagcli check specs/*.yaml --json
       lagcli examples cart_pole | lagcli check -
     """
-    from lagcli.diagnostics import check_file, to_json
+    from lagcli.spec.diagnostics import check_file, to_json
 
     verdicts = [check_file(spec, commands.check_summary) for spec in specs]
     if as_json:
@@ -218,7 +218,7 @@ def simulate(ctx, spec, t_end, dt, method, rtol, atol, sets, inits, inputs, back
       lagcli simulate specs/cart_pole.yaml --plot p.png --columns x,theta,x_dot --phase theta -o c.csv
       lagcli simulate specs/hybrid/bouncing_ball.yaml --events bounces.csv -o ball.csv
     """
-    from lagcli.simulate.options import Request
+    from lagcli.run.options import Request
 
     if (columns or phase) and not plot:
         raise click.UsageError("--columns and --phase choose what --plot draws: give --plot FILE.png")
@@ -309,7 +309,7 @@ def animate(ctx, spec, csv_path, t_end, dt, sets, inits, inputs, links, traces, 
       lagcli simulate specs/rolling_disc.yaml -o disc.csv
       lagcli animate specs/rolling_disc.yaml --csv disc.csv --trace disc --frame 2.5 -o disc.png
     """
-    from lagcli.simulate.options import Request
+    from lagcli.run.options import Request
 
     request = Request(spec, t_end, dt, sets=tuple(sets), inits=tuple(inits), inputs=tuple(inputs))
     drawing = {"links": links, "traces": traces, "fps": fps, "frame": frame}
@@ -344,7 +344,7 @@ def examples(ctx, name, copy_to, output):
       lagcli examples double_pendulum -o dp.yaml
       lagcli examples --copy my_specs/ && lagcli derive my_specs/double_pendulum.yaml
     """
-    from lagcli import examples as bundled
+    from lagcli.spec import examples as bundled
 
     def action():
         if copy_to:
@@ -354,6 +354,30 @@ def examples(ctx, name, copy_to, output):
             write_output(output, bundled.find(name).read_text(encoding="utf-8"))
         else:
             click.echo(bundled.listing(), nl=False)
+    _run(ctx, action)
+
+
+@cli.command()
+@click.option("-o", "--output", default=None, help="Output file ('-' or none: stdout).")
+@quiet_option
+@click.pass_context
+def schema(ctx, output):
+    """Print the JSON Schema (draft 2020-12) of spec files: editors complete and check specs with it.
+
+    It is made from the tables `lagcli check` uses; it sees keys and the shapes of values,
+    not what expressions mean (docs/spec.md, "Editor support").
+
+    \b
+    Examples:
+      lagcli schema -o lagcli.schema.json
+      # then, as a spec's first line: # yaml-language-server: $schema=lagcli.schema.json
+    """
+    from lagcli.spec.json_schema import json_schema_text
+
+    def action():
+        write_output(output, json_schema_text())
+        if output not in (None, "-"):
+            note(f"wrote {output}")
     _run(ctx, action)
 
 
@@ -377,7 +401,7 @@ def cache_info():
     Example:
       XDG_CACHE_HOME=/tmp/c lagcli cache info
     """
-    from lagcli.simulate import cache_admin
+    from lagcli.run import cache_admin
 
     click.echo(cache_admin.describe(cache_admin.info()), nl=False)
 
@@ -391,7 +415,7 @@ def cache_clear():
     Example:
       lagcli cache clear
     """
-    from lagcli.simulate import cache_admin
+    from lagcli.run import cache_admin
 
     click.echo(cache_admin.describe_cleared(*cache_admin.clear()), nl=False)
 

@@ -21,7 +21,7 @@ import pytest
 from click.testing import CliRunner
 
 from lagcli.cli import cli
-from lagcli.emit import LANGUAGES
+from lagcli.targets import LANGUAGES
 from lagcli.spec.files import MAX_BYTES
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -113,6 +113,12 @@ def test_check_json_records_locate_every_problem(tmp_path):
     assert problem == {"file": str(bad), "line": 3, "column": 34, "path": "particles.P.colour",
                        "severity": "error", "message": "unknown key 'colour'",
                        "hint": "allowed keys are: mass, position"}
+
+
+def test_check_json_names_stdin_like_its_messages():
+    done = invoke(["check", "--json", "-"], input="coordinates: [x]\nkinetic: x_dot**2/2 +\n")
+    (record,) = json.loads(done.stdout)
+    assert record["file"] == record["problems"][0]["file"] == "<stdin>"
 
 
 def test_check_json_of_valid_files_exits_0():
@@ -220,7 +226,7 @@ def test_unknown_set_name_gets_a_did_you_mean(args, tmp_path, monkeypatch):
 
 
 def test_did_you_mean_ignores_letter_case():
-    from lagcli.simulate.options import closest_name
+    from lagcli.run.options import closest_name
 
     assert closest_name("K", ["k", "m"]) == "k"
     assert closest_name("MC", ["mc", "m", "l"]) == "mc"

@@ -1,4 +1,4 @@
-"""Spec text never becomes live code or live LaTeX (lagcli/emit/escape.py, docs/security.md).
+"""Spec text never becomes live code or live LaTeX (lagcli/render/escape.py, docs/security.md).
 
 Each escaping function is checked against the grammar it defends, with random
 hostile text (hypothesis): Python with its own `tokenize`/`ast`, C with a small
@@ -24,7 +24,7 @@ from click.testing import CliRunner
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from lagcli.emit import escape
+from lagcli.render import escape
 from lagcli.spec.latex_subset import ONE_ARGUMENT, SYMBOLS, latex_problem
 
 from conftest import ROOT

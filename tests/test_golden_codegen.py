@@ -31,8 +31,8 @@ UPDATE = os.environ.get("LAGCLI_UPDATE_GOLDEN") == "1"
 
 
 def generate(spec: str, lang: str) -> dict[str, str]:
-    from lagcli.api import derive_file
-    from lagcli.emit import generate as emit
+    from lagcli.derive.pipeline import derive_file
+    from lagcli.targets import generate as emit
 
     return emit(derive_file(ROOT / "specs" / f"{spec}.yaml"), lang)
 
@@ -53,7 +53,7 @@ def compare_or_update(path: Path, text: str) -> None:
 @pytest.mark.parametrize("lang", LANGS)
 @pytest.mark.parametrize("spec", SPECS)
 def test_golden(spec, lang):
-    from lagcli.emit.octave import FUNCTIONS
+    from lagcli.targets.octave import FUNCTIONS
     from lagcli.runtime import c_runtime_files, rust_runtime_files
 
     files = generate(spec, lang)

@@ -75,7 +75,7 @@ def test_routh_reduction_of_a_constrained_system():
     with the rod r = L as a constraint: the Routhian is the textbook one on r = L, and
     the reduced equations keep the multiplier (the rod's tension) in the r row."""
     import lagcli
-    from lagcli.calculus import numerically_zero
+    from lagcli.model.calculus import numerically_zero
     from lagcli.errors import UsageError
 
     d = lagcli.load(POLAR_SPHERICAL_PENDULUM).derivation

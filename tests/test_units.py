@@ -13,7 +13,7 @@ from click.testing import CliRunner
 
 import lagcli
 from lagcli.errors import Loc, SpecError
-from lagcli.units import (ENERGY, FORCE, LENGTH, NONE, TIME, Mismatch, check_derivation_units, dimension_of,
+from lagcli.model.units import (ENERGY, FORCE, LENGTH, NONE, TIME, Mismatch, check_derivation_units, dimension_of,
                           unit_dimension)
 
 CONSISTENT = Path(__file__).parent / "data" / "units_cart_pendulum.yaml"

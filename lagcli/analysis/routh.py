@@ -98,7 +98,7 @@ def _tidy(expr: sp.Expr) -> sp.Expr:
 
 
 def _reduced_equations(model, R, r, Q) -> tuple[sp.Expr, ...]:
-    from lagcli.calculus import TimeDerivative
+    from lagcli.model.calculus import TimeDerivative
 
     q_r = [model.q[k] for k in r]
     D = TimeDerivative(model.t, q_r, [model.qd[k] for k in r], [model.qdd[k] for k in r])

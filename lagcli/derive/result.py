@@ -26,7 +26,7 @@ from dataclasses import dataclass
 import sympy as sp
 
 from lagcli.errors import Loc
-from lagcli.model_types import Model
+from lagcli.model.model_types import Model
 
 
 @dataclass(frozen=True)

@@ -12,19 +12,16 @@
 
 Shapes, names and references are checked here; what the expressions may depend on
 (an impact's `when` no velocities, a law no accelerations) is checked when they are
-parsed (lagcli/hybrid/model.py).
+parsed (lagcli/hybrid/hybrid_model.py).
 """
 from __future__ import annotations
 
 from typing import Any
 
 from lagcli.spec.checker import did_you_mean
+from lagcli.spec.format import ACTIONS, DIRECTIONS, EVENT
 from lagcli.spec.reader import KeyPath
 from lagcli.spec.types import Event, Named
-
-EVENT_KEYS = ("name", "when", "direction", "action", "restitution", "reset")
-DIRECTIONS = ("falling", "rising", "either")
-ACTIONS = ("impact", "reset", "stop")
 
 
 def events_field(checker, top: dict) -> tuple[Event, ...]:
@@ -54,14 +51,15 @@ def input_laws(checker, path: KeyPath, value: Any) -> tuple[Named, ...]:
 
 
 def _event(checker, path: KeyPath, value: Any, names: set[str]) -> Event | None:
-    table = checker.table(path, value, EVENT_KEYS, ("when", "action"))
+    table = checker.table(path, value, EVENT)
     if table is None:
         return None
     name = checker.identifier(path + ("name",), table["name"]) if "name" in table else f"event_{path[-1] + 1}"
     if name is not None and name in names:
         checker.fail(path + ("name",), f"duplicate event name '{name}'", "each event needs its own name")
     names.add(name)
-    direction = _choice(checker, path + ("direction",), table.get("direction", "falling"), DIRECTIONS, "direction")
+    direction = _choice(checker, path + ("direction",), table.get("direction", DIRECTIONS[0]), DIRECTIONS,
+                        "direction")
     action = _choice(checker, path + ("action",), table["action"], ACTIONS, "action") if "action" in table else None
     when = checker.expr(path + ("when",), table["when"]) if "when" in table else None
     restitution = _restitution(checker, path, table, action)

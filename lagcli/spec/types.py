@@ -1,6 +1,6 @@
 """The validated spec: plain strings and numbers, each item with its `Loc`.
 
-`Src` is the source text of one expression (never evaluated here: `model.py`
+`Src` is the source text of one expression (never evaluated here: `lagcli/model/build.py`
 parses it with the safe expression parser). Numbers written in the file arrive as
 their `repr` text, so every expression field is a `Src`.
 """
@@ -21,7 +21,7 @@ class Src:
 
 @dataclass(frozen=True)
 class VectorSrc(Src):
-    """A vector written as one expression, e.g. `r*A_z + [x, y, 0]` (3-D; lagcli/vectors.py)."""
+    """A vector written as one expression, e.g. `r*A_z + [x, y, 0]` (3-D; lagcli/model/vectors.py)."""
 
 
 Vector = tuple[Src, ...]  # 2 or 3 components (one dimension per spec), or one VectorSrc
@@ -32,7 +32,7 @@ class Coordinate:
     name: str
     latex: str | None
     loc: Loc
-    unit: str | None = None    # a unit expression (lagcli/units.py); None: dimensionless
+    unit: str | None = None    # a unit expression (lagcli/model/units.py); None: dimensionless
 
 
 @dataclass(frozen=True)
@@ -42,7 +42,7 @@ class Parameter:
     latex: str | None
     description: str | None
     loc: Loc
-    unit: str | None = None    # a unit expression (lagcli/units.py); None: dimensionless
+    unit: str | None = None    # a unit expression (lagcli/model/units.py); None: dimensionless
 
 
 @dataclass(frozen=True)

@@ -18,7 +18,7 @@
  * constraint error (max_step), and an initial state that violates the constraints by
  * more than LAGCLI_CONSTRAINT_TOLERANCE is integrated as given, with a warning on stderr.
  *
- * The numbers below are the C side of lagcli/numerics.py (tests/test_c_runtime.py
+ * The numbers below are the C side of lagcli/interface.py (tests/test_c_runtime.py
  * checks that both say the same).
  */
 #include <math.h>
