@@ -154,7 +154,9 @@ def check(ctx, specs, as_json):
 @click.option("--lang", required=True, type=LanguageChoice(LANGUAGES),
               help="python: one module (numpy); c: <name>.h, <name>.c, <name>_main.c; "
                    "octave: MATLAB/Octave functions and an ode45 script; rust: a crate; "
-                   "latex: a standalone document; fmu: an FMI 2.0 FMU (needs cc). Any letter case; "
+                   "latex: a standalone document; fmu: an FMI 2.0 FMU (needs cc); "
+                   "casadi: a module of CasADi Functions (needs casadi to run); "
+                   "jax: a module of jax.numpy functions (needs jax to run). Any letter case; "
                    "matlab is octave.")
 @click.option("-o", "--output", default=None,
               help="Output file ('-' or none: stdout); for --lang c, octave, rust the directory (required); "
@@ -166,12 +168,15 @@ def check(ctx, specs, as_json):
 @quiet_option
 @click.pass_context
 def generate(ctx, spec, lang, output, form):
-    """Generate code (Python, C) or a LaTeX document from SPEC's equations of motion.
+    """Generate code (Python, C, Octave, Rust, FMU, CasADi, JAX) or a LaTeX document from
+    SPEC's equations of motion.
 
     \b
     Examples:
       lagcli generate specs/double_pendulum.yaml --lang python -o double_pendulum.py
       lagcli generate specs/double_pendulum.yaml --lang c -o double_pendulum/
+      lagcli generate specs/cart_pole.yaml --lang casadi -o cart_pole_casadi.py
+      lagcli generate specs/double_pendulum.yaml --lang jax -o double_pendulum_jax.py
       lagcli generate specs/spherical_pendulum.yaml --lang python --form hamiltonian -o sp_h.py
     """
     _run(ctx, lambda: commands.generate(spec, lang, output, form, note=note))

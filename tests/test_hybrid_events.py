@@ -143,7 +143,7 @@ def test_a_reset_that_breaks_a_constraint_is_an_error_naming_the_event(tmp_path)
     assert (tmp_path / "out.csv").read_text().count("\n") > 10        # the rows so far are kept
 
 
-@pytest.mark.parametrize("lang", ["c", "fmu", "octave", "rust", "python"])
+@pytest.mark.parametrize("lang", ["c", "fmu", "octave", "rust", "python", "casadi", "jax"])
 def test_code_targets_refuse_events_clearly(lang, tmp_path):
     result = run("generate", HYBRID / "bouncing_ball.yaml", "--lang", lang, "-o", tmp_path / "out")
     assert result.exit_code == 2

@@ -154,7 +154,7 @@ class Model:
     settings: Settings = field(default_factory=Settings)
     dampers: tuple[LinearDamper, ...] = ()
     dissipation: sp.Expr = sp.S.Zero             # Rayleigh R(q, q', t) as written (dampers not included)
-    units: dict = field(default_factory=dict)    # name -> (unit text, Loc) of parameters and coordinates
+    units: dict = field(default_factory=dict)    # name -> (unit text, Loc) of parameters, inputs and coordinates
     locs: dict = field(default_factory=dict)     # key path ("coordinates[1]", "potential") -> Loc, for messages
 
     def loc(self, path: str) -> Loc:

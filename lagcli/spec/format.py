@@ -93,8 +93,8 @@ COORDINATE = Table("coordinate", "a coordinate with its LaTeX symbol or unit",
                    {"name": NAME, "latex": STRING, "unit": STRING}, ("name",))
 PARAMETER = Table("parameter", "a parameter's default value with its symbol, description or unit",
                   {"value": EXPRESSION, "latex": STRING, "description": STRING, "unit": STRING}, ("value",))
-INPUT = Table("input", "an input's default value with its symbol or description",
-              {"value": EXPRESSION, "latex": STRING, "description": STRING})
+INPUT = Table("input", "an input's default value with its symbol, description or unit",
+              {"value": EXPRESSION, "latex": STRING, "description": STRING, "unit": STRING})
 PARTICLE = Table("particle", "a point mass", {"mass": EXPRESSION, "position": VECTOR}, ("mass", "position"))
 BODY = Table("body", "a rigid body: planar with angle, spatial with orientation or frame",
              {"mass": EXPRESSION, "inertia": INERTIA, "position": VECTOR, "angle": EXPRESSION,

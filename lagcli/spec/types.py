@@ -55,6 +55,7 @@ class Input:
     latex: str | None
     description: str | None
     loc: Loc
+    unit: str | None = None    # a unit expression (lagcli/units.py); None: dimensionless
 
 
 @dataclass(frozen=True)
