@@ -21,6 +21,7 @@ from lagcli.model.expr import Scope, parse, parse_constant
 from lagcli.interface import acceleration_name, velocity_name
 from lagcli.model.model_types import (AppliedForce, ConstraintSpec, InputInfo, LinearDamper, LinearSpring,
                                 Model, ParameterInfo, PointMass, RigidBody, Settings)
+from lagcli.hybrid.hybrid_model import hybrid_fields
 from lagcli.model.kinematics import AXES, Entity, Vector, frame_chains
 from lagcli.model.rolling import rolling_constraints
 from lagcli.spec.types import Body, Spec, Src, VectorSrc
@@ -170,6 +171,7 @@ class _ModelBuilder:
                    if item.unit is not None},
             locs=_item_locs(spec),
             inputs=inputs,
+            **hybrid_fields(self),
         )
         if self.problems:
             raise SpecError(self.problems)

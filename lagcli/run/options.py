@@ -32,6 +32,7 @@ class Request:
     inits: tuple[str, ...] = ()         # raw "NAME=VALUE" items of --init
     backend: str | None = None          # "python" | "c" | None (c when `cc` exists)
     baumgarte: tuple[float, float] | None = None
+    inputs: tuple[str, ...] = ()        # raw "NAME=EXPR" items of --input (input laws)
     max_steps: int | None = None        # the step budget (None: `default_max_steps`)
 
 
