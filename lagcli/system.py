@@ -185,15 +185,19 @@ class System:
         rows = self.run(settings, {**self._parameters(parameters), **constants}, start, backend, laws=laws)
         return from_rows(self.layout, rows, start.notes, self.energy_conserved)
 
+    def laws(self, values: dict[str, float], laws: dict | None = None) -> dict:
+        """The input laws of one run: the spec's, minus the inputs `values` holds constant
+        (`--set`), overridden by `laws` (input name -> a sympy law or a callable u(t, y))."""
+        spec_laws = {law.symbol.name: law.expr for law in self.model.laws if law.symbol.name not in values}
+        return {**spec_laws, **(laws or {})}
+
     def hybrid(self, values: dict[str, float], laws: dict | None = None):
         """The numeric laws and events of one run (`lagcli.hybrid.numeric.Hybrid`), or None
-        when the run has neither. `values`: parameters and constant inputs of the run
-        (a constant overrides the spec's law of that input); `laws`: input name -> a
-        sympy law or a callable u(t, y), overriding both."""
+        when the run has neither. `values`: parameters and constant inputs of the run;
+        `laws`: see `laws`."""
         from lagcli.hybrid.numeric import hybrid_run
 
-        spec_laws = {law.symbol.name: law.expr for law in self.model.laws if law.symbol.name not in values}
-        laws = {**spec_laws, **(laws or {})}
+        laws = self.laws(values, laws)
         if not self.model.events and not laws:
             return None
         params = {**self.layout.parameter_defaults, **{k: v for k, v in values.items()
@@ -201,6 +205,13 @@ class System:
         inputs = {**self.layout.input_defaults, **{k: v for k, v in values.items()
                                                    if k in self.layout.input_defaults}, **laws}
         return hybrid_run(self.derivation, params, inputs)
+
+    def compiled_laws(self, values: dict[str, float], laws: dict | None = None) -> dict | None:
+        """The laws of a run the compiled driver can take (expressions, no events), or None."""
+        laws = self.laws(values, laws)
+        if self.model.events or any(callable(v) and not hasattr(v, "free_symbols") for v in laws.values()):
+            return None
+        return laws
 
     def run(self, settings, values: dict[str, float], start, backend: str, sink=None, progress=None,
             laws: dict | None = None):
@@ -212,7 +223,8 @@ class System:
         `update(t)` (or None), entered once the code is ready and the integration starts;
         `laws`: see `hybrid`."""
         progress = progress or _no_progress
-        hybrid = self.hybrid(values, laws)
+        compiled = self.compiled_laws(values, laws) if backend == "c" else None
+        hybrid = self.hybrid(values, laws) if compiled is None else None
         if hybrid is not None:
             return self._run_hybrid(settings, values, start, backend, sink, progress, hybrid)
         if backend == "python":
@@ -228,7 +240,7 @@ class System:
         if backend == "c":
             from lagcli.run import c_backend
 
-            cached = c_backend.driver(self, c_backend.require_compiler(settings.method))
+            cached = c_backend.driver(self, c_backend.require_compiler(settings.method), compiled)
             args = c_backend.driver_arguments(settings, values, dict(zip(self.layout.state_names,
                                                                            start.values)))
             with progress(settings.t_end) as update:
@@ -240,8 +252,9 @@ class System:
         from lagcli.hybrid.hybrid_run import integrate_hybrid
 
         if backend != "python":
-            raise UsageError(f"{self.model.source}: the {backend} backend does not run events or input laws "
-                             "yet\n  hint: use the Python backend (--backend python; the default for such a run)")
+            raise UsageError(f"{self.model.source}: the {backend} backend does not run events or callable "
+                             "input laws yet\n  hint: use the Python backend (--backend python; the default "
+                             "for such a run)")
         module = self._module()
         params = {**self.layout.parameter_defaults, **values}
         inputs = {**self.layout.input_defaults, **values}
