@@ -167,16 +167,20 @@ class System:
         """Integrate as `lagcli simulate --backend BACKEND` does: "python" (scipy's
         `solve_ivp` methods on the generated module) or "c" (the compiled driver, built
         once and cached, RK45 and DOP853). None takes the spec's `simulate:` value, else
-        lagcli's default. `inputs`: {name: value} of the spec's `inputs:`, held constant
-        (missing ones at their defaults). Returns a `lagcli.trajectory.Trajectory`; a
-        failed integration keeps its rows and says why in `failure`."""
+        lagcli's default. `inputs`: {name: value} of the spec's `inputs:`: a number (held
+        constant), an expression string (a law of t, q, q', parameters: "-k*x - c*x_dot")
+        or a Python callable u(t, y) returning a number; missing ones follow the spec's
+        law or sit at their default. Laws and the spec's `events:` run on the Python
+        backend. Returns a `lagcli.trajectory.Trajectory` (its `events` lists what
+        happened); a failed integration keeps its rows and says why in `failure`."""
         from lagcli.run.options import Request, resolve_settings
         from lagcli.trajectory import from_rows
 
         settings = resolve_settings(Request(self.model.source, t_end, dt, method, rtol, atol,
                                             baumgarte=baumgarte), self.layout.settings.as_dict())
         start = self.initial_state(parameters, initial)
-        rows = self.run(settings, {**self._parameters(parameters), **self._inputs(inputs)}, start, backend)
+        constants, laws = self._inputs(inputs)
+        rows = self.run(settings, {**self._parameters(parameters), **constants}, start, backend, laws=laws)
         return from_rows(self.layout, rows, start.notes, self.energy_conserved, self.angles)
 
     @property
@@ -187,14 +191,36 @@ class System:
 
         return self._once("_angles", lambda: angle_coordinates(self.model))
 
-    def run(self, settings, values: dict[str, float], start, backend: str, sink=None, progress=None):
+    def hybrid(self, values: dict[str, float], laws: dict | None = None):
+        """The numeric laws and events of one run (`lagcli.hybrid.numeric.Hybrid`), or None
+        when the run has neither. `values`: parameters and constant inputs of the run
+        (a constant overrides the spec's law of that input); `laws`: input name -> a
+        sympy law or a callable u(t, y), overriding both."""
+        from lagcli.hybrid.numeric import hybrid_run
+
+        spec_laws = {law.symbol.name: law.expr for law in self.model.laws if law.symbol.name not in values}
+        laws = {**spec_laws, **(laws or {})}
+        if not self.model.events and not laws:
+            return None
+        params = {**self.layout.parameter_defaults, **{k: v for k, v in values.items()
+                                                       if k in self.layout.parameter_defaults}}
+        inputs = {**self.layout.input_defaults, **{k: v for k, v in values.items()
+                                                   if k in self.layout.input_defaults}, **laws}
+        return hybrid_run(self.derivation, params, inputs)
+
+    def run(self, settings, values: dict[str, float], start, backend: str, sink=None, progress=None,
+            laws: dict | None = None):
         """One run's rows, given to `sink` (a `lagcli.run.rows.RowSink`; in
         memory when None) as they are computed, and the sink returned: the level
         `lagcli simulate` works at. `settings`: `lagcli.run.options.RunSettings`;
         `values`: the parameters and inputs changed for this run (as `--set` gives
         them); `start`: from `start`; `progress(t_end)`: a context manager yielding
-        `update(t)` (or None), entered once the code is ready and the integration starts."""
+        `update(t)` (or None), entered once the code is ready and the integration starts;
+        `laws`: see `hybrid`."""
         progress = progress or _no_progress
+        hybrid = self.hybrid(values, laws)
+        if hybrid is not None:
+            return self._run_hybrid(settings, values, start, backend, sink, progress, hybrid)
         if backend == "python":
             from lagcli.run.python_backend import integrate_module
 
@@ -214,6 +240,21 @@ class System:
             with progress(settings.t_end) as update:
                 return c_backend.run(cached, args, update, sink=sink)
         raise UsageError(f"backend {backend!r}: expected 'python' or 'c'")
+
+    def _run_hybrid(self, settings, values, start, backend, sink, progress, hybrid):
+        """A run with events or input laws: on the Python backend (lagcli/hybrid/hybrid_run.py)."""
+        from lagcli.hybrid.hybrid_run import integrate_hybrid
+
+        if backend != "python":
+            raise UsageError(f"{self.model.source}: the {backend} backend does not run events or input laws "
+                             "yet\n  hint: use the Python backend (--backend python; the default for such a run)")
+        module = self._module()
+        params = {**self.layout.parameter_defaults, **values}
+        inputs = {**self.layout.input_defaults, **values}
+        u = [inputs[n] for n in self.layout.input_names] or None
+        with progress(settings.t_end) as update:
+            return integrate_hybrid(module, [params[n] for n in self.layout.parameter_names],
+                                    list(start.values), settings, hybrid, u, update, sink)
 
     def sweep(self, grid: dict | None = None, sample: dict | None = None, count: int | None = None,
               seed: int | None = None, runs=None, output: str | None = None, **options):
@@ -321,10 +362,21 @@ class System:
         self._known("parameters", given, self.layout.parameter_names, "parameter")
         return {k: float(v) for k, v in given.items()}
 
-    def _inputs(self, inputs: dict | None) -> dict[str, float]:
+    def _inputs(self, inputs: dict | None) -> tuple[dict[str, float], dict]:
+        """The constant inputs {name: value} and the laws {name: sympy law or callable}."""
+        from lagcli.hybrid.hybrid_model import parse_law
+
         given = dict(inputs or {})
         self._known("inputs", given, self.layout.input_names, "input")
-        return {k: float(v) for k, v in given.items()}
+        constants, laws = {}, {}
+        for name, value in given.items():
+            if isinstance(value, str):
+                laws[name] = parse_law(self.model, name, value, f"inputs={{{name!r}: ...}}").expr
+            elif callable(value):
+                laws[name] = value
+            else:
+                constants[name] = float(value)
+        return constants, laws
 
     def _known(self, argument: str, given: dict, allowed, what: str) -> None:
         unknown = [name for name in given if name not in allowed]

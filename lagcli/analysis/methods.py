@@ -18,7 +18,7 @@ from lagcli.errors import UsageError
 def point_of(system, at, parameters=None, inputs=None, sweep: str | None = None) -> Assignments:
     """`at` ({name: number or expression text}, or the parsed `--at` values) with the
     `parameters` and `inputs` of this call added (their names checked as `simulate`'s)."""
-    fixed = {**system._parameters(parameters), **system._inputs(inputs)}
+    fixed = {**system._parameters(parameters), **_held_inputs(system, inputs)}
     if not isinstance(at, Assignments):
         at = assignments_of(system.derivation, dict(at or {}), sweep)
     return Assignments({**at.values, **{k: sp.Float(v) for k, v in fixed.items()}}, at.sweep)
@@ -95,7 +95,16 @@ def _constants(system, parameters, inputs) -> dict[str, float]:
     """Every parameter's and input's value: the spec's, overridden by this call's."""
     model = system.derivation.model
     spec = {p.symbol.name: float(p.value) for p in (*model.parameters, *model.inputs)}
-    return spec | system._parameters(parameters) | system._inputs(inputs)
+    return spec | system._parameters(parameters) | _held_inputs(system, inputs)
+
+
+def _held_inputs(system, inputs) -> dict[str, float]:
+    """{input: number}: an analysis holds each input at a value (a law is for `simulate`)."""
+    constants, laws = system._inputs(inputs)
+    if laws:
+        raise UsageError(f"inputs=: {next(iter(laws))!r}: an analysis holds an input at a number, "
+                         "not a law\n  hint: give its value")
+    return constants
 
 
 def _guesses(d, guesses) -> list[dict]:

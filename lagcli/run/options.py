@@ -32,6 +32,7 @@ class Request:
     inits: tuple[str, ...] = ()         # raw "NAME=VALUE" items of --init
     backend: str | None = None          # "python" | "c" | None (c when `cc` exists)
     baumgarte: tuple[float, float] | None = None
+    inputs: tuple[str, ...] = ()        # raw "NAME=EXPR" items of --input (input laws)
 
 
 @dataclass(frozen=True)
