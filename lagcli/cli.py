@@ -203,15 +203,10 @@ def generate(ctx, spec, lang, output, form):
 @click.option("--baumgarte", nargs=2, type=float, metavar="ALPHA BETA",
               help="Constraint stabilisation gains (default 10 10).")
 @click.option("-o", "--output", default=None, help="CSV file ('-' or none: stdout).")
-<<<<<<< HEAD
-@click.option("--plot", default=None, metavar="FILE.png|svg|pdf",
-              help="Also plot coordinates and drift (needs matplotlib), in the format the extension names.")
-=======
 @click.option("--events", "events_path", default=None, metavar="FILE.csv",
               help="Write one row per event (t, event, action, state before and after, impulse).")
-@click.option("--plot", default=None, metavar="FILE.png",
-              help="Also plot coordinates and drift (needs matplotlib).")
->>>>>>> main
+@click.option("--plot", default=None, metavar="FILE.png|svg|pdf",
+              help="Also plot coordinates and drift (needs matplotlib), in the format the extension names.")
 @click.option("--columns", default=None, metavar="NAME[,NAME...]",
               help="With --plot: draw these columns, one panel per kind (angles, lengths, velocities, ...).")
 @click.option("--phase", "phase", multiple=True, metavar="Q",

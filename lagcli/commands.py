@@ -66,16 +66,12 @@ def simulate(request, output: str | None = None, plot: str | None = None,
     from lagcli.run.simulate import Interrupted, simulate as run
     from lagcli.run.rows import CsvSink, Decimated, Tee
 
-<<<<<<< HEAD
-    if plot:
-        from lagcli.viz.plot import figure_format
-        resolve_target(plot)
-        figure_format(plot)
-=======
     for target in (plot, events):
         if target:
             resolve_target(target)
->>>>>>> main
+    if plot:
+        from lagcli.viz.plot import figure_format
+        figure_format(plot)
     with open_output(output) as out:
         csv = CsvSink(out.stream)
         shown = Decimated(PLOT_ROWS) if plot else None        # the plot's bounded copy
@@ -175,44 +171,32 @@ def _wrote(output: str | None, note) -> None:
 # -- analysis: lagcli linearize / equilibria / hamiltonian / routh (lagcli/analysis/) --
 
 def linearize(path: str, at=(), independent=(), inputs=(), sweep: str | None = None,
-<<<<<<< HEAD
-              find_critical: bool = False, fmt: str = "text", symbolic: bool = False) -> str:
-    """`lagcli linearize`: the linear model about `--at`, or the eigenvalue table of a sweep
-    (`System.linearize`, `linearize_sweep`, `linearize_symbolic`, formatted)."""
-=======
               find_critical: bool = False, fmt: str = "text", symbolic: bool = False,
               closed: bool = False) -> str:
-    """`lagcli linearize`: the linear model about `--at`, or the eigenvalue table of a sweep;
-    `closed`: with the spec's input laws substituted (lagcli/hybrid/closed_loop.py)."""
->>>>>>> main
+    """`lagcli linearize`: the linear model about `--at`, or the eigenvalue table of a sweep
+    (`System.linearize`, `linearize_sweep`, `linearize_symbolic`, formatted); `closed`: with
+    the spec's input laws substituted (lagcli/hybrid/closed_loop.py)."""
     from lagcli.analysis import report
     from lagcli.analysis.operating_point import parse_assignments
     from lagcli.analysis.sweep import parse_sweep
     from lagcli.errors import UsageError
     from lagcli.system import load
 
-<<<<<<< HEAD
     system = load(Path(path))
-=======
-    d = _derive(path)
-    if closed:
-        from lagcli.hybrid.closed_loop import closed_loop
-        d = closed_loop(d)
->>>>>>> main
     span = parse_sweep(sweep) if sweep else None
     if find_critical and span is None:
         raise UsageError("--find-critical needs --sweep NAME=START:STOP:COUNT")
     points = parse_assignments(system.derivation, at, span.name if span else None)
     if symbolic:
-        return _symbolic_linear(system, points, inputs, fmt)
+        return _symbolic_linear(system, points, inputs, fmt, closed)
     if span is not None:
         found = system.linearize_sweep(span.name, span.values, points, independent=independent,
-                                       extra_inputs=inputs, find_critical=find_critical)
+                                       extra_inputs=inputs, find_critical=find_critical, closed_loop=closed)
         if fmt == "latex":
             raise UsageError("--sweep prints a table: use the text or --json output")
         content = report.sweep_content(found)
         return report.to_json(content) if fmt == "json" else report.sweep_text(content)
-    lin = system.linearize(points, independent=independent, extra_inputs=inputs)
+    lin = system.linearize(points, independent=independent, extra_inputs=inputs, closed_loop=closed)
     content = report.linear_content(lin)
     if fmt == "json":
         return report.to_json(content)
@@ -221,13 +205,13 @@ def linearize(path: str, at=(), independent=(), inputs=(), sweep: str | None = N
     return report.linear_text(content)
 
 
-def _symbolic_linear(system, points, inputs, fmt: str) -> str:
+def _symbolic_linear(system, points, inputs, fmt: str, closed: bool) -> str:
     from lagcli.analysis import report
     from lagcli.report.latex_printer import LatexPrinter
     from lagcli.render.spec_printer import spec_str
 
     d = system.derivation
-    lin = system.linearize_symbolic(points, inputs)
+    lin = system.linearize_symbolic(points, inputs, closed_loop=closed)
     if fmt == "latex":
         return report.symbolic_latex(lin, LatexPrinter(d.model))
     content = report.symbolic_content(d, lin, spec_str)

@@ -294,34 +294,36 @@ class System:
     # --- analyses (docs/analysis.md; lagcli/analysis/methods.py) -------------------------
 
     def linearize(self, at: dict | None = None, parameters: dict | None = None, inputs: dict | None = None,
-                  independent=(), extra_inputs=()):
+                  independent=(), extra_inputs=(), closed_loop: bool = False):
         """The linear model about `at` (as `lagcli linearize --at`: {name: number or
         expression text} of coordinates, velocities (`q_dot`), parameters, inputs, `t`;
         what is not given is 0, parameters and inputs their spec value), with
         `parameters` and `inputs` changed for this call. `independent`: the independent
         coordinates and speeds of a constrained system; `extra_inputs`: parameters taken
-        as inputs too (`--input`). A `lagcli.analysis.results.Linearization`: A, B, M, C,
-        K (numpy arrays), eigenvalues, verdict, the point used."""
+        as inputs too (`--input`); `closed_loop`: the spec's input laws substituted first
+        (`--closed-loop`). A `lagcli.analysis.results.Linearization`: A, B, M, C, K (numpy
+        arrays), eigenvalues, verdict, the point used."""
         from lagcli.analysis import methods
 
-        return methods.linearize(self, at, parameters, inputs, independent, extra_inputs)
+        return methods.linearize(self, at, parameters, inputs, independent, extra_inputs, closed_loop)
 
     def linearize_sweep(self, variable: str, values, at: dict | None = None, parameters: dict | None = None,
-                        inputs: dict | None = None, independent=(), extra_inputs=(), find_critical: bool = False):
+                        inputs: dict | None = None, independent=(), extra_inputs=(), find_critical: bool = False,
+                        closed_loop: bool = False):
         """`linearize` at each of `values` of `variable` (a parameter, or a name the `at`
         expressions use), as `lagcli linearize --sweep` (`--find-critical`: where the count
         of unstable eigenvalues changes). A `lagcli.analysis.sweep.LinearizationSweep`."""
         from lagcli.analysis import methods
 
         return methods.linearize_sweep(self, variable, values, at, parameters, inputs, independent,
-                                       extra_inputs, find_critical)
+                                       extra_inputs, find_critical, closed_loop)
 
-    def linearize_symbolic(self, at: dict | None = None, extra_inputs=()):
+    def linearize_symbolic(self, at: dict | None = None, extra_inputs=(), closed_loop: bool = False):
         """A and B as sympy matrices of the parameters (`lagcli linearize --symbolic`; small
         unconstrained systems): a `lagcli.analysis.symbolic.SymbolicLinear`."""
         from lagcli.analysis import methods
 
-        return methods.linearize_symbolic(self, at, extra_inputs)
+        return methods.linearize_symbolic(self, at, extra_inputs, closed_loop)
 
     def equilibria(self, parameters: dict | None = None, inputs: dict | None = None, guesses=None):
         """The equilibria (q' = 0) with their stability, as `lagcli equilibria`; `guesses`:

@@ -24,44 +24,56 @@ def point_of(system, at, parameters=None, inputs=None, sweep: str | None = None)
     return Assignments({**at.values, **{k: sp.Float(v) for k, v in fixed.items()}}, at.sweep)
 
 
-def compiled(system, extra_inputs=()):
+def derivation(system, closed_loop: bool = False):
+    """The System's derivation, or (`closed_loop`) with the spec's input laws substituted
+    (`lagcli.hybrid.closed_loop`), made once."""
+    if not closed_loop:
+        return system.derivation
+    from lagcli.hybrid.closed_loop import closed_loop as close
+
+    return system._once("_closed_loop", lambda: close(system.derivation))
+
+
+def compiled(system, extra_inputs=(), closed_loop: bool = False):
     """The derivation's matrices and Jacobians compiled (`linearize.CompiledSystem`), once."""
     from lagcli.analysis.linearize import CompiledSystem
 
     extra = tuple(extra_inputs)
-    return system._once("_compiled:" + ",".join(extra), lambda: CompiledSystem(system.derivation, extra))
+    key = "_compiled:" + ",".join(extra) + (":closed" if closed_loop else "")
+    return system._once(key, lambda: CompiledSystem(derivation(system, closed_loop), extra))
 
 
-def linearize(system, at=None, parameters=None, inputs=None, independent=(), extra_inputs=()) -> Linearization:
+def linearize(system, at=None, parameters=None, inputs=None, independent=(), extra_inputs=(),
+              closed_loop: bool = False) -> Linearization:
     from lagcli.analysis.linearize import linearize as linear_model
     from lagcli.analysis.operating_point import evaluate
     from lagcli.analysis.stability import stability
 
-    d = system.derivation
-    lm = linear_model(compiled(system, extra_inputs), evaluate(d, point_of(system, at, parameters, inputs)),
+    d = derivation(system, closed_loop)
+    lm = linear_model(compiled(system, extra_inputs, closed_loop), evaluate(d, point_of(system, at, parameters, inputs)),
                       tuple(independent))
     return linearization(d, lm, stability(lm))
 
 
 def linearize_sweep(system, variable: str, values, at=None, parameters=None, inputs=None, independent=(),
-                    extra_inputs=(), find_critical: bool = False):
+                    extra_inputs=(), find_critical: bool = False, closed_loop: bool = False):
     """Stability at each of `values` of `variable` (a parameter, or a name `at` uses)."""
     from lagcli.analysis.sweep import LinearizationSweep, critical_values, sweep
 
     points = point_of(system, at, parameters, inputs, variable)
-    linear = compiled(system, extra_inputs)
+    linear = compiled(system, extra_inputs, closed_loop)
     table = sweep(linear, points, [float(v) for v in values], tuple(independent))
     critical = critical_values(linear, points, table, tuple(independent)) if find_critical else []
     return LinearizationSweep(variable, tuple(table), tuple(critical))
 
 
-def linearize_symbolic(system, at=None, extra_inputs=()):
+def linearize_symbolic(system, at=None, extra_inputs=(), closed_loop: bool = False):
     """A and B as sympy matrices of the parameters (`lagcli.analysis.symbolic.SymbolicLinear`)."""
     from lagcli.analysis.symbolic import symbolic_linear
 
     if not isinstance(at, Assignments):
         at = assignments_of(system.derivation, dict(at or {}))
-    return symbolic_linear(system.derivation, at, tuple(extra_inputs))
+    return symbolic_linear(derivation(system, closed_loop), at, tuple(extra_inputs))
 
 
 def linearization(d, lm, st) -> Linearization:
