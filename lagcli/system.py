@@ -149,6 +149,8 @@ class System:
             return spec_start                           # solved once per System
         defaults = self.layout.parameter_defaults
         params = {**defaults, **{k: v for k, v in parameters.items() if k in defaults}}   # not inputs
+        if params != defaults:
+            _refuse_impossible(self.derivation, params, (sources or Sources()).parameter)
         return initial_state(self.derivation, {**self.model.initial, **initial}, params,
                              soft=set(self.model.initial) - set(initial), sources=sources or Sources())
 
@@ -411,3 +413,16 @@ class System:
 @contextlib.contextmanager
 def _no_progress(t_end):
     yield None
+
+
+def _refuse_impossible(derivation, params: dict[str, float], option: str) -> None:
+    """Physical validation at the parameter values of a run (`--set m=0`): an impossible
+    mass or inertia, or a mass matrix singular at the start, is said as such before any run
+    (not as a singular matrix at t = 0)."""
+    from lagcli.model.validation import problems_at
+
+    problems = problems_at(derivation, params)
+    if problems:
+        spec = {p.symbol.name: p.value for p in derivation.model.parameters}
+        changed = ", ".join(f"{name}={value:g}" for name, value in params.items() if value != spec[name])
+        raise UsageError("\n".join(f"{option} {changed}: {p}" for p in problems))
