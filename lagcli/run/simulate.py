@@ -128,11 +128,11 @@ def _cold(request: Request, compiler: str | None, note, progress, sink: RowSink)
     sets, inits = _overrides(request, layout)
     laws = _laws(request, system)
     backend = request.backend or ("c" if compiler and settings.method in EXPLICIT_METHODS else "python")
-    hybrid = system.hybrid(sets, laws) is not None
-    if hybrid and request.backend is None:
+    python_only = system.hybrid(sets, laws) is not None and system.compiled_laws(sets, laws) is None
+    if python_only and request.backend is None:
         backend = "python"
         if compiler:
-            note("lagcli: events and input laws run on the Python backend (the C driver does not run them yet)")
+            note("lagcli: events run on the Python backend (the C driver does not run them yet)")
     start = system.start(sets, inits)
     for text in _at_rest(system.model.initial, inits) + list(start.notes):
         note(text)
