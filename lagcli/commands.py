@@ -62,27 +62,31 @@ PLOT_ROWS = 20_000     # --plot draws at most 2 x this many rows (evenly thinned
 
 
 def simulate(request, output: str | None = None, plot: str | None = None,
-             note=lambda text: None, progress=None, columns=None, phase=()) -> None:
+             note=lambda text: None, progress=None, columns=None, phase=(), events: str | None = None) -> None:
     """`lagcli simulate`: run `request` (a lagcli.run.options.Request), writing the
     CSV to `output` (stdout for None or '-') row by row as it is computed, then the
     picture to `plot` (PNG, SVG or PDF by its extension).  Both targets are checked, and `output` opened, before any work starts.
     The CSV is kept even when the integration fails or is interrupted (the rows so
     far); the error is raised after it.  `note` and `progress`: see
-    lagcli.run.simulate.simulate."""
+    lagcli.run.simulate.simulate. `events`: the file of one row per event (`--events`),
+    written after the run; a run with events also says on stderr what happened."""
     from lagcli.errors import SimulationError
     from lagcli.render.output import open_output, resolve_target
     from lagcli.run.simulate import Interrupted, simulate as run
     from lagcli.run.rows import CsvSink, Decimated, Tee
 
+    for target in (plot, events):
+        if target:
+            resolve_target(target)
     if plot:
         from lagcli.viz.plot import figure_format
-        resolve_target(plot)
         figure_format(plot)
     with open_output(output) as out:
         csv = CsvSink(out.stream)
         shown = Decimated(PLOT_ROWS) if plot else None        # the plot's bounded copy
         outcome = run(request, note, progress, Tee(csv, shown) if shown else csv)
     sink = outcome.trajectory
+    _report_events(sink, outcome, events, note)
     plot_error = None
     if plot and sink.rows:
         from lagcli.viz.plot import plot_file
@@ -100,6 +104,19 @@ def simulate(request, output: str | None = None, plot: str | None = None,
         raise Interrupted(f"{request.spec}: interrupted ({kept})")
     if plot_error:
         raise plot_error
+
+
+def _report_events(sink, outcome, events: str | None, note) -> None:
+    """The summary line and the end note of a run with events on stderr; the --events file."""
+    from lagcli.hybrid.records import events_csv, summary
+    from lagcli.render.output import write_output
+
+    if sink.events or outcome.watched_events:
+        note(summary(sink.events))
+    if sink.end_note:
+        note(f"note: {sink.end_note}")
+    if events:
+        write_output(events, events_csv(sink.events, outcome.states))
 
 
 def _plot_options(spec: str, columns, phase):
@@ -163,9 +180,11 @@ def _wrote(output: str | None, note) -> None:
 # -- analysis: lagcli linearize / equilibria / hamiltonian / routh (lagcli/analysis/) --
 
 def linearize(path: str, at=(), independent=(), inputs=(), sweep: str | None = None,
-              find_critical: bool = False, fmt: str = "text", symbolic: bool = False) -> str:
+              find_critical: bool = False, fmt: str = "text", symbolic: bool = False,
+              closed: bool = False) -> str:
     """`lagcli linearize`: the linear model about `--at`, or the eigenvalue table of a sweep
-    (`System.linearize`, `linearize_sweep`, `linearize_symbolic`, formatted)."""
+    (`System.linearize`, `linearize_sweep`, `linearize_symbolic`, formatted); `closed`: with
+    the spec's input laws substituted (lagcli/hybrid/closed_loop.py)."""
     from lagcli.analysis import report
     from lagcli.analysis.operating_point import parse_assignments
     from lagcli.analysis.sweep import parse_sweep
@@ -178,15 +197,15 @@ def linearize(path: str, at=(), independent=(), inputs=(), sweep: str | None = N
         raise UsageError("--find-critical needs --sweep NAME=START:STOP:COUNT")
     points = parse_assignments(system.derivation, at, span.name if span else None)
     if symbolic:
-        return _symbolic_linear(system, points, inputs, fmt)
+        return _symbolic_linear(system, points, inputs, fmt, closed)
     if span is not None:
         found = system.linearize_sweep(span.name, span.values, points, independent=independent,
-                                       extra_inputs=inputs, find_critical=find_critical)
+                                       extra_inputs=inputs, find_critical=find_critical, closed_loop=closed)
         if fmt == "latex":
             raise UsageError("--sweep prints a table: use the text or --json output")
         content = report.sweep_content(found)
         return report.to_json(content) if fmt == "json" else report.sweep_text(content)
-    lin = system.linearize(points, independent=independent, extra_inputs=inputs)
+    lin = system.linearize(points, independent=independent, extra_inputs=inputs, closed_loop=closed)
     content = report.linear_content(lin)
     if fmt == "json":
         return report.to_json(content)
@@ -195,13 +214,13 @@ def linearize(path: str, at=(), independent=(), inputs=(), sweep: str | None = N
     return report.linear_text(content)
 
 
-def _symbolic_linear(system, points, inputs, fmt: str) -> str:
+def _symbolic_linear(system, points, inputs, fmt: str, closed: bool) -> str:
     from lagcli.analysis import report
     from lagcli.report.latex_printer import LatexPrinter
     from lagcli.render.spec_printer import spec_str
 
     d = system.derivation
-    lin = system.linearize_symbolic(points, inputs)
+    lin = system.linearize_symbolic(points, inputs, closed_loop=closed)
     if fmt == "latex":
         return report.symbolic_latex(lin, LatexPrinter(d.model))
     content = report.symbolic_content(d, lin, spec_str)
@@ -278,8 +297,14 @@ def sweep(spec: str, plan_options: dict, options: dict, note=lambda text: None, 
     from lagcli.run.options import parse_assignments
     from lagcli.sweep import SweepOptions, make_plan, sweep as run_sweep
 
+    from lagcli.errors import UsageError
+
+    laws = options.pop("inputs", ())
     plan = make_plan(**plan_options)                   # option mistakes before deriving
     system = lagcli.load(Path(spec))
+    if laws or system.model.events or system.model.laws:
+        raise UsageError(f"{spec}: lagcli sweep runs the compiled C driver, which does not run events or "
+                         "input laws yet\n  hint: loop over `lagcli simulate` (the Python backend runs them)")
     names = [*system.layout.parameter_names, *system.layout.state_names]
     fixed = {key: parse_assignments(options.pop(key), f"--{flag}", names, what, "names")
              for key, flag, what in (("parameters", "set", "parameter"), ("initial", "init", "initial value"),

@@ -18,50 +18,62 @@ from lagcli.errors import UsageError
 def point_of(system, at, parameters=None, inputs=None, sweep: str | None = None) -> Assignments:
     """`at` ({name: number or expression text}, or the parsed `--at` values) with the
     `parameters` and `inputs` of this call added (their names checked as `simulate`'s)."""
-    fixed = {**system._parameters(parameters), **system._inputs(inputs)}
+    fixed = {**system._parameters(parameters), **_held_inputs(system, inputs)}
     if not isinstance(at, Assignments):
         at = assignments_of(system.derivation, dict(at or {}), sweep)
     return Assignments({**at.values, **{k: sp.Float(v) for k, v in fixed.items()}}, at.sweep)
 
 
-def compiled(system, extra_inputs=()):
+def derivation(system, closed_loop: bool = False):
+    """The System's derivation, or (`closed_loop`) with the spec's input laws substituted
+    (`lagcli.hybrid.closed_loop`), made once."""
+    if not closed_loop:
+        return system.derivation
+    from lagcli.hybrid.closed_loop import closed_loop as close
+
+    return system._once("_closed_loop", lambda: close(system.derivation))
+
+
+def compiled(system, extra_inputs=(), closed_loop: bool = False):
     """The derivation's matrices and Jacobians compiled (`linearize.CompiledSystem`), once."""
     from lagcli.analysis.linearize import CompiledSystem
 
     extra = tuple(extra_inputs)
-    return system._once("_compiled:" + ",".join(extra), lambda: CompiledSystem(system.derivation, extra))
+    key = "_compiled:" + ",".join(extra) + (":closed" if closed_loop else "")
+    return system._once(key, lambda: CompiledSystem(derivation(system, closed_loop), extra))
 
 
-def linearize(system, at=None, parameters=None, inputs=None, independent=(), extra_inputs=()) -> Linearization:
+def linearize(system, at=None, parameters=None, inputs=None, independent=(), extra_inputs=(),
+              closed_loop: bool = False) -> Linearization:
     from lagcli.analysis.linearize import linearize as linear_model
     from lagcli.analysis.operating_point import evaluate
     from lagcli.analysis.stability import stability
 
-    d = system.derivation
-    lm = linear_model(compiled(system, extra_inputs), evaluate(d, point_of(system, at, parameters, inputs)),
+    d = derivation(system, closed_loop)
+    lm = linear_model(compiled(system, extra_inputs, closed_loop), evaluate(d, point_of(system, at, parameters, inputs)),
                       tuple(independent))
     return linearization(d, lm, stability(lm))
 
 
 def linearize_sweep(system, variable: str, values, at=None, parameters=None, inputs=None, independent=(),
-                    extra_inputs=(), find_critical: bool = False):
+                    extra_inputs=(), find_critical: bool = False, closed_loop: bool = False):
     """Stability at each of `values` of `variable` (a parameter, or a name `at` uses)."""
     from lagcli.analysis.sweep import LinearizationSweep, critical_values, sweep
 
     points = point_of(system, at, parameters, inputs, variable)
-    linear = compiled(system, extra_inputs)
+    linear = compiled(system, extra_inputs, closed_loop)
     table = sweep(linear, points, [float(v) for v in values], tuple(independent))
     critical = critical_values(linear, points, table, tuple(independent)) if find_critical else []
     return LinearizationSweep(variable, tuple(table), tuple(critical))
 
 
-def linearize_symbolic(system, at=None, extra_inputs=()):
+def linearize_symbolic(system, at=None, extra_inputs=(), closed_loop: bool = False):
     """A and B as sympy matrices of the parameters (`lagcli.analysis.symbolic.SymbolicLinear`)."""
     from lagcli.analysis.symbolic import symbolic_linear
 
     if not isinstance(at, Assignments):
         at = assignments_of(system.derivation, dict(at or {}))
-    return symbolic_linear(system.derivation, at, tuple(extra_inputs))
+    return symbolic_linear(derivation(system, closed_loop), at, tuple(extra_inputs))
 
 
 def linearization(d, lm, st) -> Linearization:
@@ -95,7 +107,16 @@ def _constants(system, parameters, inputs) -> dict[str, float]:
     """Every parameter's and input's value: the spec's, overridden by this call's."""
     model = system.derivation.model
     spec = {p.symbol.name: float(p.value) for p in (*model.parameters, *model.inputs)}
-    return spec | system._parameters(parameters) | system._inputs(inputs)
+    return spec | system._parameters(parameters) | _held_inputs(system, inputs)
+
+
+def _held_inputs(system, inputs) -> dict[str, float]:
+    """{input: number}: an analysis holds each input at a value (a law is for `simulate`)."""
+    constants, laws = system._inputs(inputs)
+    if laws:
+        raise UsageError(f"inputs=: {next(iter(laws))!r}: an analysis holds an input at a number, "
+                         "not a law\n  hint: give its value")
+    return constants
 
 
 def _guesses(d, guesses) -> list[dict]:

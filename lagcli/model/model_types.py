@@ -118,6 +118,28 @@ class ConstraintSpec:
 
 
 @dataclass(frozen=True)
+class InputLaw:
+    """`simulate: inputs:`: the input `symbol` follows `expr` (t, q, q', parameters)."""
+
+    symbol: sp.Symbol
+    expr: sp.Expr
+    loc: Loc | None = None
+
+
+@dataclass(frozen=True)
+class EventSpec:
+    """An item of `events:`: `action` where g = `when` crosses zero in `direction`."""
+
+    name: str
+    when: sp.Expr                      # g(t, q, q'); an impact's: g(t, q)
+    direction: str                     # "falling" | "rising" | "either"
+    action: str                        # "impact" | "reset" | "stop"
+    restitution: sp.Expr | None        # impact: parameters only
+    reset: tuple[tuple[str, sp.Expr], ...] = ()   # state name -> new value (of the state before)
+    loc: Loc | None = None
+
+
+@dataclass(frozen=True)
 class Model:
     name: str
     description: str
@@ -151,6 +173,8 @@ class Model:
         """Where the spec item at key `path` was written (its path alone when unknown)."""
         return self.locs.get(path) or Loc(self.source, path=path)
     inputs: tuple[InputInfo, ...] = ()
+    laws: tuple[InputLaw, ...] = ()              # spec `simulate: inputs:`
+    events: tuple[EventSpec, ...] = ()           # spec `events:`
     rolling: tuple[RollingContact, ...] = ()     # the `rolling:` elements, for pictures
 
     def symbol(self, name: str) -> sp.Symbol:
