@@ -99,9 +99,43 @@ class LinearDamper:
 
 
 @dataclass(frozen=True)
+class RollingContact:
+    """What pictures need of a `rolling:` element: the body, the wheel's radius and axis
+    (None for a `contact:` offset) and the plane n . X = height it rolls on (n a unit vector)."""
+
+    body: str
+    radius: sp.Expr | None
+    axis: str | None
+    normal: sp.ImmutableMatrix
+    height: sp.Expr
+
+
+@dataclass(frozen=True)
 class ConstraintSpec:
     label: str | None
     expr: sp.Expr
+    loc: Loc | None = None
+
+
+@dataclass(frozen=True)
+class InputLaw:
+    """`simulate: inputs:`: the input `symbol` follows `expr` (t, q, q', parameters)."""
+
+    symbol: sp.Symbol
+    expr: sp.Expr
+    loc: Loc | None = None
+
+
+@dataclass(frozen=True)
+class EventSpec:
+    """An item of `events:`: `action` where g = `when` crosses zero in `direction`."""
+
+    name: str
+    when: sp.Expr                      # g(t, q, q'); an impact's: g(t, q)
+    direction: str                     # "falling" | "rising" | "either"
+    action: str                        # "impact" | "reset" | "stop"
+    restitution: sp.Expr | None        # impact: parameters only
+    reset: tuple[tuple[str, sp.Expr], ...] = ()   # state name -> new value (of the state before)
     loc: Loc | None = None
 
 
@@ -139,6 +173,9 @@ class Model:
         """Where the spec item at key `path` was written (its path alone when unknown)."""
         return self.locs.get(path) or Loc(self.source, path=path)
     inputs: tuple[InputInfo, ...] = ()
+    laws: tuple[InputLaw, ...] = ()              # spec `simulate: inputs:`
+    events: tuple[EventSpec, ...] = ()           # spec `events:`
+    rolling: tuple[RollingContact, ...] = ()     # the `rolling:` elements, for pictures
 
     def symbol(self, name: str) -> sp.Symbol:
         """The symbol called `name`: t, a coordinate, velocity, acceleration or parameter."""

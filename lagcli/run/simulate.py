@@ -46,6 +46,8 @@ class Outcome:
     backend: str                  # "c" | "python"
     coordinates: tuple[str, ...]
     energy_conserved: bool        # the energy column is conserved (it equals the Jacobi integral)
+    states: tuple[str, ...] = ()  # the state names (the columns of --events)
+    watched_events: bool = False  # the spec has events (the run says how many happened)
 
 
 def simulate(request: Request, note=lambda text: None, progress=None, sink: RowSink | None = None
@@ -64,7 +66,8 @@ def _simulate(request: Request, note, progress, sink: RowSink) -> Outcome:
     compiler = c_backend.find_compiler()
     if request.backend == "c":
         c_backend.require_compiler(request.method or EXPLICIT_METHODS[0])   # before any work
-    if compiler and request.backend in (None, "c") and request.method in (None, *EXPLICIT_METHODS):
+    if compiler and request.backend in (None, "c") and request.method in (None, *EXPLICIT_METHODS) \
+            and not request.inputs:
         outcome = _warm(request, compiler, note, progress, sink)
         if outcome is not None:
             return outcome
@@ -99,9 +102,20 @@ def _warm(request: Request, compiler: str, note, progress, sink: RowSink) -> Out
         traj = c_backend.run(cached, args, update, max_first_residual=limit, sink=sink)
     if traj is None:
         return None
-    for text in notes:
+    if sets and traj.failure and traj.rows <= 1:
+        _explain_failed_start(request, sets)        # --set m=0: physical validation, not "singular"
+    for text in _at_rest(meta["initial"], inits) + list(notes):
         note(text)
-    return Outcome(traj, "c", layout.coordinates, meta["energy_conserved"])
+    return Outcome(traj, "c", layout.coordinates, meta["energy_conserved"], layout.state_names)
+
+
+def _explain_failed_start(request: Request, sets: dict) -> None:
+    """A warm run with --set that failed at its start: raise what physical validation says
+    of those values, if anything (the cold path says it before running; the warm path
+    does not import sympy unless a run fails this way)."""
+    from lagcli.system import load
+
+    load(Path(request.spec)).start(sets, {})
 
 
 def _cold(request: Request, compiler: str | None, note, progress, sink: RowSink) -> Outcome:
@@ -111,13 +125,42 @@ def _cold(request: Request, compiler: str | None, note, progress, sink: RowSink)
     system = load(Path(request.spec))
     layout = system.layout
     settings = resolve_settings(request, layout.settings.as_dict())
-    backend = request.backend or ("c" if compiler and settings.method in EXPLICIT_METHODS else "python")
     sets, inits = _overrides(request, layout)
+    laws = _laws(request, system)
+    backend = request.backend or ("c" if compiler and settings.method in EXPLICIT_METHODS else "python")
+    python_only = system.hybrid(sets, laws) is not None and system.compiled_laws(sets, laws) is None
+    if python_only and request.backend is None:
+        backend = "python"
+        if compiler:
+            note("lagcli: events run on the Python backend (the C driver does not run them yet)")
     start = system.start(sets, inits)
-    for text in start.notes:
+    for text in _at_rest(system.model.initial, inits) + list(start.notes):
         note(text)
-    traj = system.run(settings, sets, start, backend, sink, progress)
-    return Outcome(traj, backend, layout.coordinates, system.energy_conserved)
+    traj = system.run(settings, sets, start, backend, sink, progress, laws=laws)
+    return Outcome(traj, backend, layout.coordinates, system.energy_conserved, layout.state_names,
+                   bool(system.model.events))
+
+
+AT_REST = ("initial state: the spec has no initial: values and no --init was given, so the run starts "
+           "at rest with every coordinate 0 (give initial: in the spec, or --init NAME=VALUE)")
+
+
+def _at_rest(initial: dict, inits: dict) -> list[str]:
+    """The note that a run starts from the all-zero state only because nothing was given."""
+    return [] if initial or inits else [AT_REST]
+
+
+def _laws(request: Request, system) -> dict:
+    """--input NAME=EXPR as {name: sympy law}, parsed with the safe parser."""
+    from lagcli.hybrid.hybrid_model import parse_law
+
+    def parse(text, where):
+        return text
+
+    given = parse_assignments(request.inputs, "--input", list(system.layout.input_names), "input", "inputs",
+                              parse)
+    return {name: parse_law(system.model, name, text.strip(), f"--input {name}").expr
+            for name, text in given.items()}
 
 
 def _overrides(request: Request, layout) -> tuple[dict, dict]:

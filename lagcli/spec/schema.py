@@ -23,6 +23,7 @@ from lagcli.spec.files import STDIN_NAME
 from lagcli.spec.reader import KeyPath, RawDoc
 from lagcli.spec.dampers import dissipation_fields
 from lagcli.spec import format as fmt
+from lagcli.spec.events import events_field, input_laws
 from lagcli.spec.slips import axis_hint, misplaced_toml_keys, misplaced_toml_pairs
 from lagcli.spec.types import (Body, Constraint, Coordinate, Force, Input, Named, Parameter, Particle,
                                SimulateSettings, Spec, Spring, Src, Vector, VectorSrc)
@@ -97,6 +98,7 @@ class _SpecChecker(FrameChecks, Checker):
                                        self.keyed_by(self.state_names(), "coordinate or velocity")),
             simulate=self.simulate(top.get("simulate")),
             **dissipation_fields(self, top),
+            events=events_field(self, top),
             name=self.identifier(("name",), top["name"]) if "name" in top else None,
             description=self.optional_string(top, (), "description") or "",
         )
@@ -324,9 +326,6 @@ class _SpecChecker(FrameChecks, Checker):
             return None
         ends = [self.reference(path + (i,), end, ("particle", "body")) if self.names_a_point(end)
                 else self.vector(path + (i,), end) for i, end in enumerate(value)]
-        if all(isinstance(end, tuple) and not isinstance(end[0], VectorSrc) for end in ends):
-            self.fail(path, "a spring between two fixed points does nothing",
-                      "one end must be a particle or body")
         return None if None in ends else (ends[0], ends[1])
 
     def names_a_point(self, end: Any) -> bool:
@@ -367,9 +366,10 @@ class _SpecChecker(FrameChecks, Checker):
         if not table:
             return SimulateSettings()
         numbers = {key: self.expr(path + (key,), table[key]) for key in fmt.SIMULATE.allowed
-                   if key in table and key != "method"}
+                   if key in table and key not in ("method", "inputs")}
         method = self.method(path + ("method",), table["method"]) if "method" in table else None
-        return SimulateSettings(method=method, **numbers)
+        laws = input_laws(self, path + ("inputs",), table["inputs"]) if "inputs" in table else ()
+        return SimulateSettings(method=method, inputs=laws, **numbers)
 
     def method(self, path: KeyPath, value: Any) -> str | None:
         if value in METHODS:

@@ -104,5 +104,22 @@ def generate(derivation, lang: str, initial=None, initial_notes=()) -> dict[str,
         language = LANGUAGES[lang]
     except KeyError:
         raise EmitError(f"unknown output language {lang!r}; known: {', '.join(LANGUAGES)}") from None
+    if lang != "latex":
+        _refuse_hybrid(derivation, lang)
     return getattr(importlib.import_module(language.module), language.function)(
         derivation, initial=initial, initial_notes=initial_notes)
+
+
+def _refuse_hybrid(derivation, lang: str) -> None:
+    """Generated code does not carry events or the spec's input laws yet: refuse rather than
+    drop them (lagcli simulate runs them on its Python backend)."""
+    model = derivation.model
+    events = model.events if lang != "fmu" else ()      # the FMU has them (lagcli/hybrid/fmu_events.py)
+    keys = [key for key, used in (("events:", events), ("simulate: inputs:", model.laws)) if used]
+    if keys:
+        from lagcli.errors import UsageError
+
+        raise UsageError(f"{model.source}: --lang {lang} does not implement {' and '.join(keys)} yet; "
+                        "the generated code would silently ignore them\n"
+                        "  hint: `lagcli simulate` runs them (on its Python backend); remove them from a copy "
+                        "of the spec to generate the smooth equations")

@@ -23,7 +23,7 @@ order, u in INPUTS order (size 0 when there are none):
         position (0) = phi of the holonomic rows, velocity (0) = A q' + d,
         acceleration (0) = A q'' - b
     dae() -> {"t", "x", "p", "u", "ode"}: casadi.integrator("I", "cvodes", dae(), 0, times)
-    parameter_vector(values=None), input_vector(values=None): the defaults, with a dict over them
+    parameter_vector(values=None), input_vector(values=None): DM of the defaults, a dict over them
 """
 import casadi
 from casadi import cos, sin
@@ -48,20 +48,20 @@ SETTINGS = {'t_end': 10.0, 'dt': 0.01, 'method': 'DOP853', 'rtol': 1e-10, 'atol'
 NQ, NX, NP, NU, NLAMBDA = 2, 4, 5, 0, 0
 
 
-def _vector(defaults: dict, values, what: str) -> list:
-    """The defaults in order, with `values` (a dict name -> value) over them."""
+def _vector(defaults: dict, values, what: str):
+    """The defaults in order, with `values` (a dict name -> value) over them, as a casadi.DM."""
     unknown = sorted(set(values or {}) - set(defaults))
     if unknown:
         raise KeyError(f"unknown {what}(s) {', '.join(unknown)}; known: {', '.join(defaults)}")
-    return [float((values or {}).get(name, value)) for name, value in defaults.items()]
+    return casadi.DM([float((values or {}).get(name, value)) for name, value in defaults.items()])
 
 
-def parameter_vector(values=None) -> list:
+def parameter_vector(values=None):
     """p in PARAMETERS order: the defaults, with `values` (a dict name -> value) over them."""
     return _vector(PARAMETERS, values, "parameter")
 
 
-def input_vector(values=None) -> list:
+def input_vector(values=None):
     """u in INPUTS order: the defaults, with `values` (a dict name -> value) over them."""
     return _vector(INPUTS, values, "input")
 

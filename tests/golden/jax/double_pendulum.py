@@ -46,10 +46,11 @@ MULTIPLIERS = []
 INVARIANTS = ['energy', 'jacobi']
 INITIAL = [1.0, 0.5, 0.0, 0.0]
 SETTINGS = {'t_end': 10.0, 'dt': 0.01, 'method': 'DOP853', 'rtol': 1e-10, 'atol': 1e-12}
+NQ, NX, NP, NU, NLAMBDA = 2, 4, 5, 0, 0
 
 
 def _vector(defaults: dict, values, what: str):
-    """The defaults in order, with `values` (a dict name -> value) over them, as an array."""
+    """The defaults in order, with `values` (a dict name -> value) over them, as a jnp.asarray."""
     unknown = sorted(set(values or {}) - set(defaults))
     if unknown:
         raise KeyError(f"unknown {what}(s) {', '.join(unknown)}; known: {', '.join(defaults)}")

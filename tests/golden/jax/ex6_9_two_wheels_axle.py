@@ -43,10 +43,11 @@ MULTIPLIERS = ['lambda_1']
 INVARIANTS = ['energy', 'jacobi', 'p_phi', 'constraint_residual']
 INITIAL = [0.0, 0.0, 0.0, 1.0, 0.0, 2.0]
 SETTINGS = {'t_end': 10.0, 'dt': 0.01, 'method': 'DOP853', 'rtol': 1e-09, 'atol': 1e-12}
+NQ, NX, NP, NU, NLAMBDA = 3, 6, 2, 0, 1
 
 
 def _vector(defaults: dict, values, what: str):
-    """The defaults in order, with `values` (a dict name -> value) over them, as an array."""
+    """The defaults in order, with `values` (a dict name -> value) over them, as a jnp.asarray."""
     unknown = sorted(set(values or {}) - set(defaults))
     if unknown:
         raise KeyError(f"unknown {what}(s) {', '.join(unknown)}; known: {', '.join(defaults)}")
