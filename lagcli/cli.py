@@ -202,6 +202,8 @@ def generate(ctx, spec, lang, output, form):
                    "(and for runs with events or input laws).")
 @click.option("--baumgarte", nargs=2, type=float, metavar="ALPHA BETA",
               help="Constraint stabilisation gains (default 10 10).")
+@click.option("--max-steps", type=int, metavar="N",
+              help="Stop with an error after N integrator steps (default 20000 + 1000 per output interval).")
 @click.option("-o", "--output", default=None, help="CSV file ('-' or none: stdout).")
 @click.option("--events", "events_path", default=None, metavar="FILE.csv",
               help="Write one row per event (t, event, action, state before and after, impulse).")
@@ -213,7 +215,7 @@ def generate(ctx, spec, lang, output, form):
               help="With --plot: add the phase portrait (Q_dot against Q) of coordinate Q (repeatable).")
 @quiet_option
 @click.pass_context
-def simulate(ctx, spec, t_end, dt, method, rtol, atol, sets, inits, inputs, backend, baumgarte, output,
+def simulate(ctx, spec, t_end, dt, method, rtol, atol, sets, inits, inputs, backend, baumgarte, max_steps, output,
              events_path, plot, columns, phase):
     """Integrate the equations of motion of SPEC and write the trajectory as CSV.
 
@@ -228,7 +230,7 @@ def simulate(ctx, spec, t_end, dt, method, rtol, atol, sets, inits, inputs, back
     if (columns or phase) and not plot:
         raise click.UsageError("--columns and --phase choose what --plot draws: give --plot FILE.png")
     request = Request(spec, t_end, dt, method, rtol, atol, tuple(sets), tuple(inits), backend,
-                      tuple(baumgarte) if baumgarte else None, tuple(inputs))
+                      tuple(baumgarte) if baumgarte else None, tuple(inputs), max_steps)
     chosen = tuple(c.strip() for c in columns.split(",")) if columns else None
     _run(ctx, lambda: commands.simulate(request, output, plot, note=note,
                                         progress=_progress_bar, columns=chosen, phase=tuple(phase),

@@ -43,3 +43,15 @@ def test_toml_unit_hints_are_written_in_toml(monkeypatch):
         stderr = _stderr(case, monkeypatch)
         assert '{value = 1.0, unit = "kg"}' in stderr or 'unit = "' in stderr, stderr
         assert "unit: kg}" not in stderr and "lhs - rhs" not in stderr, stderr
+
+
+def test_the_repair_note_names_initial_when_no_init_was_given():
+    # x_dot is solved for from the spec's own y_dot: the note used to say "(--init)"
+    import lagcli
+
+    system = lagcli.load("coordinates: [x, y]\nparameters: {m: 1.0, l: 1.0, g: 9.81}\ngravity: [0, -g]\n"
+                         "particles: {P: {mass: m, position: [x, y]}}\nconstraints: [x**2 + y**2 - l**2]\n"
+                         "initial: {x: 0.6, y: -0.8, y_dot: 0.5}\n")
+    (note,) = system.spec_start()[0].notes
+    assert note.endswith("x_dot = 0.666666666667 from y_dot (initial:)"), note     # 0.8 * 0.5 / 0.6
+    assert "--init" not in note
