@@ -177,4 +177,4 @@ def test_code_targets_refuse_events_clearly(lang, tmp_path):
 def test_the_c_backend_refuses_events_clearly(tmp_path):
     result = run("simulate", HYBRID / "bouncing_ball.yaml", "--backend", "c", "-o", tmp_path / "out.csv")
     assert result.exit_code == 2
-    assert "does not run events or input laws yet" in result.stderr
+    assert "does not run events or callable input laws yet" in result.stderr
