@@ -29,7 +29,7 @@ import sympy as sp
 
 from lagcli.model.calculus import numerically_zero
 from lagcli.model.kinematics import AXES, ZERO, Vector
-from lagcli.model.model_types import ConstraintSpec
+from lagcli.model.model_types import ConstraintSpec, RollingContact
 from lagcli.spec.frames import rolling_row_prefix
 from lagcli.spec.types import Rolling, Src, Surface
 
@@ -42,8 +42,7 @@ def rolling_constraints(item: Rolling, model) -> tuple[ConstraintSpec, ...]:
     surface = item.surface or GROUND
     body = model.scope.names[item.body]
     reference = reference_state(model)
-    normal = _unit(Vector.of(model.vector(surface.normal, model.constant_in_motion)), reference)
-    height = model.expr(surface.height, sp.S.Zero, model.constant_in_motion)
+    normal, height = _plane(surface, model, reference)
     offset = (_wheel_offset(body, model.expr(item.wheel[0], check=model.constant_in_motion), item.wheel[1],
                             normal, reference)
               if item.wheel else Vector.of(model.vector(item.contact, model.no_velocities)))
@@ -57,6 +56,20 @@ def rolling_constraints(item: Rolling, model) -> tuple[ConstraintSpec, ...]:
     if not numerically_zero([gap]):
         rows.insert(0, ConstraintSpec(prefix + normal_axis, gap, item.loc))
     return tuple(rows)
+
+
+def rolling_contact(item: Rolling, model) -> RollingContact:
+    """The element as pictures need it (`lagcli.viz.animate` draws the wheel and the plane)."""
+    normal, height = _plane(item.surface or GROUND, model, reference_state(model))
+    radius = model.expr(item.wheel[0], check=model.constant_in_motion) if item.wheel else None
+    return RollingContact(item.body, radius, item.wheel[1] if item.wheel else None,
+                          sp.ImmutableMatrix(normal.components), height)
+
+
+def _plane(surface: Surface, model, reference: dict) -> tuple[Vector, sp.Expr]:
+    """The surface's unit normal n and height h (the plane n . X = h)."""
+    normal = _unit(Vector.of(model.vector(surface.normal, model.constant_in_motion)), reference)
+    return normal, model.expr(surface.height, sp.S.Zero, model.constant_in_motion)
 
 
 def _wheel_offset(body, radius: sp.Expr, axis: str, normal: Vector, reference: dict) -> Vector:
