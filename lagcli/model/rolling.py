@@ -27,7 +27,9 @@ from __future__ import annotations
 
 import sympy as sp
 
+from lagcli.errors import Problem
 from lagcli.model.calculus import numerically_zero
+from lagcli.model.constants import ConstantError, value_at
 from lagcli.model.kinematics import AXES, ZERO, Vector
 from lagcli.model.model_types import ConstraintSpec
 from lagcli.spec.frames import rolling_row_prefix
@@ -42,7 +44,12 @@ def rolling_constraints(item: Rolling, model) -> tuple[ConstraintSpec, ...]:
     surface = item.surface or GROUND
     body = model.scope.names[item.body]
     reference = reference_state(model)
-    normal = _unit(Vector.of(model.vector(surface.normal, model.constant_in_motion)), reference)
+    given = model.vector(surface.normal, model.constant_in_motion)
+    problem = _normal_problem(given, model.parameter_values, item)
+    if problem:
+        model.problems.append(problem)
+        return ()
+    normal = _unit(Vector.of(given), reference)
     height = model.expr(surface.height, sp.S.Zero, model.constant_in_motion)
     offset = (_wheel_offset(body, model.expr(item.wheel[0], check=model.constant_in_motion), item.wheel[1],
                             normal, reference)
@@ -57,6 +64,23 @@ def rolling_constraints(item: Rolling, model) -> tuple[ConstraintSpec, ...]:
     if not numerically_zero([gap]):
         rows.insert(0, ConstraintSpec(prefix + normal_axis, gap, item.loc))
     return tuple(rows)
+
+
+def _normal_problem(normal, values: dict, item: Rolling) -> Problem | None:
+    """A surface normal that is not a finite, real, non-zero vector at the parameters' values
+    (sqrt(1 - a) with a = 2 is complex there): no plane to roll on."""
+    try:
+        numbers = [value_at(c, values, {}) for c in normal]
+    except (ConstantError, TypeError, ValueError, ArithmeticError):
+        numbers = None
+    loc = item.loc.child("surface").child("normal") if item.loc else None
+    if numbers is None:
+        return Problem(loc, "the surface normal is not a finite real vector at the parameters' values",
+                       "the normal must be a real direction: check the parameters it uses")
+    if not any(numbers):
+        return Problem(loc, "the surface normal is the zero vector at the parameters' values",
+                       "give the direction out of the surface, e.g. normal: [0, 0, 1]")
+    return None
 
 
 def _wheel_offset(body, radius: sp.Expr, axis: str, normal: Vector, reference: dict) -> Vector:
