@@ -51,6 +51,13 @@ def rolling_constraints(item: Rolling, model) -> tuple[ConstraintSpec, ...]:
         return ()
     normal = _unit(Vector.of(given), reference)
     height = model.expr(surface.height, sp.S.Zero, model.constant_in_motion)
+    if item.wheel and _lies_flat(body.unit(item.wheel[1]), normal, reference):
+        model.problems.append(Problem(item.loc.child("wheel") if item.loc else None,
+                                      f"the wheel's axis '{item.wheel[1]}' is along the surface normal at the "
+                                      "initial state: a wheel lying flat has no lowest rim point to roll on",
+                                      "choose the axis about which the wheel turns (e.g. axis: y for a disc "
+                                      "standing on the ground), or start it upright"))
+        return ()
     offset = (_wheel_offset(body, model.expr(item.wheel[0], check=model.constant_in_motion), item.wheel[1],
                             normal, reference)
               if item.wheel else Vector.of(model.vector(item.contact, model.no_velocities)))
@@ -64,6 +71,14 @@ def rolling_constraints(item: Rolling, model) -> tuple[ConstraintSpec, ...]:
     if not numerically_zero([gap]):
         rows.insert(0, ConstraintSpec(prefix + normal_axis, gap, item.loc))
     return tuple(rows)
+
+
+def _lies_flat(axis: Vector, normal: Vector, reference: dict) -> bool:
+    """The wheel's axis is (numerically) the normal at `reference`: 1 - (n.a)^2 = 0."""
+    try:
+        return abs(value_at(sp.sympify(1 - normal.dot(axis) ** 2), reference, {})) < 1e-12
+    except (ConstantError, TypeError, ValueError, ArithmeticError):
+        return False
 
 
 def _normal_problem(normal, values: dict, item: Rolling) -> Problem | None:
