@@ -9,7 +9,7 @@ import time
 import pytest
 
 from lagcli.errors import SpecError
-from lagcli.spec.schema import MAX_COORDINATES
+from lagcli.spec.reader import MAX_COORDINATES
 
 
 def _uncoupled(n: int, springs: bool = True) -> str:

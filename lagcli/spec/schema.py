@@ -13,7 +13,7 @@ import re
 from pathlib import Path
 from typing import Any, Callable
 
-from lagcli.errors import Problem, SpecError
+from lagcli.errors import SpecError
 from lagcli.interface import METHODS
 from lagcli.spec.checker import IDENTIFIER, Checker, describe, did_you_mean
 from lagcli.spec.frames import FrameChecks
@@ -38,9 +38,6 @@ def validate(raw: RawDoc) -> Spec:
     if problems:
         raise SpecError(problems)
     return spec
-
-
-MAX_COORDINATES = 1_000   # the budget of one spec: n coordinates cost n^2 mass-matrix entries and more
 
 
 def check(raw: RawDoc) -> tuple[Spec, list]:
@@ -119,11 +116,6 @@ class _SpecChecker(FrameChecks, Checker):
             if value is not None or path in self.raw.texts:  # given, even if empty (`coordinates:`)
                 self.fail(path, f"expected a non-empty list of coordinate names; got {describe(value)}")
             return ()
-        if len(value) > MAX_COORDINATES:   # before any work: nothing else is checked
-            raise SpecError(Problem(self.raw.loc(path), f"too many coordinates: {len(value)}, the bound is "
-                                    f"{MAX_COORDINATES} (the derivation's cost grows with the {len(value)}^2 "
-                                    "entries of the mass matrix)", "a system this large is beyond lagcli's "
-                                    "budget for one spec; split it, or reduce it"))
         entries = [(i, self.coordinate(path + (i,), item)) for i, item in enumerate(value)]
         entries = [(i, c) for i, c in entries if c is not None]
         self.coordinate_names = {c.name for _, c in entries}
