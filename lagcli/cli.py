@@ -151,6 +151,25 @@ def check(ctx, specs, as_json):
 
 @cli.command()
 @click.argument("spec", type=SPEC)
+@click.option("-o", "--output", default=None, help="The HTML file ('-' or none: stdout).")
+@click.option("--no-pictures", is_flag=True,
+              help="Leave out the simulation's plot and the animation (faster; no matplotlib needed).")
+@quiet_option
+@click.pass_context
+def report(ctx, spec, output, no_pictures):
+    """A page to share: SPEC's equations (MathML), linearization, plot and animation in
+    one self-contained HTML file (no network needed to view it; docs/page.md).
+
+    \b
+    Examples:
+      lagcli report specs/double_pendulum.yaml -o double_pendulum.html
+      lagcli report specs/benchmark_bicycle.yaml --no-pictures -o bicycle.html
+    """
+    _run(ctx, lambda: commands.page(spec, output, not no_pictures, note=note))
+
+
+@cli.command()
+@click.argument("spec", type=SPEC)
 @click.option("--lang", required=True, type=LanguageChoice(LANGUAGES),
               help="python: one module (numpy); c: <name>.h, <name>.c, <name>_main.c; "
                    "octave: MATLAB/Octave functions and an ode45 script; rust: a crate; "

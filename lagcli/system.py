@@ -121,6 +121,18 @@ class System:
             write_output(path, text)
         return files
 
+    def page(self, path: str | Path | None = None, pictures: bool = True) -> str:
+        """The page to share (`lagcli report -o page.html`, docs/page.md): one self-contained
+        HTML file with the spec, its equations in MathML, the linearization at the initial
+        state, the simulation's plot (inline SVG) and the animation (`pictures`: the last
+        two, which need matplotlib). Written atomically to `path` when given."""
+        from lagcli.report.page import page_html
+
+        html = page_html(self, pictures)
+        if path is not None:
+            write_output(path, html)
+        return html
+
     # --- simulation ---------------------------------------------------------------------
 
     @property

@@ -24,7 +24,7 @@ from lagcli.model.model_types import (AppliedForce, ConstraintSpec, InputInfo, L
 from lagcli.hybrid.hybrid_model import hybrid_fields
 from lagcli.model.kinematics import AXES, Entity, Vector, frame_chains
 from lagcli.model.redundancy import independent_rows
-from lagcli.model.rolling import rolling_constraints
+from lagcli.model.rolling import rolling_constraints, rolling_contact
 from lagcli.spec.types import Body, Spec, Src, VectorSrc
 from lagcli.model.symbols import Acceleration, Velocity
 from lagcli.model.vectors import VectorBuilder
@@ -174,6 +174,7 @@ class _ModelBuilder:
             locs=_item_locs(spec),
             inputs=inputs,
             **hybrid_fields(self),
+            rolling=tuple(rolling_contact(item, self) for item in spec.rolling),
         )
         if self.problems:
             raise SpecError(self.problems)

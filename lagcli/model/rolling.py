@@ -31,7 +31,7 @@ from lagcli.errors import Problem
 from lagcli.model.calculus import numerically_zero
 from lagcli.model.constants import ConstantError, value_at
 from lagcli.model.kinematics import AXES, ZERO, Vector
-from lagcli.model.model_types import ConstraintSpec
+from lagcli.model.model_types import ConstraintSpec, RollingContact
 from lagcli.spec.frames import rolling_row_prefix
 from lagcli.spec.types import Rolling, Src, Surface
 
@@ -44,13 +44,11 @@ def rolling_constraints(item: Rolling, model) -> tuple[ConstraintSpec, ...]:
     surface = item.surface or GROUND
     body = model.scope.names[item.body]
     reference = reference_state(model)
-    given = model.vector(surface.normal, model.constant_in_motion)
-    problem = _normal_problem(given, model.parameter_values, item)
+    problem = _normal_problem(model.vector(surface.normal, model.constant_in_motion), model.parameter_values, item)
     if problem:
         model.problems.append(problem)
         return ()
-    normal = _unit(Vector.of(given), reference)
-    height = model.expr(surface.height, sp.S.Zero, model.constant_in_motion)
+    normal, height = _plane(surface, model, reference)
     if item.wheel and _lies_flat(body.unit(item.wheel[1]), normal, reference):
         model.problems.append(Problem(item.loc.child("wheel") if item.loc else None,
                                       f"the wheel's axis '{item.wheel[1]}' is along the surface normal at the "
@@ -96,6 +94,23 @@ def _normal_problem(normal, values: dict, item: Rolling) -> Problem | None:
         return Problem(loc, "the surface normal is the zero vector at the parameters' values",
                        "give the direction out of the surface, e.g. normal: [0, 0, 1]")
     return None
+
+
+def rolling_contact(item: Rolling, model) -> RollingContact:
+    """The element as pictures need it (`lagcli.viz.animate` draws the wheel and the plane)."""
+    surface = item.surface or GROUND
+    if _normal_problem(model.vector(surface.normal, model.constant_in_motion), model.parameter_values, item):
+        surface = GROUND        # refused by rolling_constraints: the model is not built
+    normal, height = _plane(surface, model, reference_state(model))
+    radius = model.expr(item.wheel[0], check=model.constant_in_motion) if item.wheel else None
+    return RollingContact(item.body, radius, item.wheel[1] if item.wheel else None,
+                          sp.ImmutableMatrix(normal.components), height)
+
+
+def _plane(surface: Surface, model, reference: dict) -> tuple[Vector, sp.Expr]:
+    """The surface's unit normal n and height h (the plane n . X = h)."""
+    normal = _unit(Vector.of(model.vector(surface.normal, model.constant_in_motion)), reference)
+    return normal, model.expr(surface.height, sp.S.Zero, model.constant_in_motion)
 
 
 def _wheel_offset(body, radius: sp.Expr, axis: str, normal: Vector, reference: dict) -> Vector:
