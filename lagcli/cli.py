@@ -141,7 +141,7 @@ def generate(ctx, spec, lang, output, form):
 @click.option("--t-end", type=float, help="End time (default: the spec's simulate.t_end, else 10).")
 @click.option("--dt", type=float, help="Output interval (default: simulate.dt, else 0.01).")
 @click.option("--method", type=click.Choice(list(METHODS)),
-              help="scipy's integrator name (default: simulate.method, else DOP853).")
+              help="scipy's integrator name, or variational (default: simulate.method, else DOP853).")
 @click.option("--rtol", type=float, help="Relative tolerance (default: simulate.rtol, else 1e-9).")
 @click.option("--atol", type=float, help="Absolute tolerance (default: simulate.atol, else 1e-12).")
 @click.option("--set", "sets", multiple=True, metavar="NAME=VALUE",
@@ -152,6 +152,8 @@ def generate(ctx, spec, lang, output, form):
               help="c (compiled driver, cached) is the default when `cc` exists; else python.")
 @click.option("--baumgarte", nargs=2, type=float, metavar="ALPHA BETA",
               help="Constraint stabilisation gains (default 10 10).")
+@click.option("--steps-per-row", type=int, metavar="K",
+              help="--method variational: K fixed steps of DT/K between rows (default 1).")
 @click.option("-o", "--output", default=None, help="CSV file ('-' or none: stdout).")
 @click.option("--plot", default=None, metavar="FILE.png",
               help="Also plot coordinates and drift (needs matplotlib).")
@@ -160,21 +162,22 @@ def generate(ctx, spec, lang, output, form):
 @click.option("--phase", "phase", multiple=True, metavar="Q",
               help="With --plot: add the phase portrait (Q_dot against Q) of coordinate Q (repeatable).")
 @click.pass_context
-def simulate(ctx, spec, t_end, dt, method, rtol, atol, sets, inits, backend, baumgarte, output, plot,
-             columns, phase):
+def simulate(ctx, spec, t_end, dt, method, rtol, atol, sets, inits, backend, baumgarte, steps_per_row,
+             output, plot, columns, phase):
     """Integrate the equations of motion of SPEC and write the trajectory as CSV.
 
     \b
     Examples:
       lagcli simulate specs/double_pendulum.yaml -o traj.csv --plot traj.png
       lagcli simulate specs/cart_pole.yaml --plot p.png --columns x,theta,x_dot --phase theta -o c.csv
+      lagcli simulate specs/spherical_pendulum.yaml --method variational --dt 0.01 -o sp.csv
     """
     from lagcli.simulate.options import Request
 
     if (columns or phase) and not plot:
         raise click.UsageError("--columns and --phase choose what --plot draws: give --plot FILE.png")
     request = Request(spec, t_end, dt, method, rtol, atol, tuple(sets), tuple(inits), backend,
-                      tuple(baumgarte) if baumgarte else None)
+                      tuple(baumgarte) if baumgarte else None, steps_per_row)
     chosen = tuple(c.strip() for c in columns.split(",")) if columns else None
     _run(ctx, lambda: commands.simulate(request, output, plot, note=lambda text: click.echo(text, err=True),
                                         progress=_progress_bar, columns=chosen, phase=tuple(phase)))

@@ -5,7 +5,8 @@ code generators: a rule written here once is the rule of `lagcli simulate` (eith
 backend), of the generated Python module and of the generated C driver
 (docs/simulate.md, docs/design.md "Where each fact of a run is written").
 
-    METHODS                 scipy's integrators `simulate` accepts
+    METHODS                 scipy's integrators `simulate` accepts, and `variational`
+    C_METHODS               the ones the compiled driver implements
     DEFAULT_BAUMGARTE       (alpha, beta) of the constraint stabilisation
     CONSTRAINT_TOLERANCE    largest |constraint| of a consistent initial state
 
@@ -19,6 +20,8 @@ from __future__ import annotations
 from lagcli.runtime.run_rules import (END_TOLERANCE, EXPLICIT_METHODS, OUTPUT_SLACK,  # noqa: F401
                                       max_step, output_time_windows, output_times)
 
-METHODS = ("RK45", "DOP853", "Radau", "BDF", "LSODA")
+VARIATIONAL = "variational"     # lagcli's own fixed-step integrator (lagcli/derive/discrete.py)
+METHODS = ("RK45", "DOP853", "Radau", "BDF", "LSODA", VARIATIONAL)
+C_METHODS = (*EXPLICIT_METHODS, VARIATIONAL)    # the ones the C driver implements
 DEFAULT_BAUMGARTE = (10.0, 10.0)
 CONSTRAINT_TOLERANCE = 1e-8

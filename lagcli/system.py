@@ -163,18 +163,21 @@ class System:
     def simulate(self, t_end: float | None = None, dt: float | None = None, method: str | None = None,
                  rtol: float | None = None, atol: float | None = None, parameters: dict | None = None,
                  initial: dict | None = None, baumgarte: tuple[float, float] | None = None,
-                 inputs: dict | None = None, backend: str = "python"):
+                 inputs: dict | None = None, backend: str = "python", steps_per_row: int | None = None):
         """Integrate as `lagcli simulate --backend BACKEND` does: "python" (scipy's
         `solve_ivp` methods on the generated module) or "c" (the compiled driver, built
-        once and cached, RK45 and DOP853). None takes the spec's `simulate:` value, else
-        lagcli's default. `inputs`: {name: value} of the spec's `inputs:`, held constant
+        once and cached, RK45, DOP853 and variational). None takes the spec's `simulate:`
+        value, else lagcli's default. `method="variational"`: lagcli's variational
+        integrator (docs/simulate.md), `steps_per_row` fixed steps of dt / steps_per_row
+        between rows (default 1). `inputs`: {name: value} of the spec's `inputs:`, held constant
         (missing ones at their defaults). Returns a `lagcli.trajectory.Trajectory`; a
         failed integration keeps its rows and says why in `failure`."""
         from lagcli.simulate.options import Request, resolve_settings
         from lagcli.trajectory import from_rows
 
         settings = resolve_settings(Request(self.model.source, t_end, dt, method, rtol, atol,
-                                            baumgarte=baumgarte), self.layout.settings.as_dict())
+                                            baumgarte=baumgarte, steps_per_row=steps_per_row),
+                                    self.layout.settings.as_dict())
         start = self.initial_state(parameters, initial)
         rows = self.run(settings, {**self._parameters(parameters), **self._inputs(inputs)}, start, backend)
         return from_rows(self.layout, rows, start.notes, self.energy_conserved)
@@ -187,6 +190,7 @@ class System:
         them); `start`: from `start`; `progress(t_end)`: a context manager yielding
         `update(t)` (or None), entered once the code is ready and the integration starts."""
         progress = progress or _no_progress
+        self._check_method(settings.method)
         if backend == "python":
             from lagcli.simulate.python_backend import integrate_module
 
@@ -241,6 +245,14 @@ class System:
         request = Request(tuple(tuple(link) for link in links), tuple(traces), fps, frame)
         return animate(self, trajectory.t, trajectory.states,
                        {**self.layout.parameter_defaults, **self._parameters(parameters)}, path, request)
+
+    def _check_method(self, method: str) -> None:
+        """A usage error (before any work) when `method` cannot integrate this system."""
+        from lagcli.derive.discrete import METHOD, refusal
+
+        reason = refusal(self.derivation) if method == METHOD else None
+        if reason is not None:
+            raise UsageError(f"{self.model.source}: {reason}")
 
     def _module(self):
         """The generated Python module (its source cached on disk), made once per System."""

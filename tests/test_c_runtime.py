@@ -141,7 +141,7 @@ def test_driver_numbers_are_those_of_numerics():
     assert value["END_TOLERANCE"] == numerics.END_TOLERANCE
     assert value["CONSTRAINT_TOLERANCE"] == numerics.CONSTRAINT_TOLERANCE
     assert (value["BAUMGARTE"], value["BAUMGARTE"]) == numerics.DEFAULT_BAUMGARTE
-    assert re.search(r'#define LAGCLI_METHODS "(.*)"', text).group(1) == "|".join(numerics.EXPLICIT_METHODS)
+    assert re.search(r'#define LAGCLI_METHODS "(.*)"', text).group(1) == "|".join(numerics.C_METHODS)
 
 
 def test_spec_named_like_a_runtime_file_is_refused(tmp_path):

@@ -30,7 +30,7 @@ from pathlib import Path
 
 from lagcli.errors import SimulationError, UsageError
 from lagcli.layout import Layout
-from lagcli.numerics import EXPLICIT_METHODS
+from lagcli.numerics import C_METHODS, VARIATIONAL
 from lagcli.simulate import cache
 from lagcli.simulate.options import RunSettings
 from lagcli.simulate.trajectory import RowSink, Trajectory
@@ -48,9 +48,9 @@ def find_compiler() -> str | None:
 
 def require_compiler(method: str) -> str:
     """The C compiler for a run with `method`, or the error saying why there is none."""
-    if method not in EXPLICIT_METHODS:
+    if method not in C_METHODS:
         raise UsageError(f"--method {method}: the C backend implements "
-                         f"{' and '.join(EXPLICIT_METHODS)} only; use --backend python for {method}")
+                         f"{', '.join(C_METHODS)} only; use --backend python for {method}")
     compiler = find_compiler()
     if compiler is None:
         raise SimulationError("--backend c needs a C compiler, but 'cc' was not found on PATH "
@@ -189,6 +189,8 @@ def _compile(compiler: str, work: Path, sources: list[str], output: str = BINARY
 def driver_arguments(s: RunSettings, sets: dict[str, float], state: dict[str, float]) -> list[str]:
     args = ["--t-end", _num(s.t_end), "--dt", _num(s.dt), "--method", s.method,
             "--rtol", _num(s.rtol), "--atol", _num(s.atol), "--baumgarte", _num(s.alpha), _num(s.beta)]
+    if s.method == VARIATIONAL:
+        args += ["--steps-per-row", str(s.steps_per_row)]
     for option, values in (("--set", sets), ("--init", state)):
         for name, value in values.items():
             args += [option, f"{name}={_num(value)}"]

@@ -13,7 +13,7 @@ import math
 from dataclasses import dataclass
 
 from lagcli.errors import LagcliError, UsageError
-from lagcli.numerics import DEFAULT_BAUMGARTE, METHODS
+from lagcli.numerics import DEFAULT_BAUMGARTE, METHODS, VARIATIONAL
 
 HINT_CUTOFF = 0.5                       # difflib similarity for "did you mean": 'mm' -> 'm1'
 
@@ -32,6 +32,7 @@ class Request:
     inits: tuple[str, ...] = ()         # raw "NAME=VALUE" items of --init
     backend: str | None = None          # "python" | "c" | None (c when `cc` exists)
     baumgarte: tuple[float, float] | None = None
+    steps_per_row: int | None = None    # --method variational: steps per output interval
 
 
 @dataclass(frozen=True)
@@ -43,6 +44,7 @@ class RunSettings:
     atol: float
     alpha: float
     beta: float
+    steps_per_row: int = 1              # --method variational: the step is dt / steps_per_row
 
 
 def resolve_settings(request: Request, spec_settings: dict) -> RunSettings:
@@ -52,11 +54,17 @@ def resolve_settings(request: Request, spec_settings: dict) -> RunSettings:
         return spec_settings[key] if value is None else value
 
     alpha, beta = request.baumgarte or DEFAULT_BAUMGARTE
+    steps = 1 if request.steps_per_row is None else request.steps_per_row
     s = RunSettings(pick("t_end"), pick("dt"), pick("method"), pick("rtol"), pick("atol"),
-                    float(alpha), float(beta))
+                    float(alpha), float(beta), steps)
     if s.method not in METHODS:
         raise UsageError(f"--method: unknown integration method {s.method!r}"
                          + _hint(s.method, METHODS, "methods"))
+    if request.steps_per_row is not None and s.method != VARIATIONAL:
+        raise UsageError(f"--steps-per-row: only --method {VARIATIONAL} takes fixed steps "
+                         f"(--method {s.method} chooses its own)")
+    if not (isinstance(steps, int) and 1 <= steps <= 10**9):
+        raise UsageError(f"--steps-per-row: must be a whole number from 1 to 1e9, got {steps!r}")
     for key, low_ok in (("t_end", True), ("dt", False), ("rtol", False), ("atol", False)):
         value = getattr(s, key)
         if not math.isfinite(value) or value < 0 or (value == 0 and not low_ok):

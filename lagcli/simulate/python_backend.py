@@ -26,7 +26,7 @@ import types
 import numpy as np
 from scipy import integrate
 
-from lagcli.numerics import max_step, output_time_windows
+from lagcli.numerics import VARIATIONAL, max_step, output_time_windows
 from lagcli.simulate import cache
 from lagcli.simulate.options import RunSettings
 from lagcli.simulate.trajectory import RowSink, Trajectory
@@ -98,6 +98,10 @@ def integrate_module(module, p: list[float], y0: list[float], s: RunSettings,
     in-memory `Trajectory` when None) and returning it; never raises for run-time
     failures (see lagcli.simulate.trajectory). `u`: the inputs, held constant (a module
     of a spec with `inputs:` only; None: their defaults)."""
+    if s.method == VARIATIONAL:
+        from lagcli.simulate.variational import integrate_variational
+
+        return integrate_variational(module, p, y0, s, progress, sink, u)
     n = len(module.COORDINATES)
     inputs = (u,) if u is not None else ()
 

@@ -27,9 +27,9 @@ from pathlib import Path
 
 from lagcli.errors import SimulationError
 from lagcli.simulate import c_backend
-from lagcli.numerics import CONSTRAINT_TOLERANCE, EXPLICIT_METHODS
+from lagcli.numerics import C_METHODS, CONSTRAINT_TOLERANCE, EXPLICIT_METHODS, VARIATIONAL
 from lagcli.simulate.options import Request, parse_assignments, resolve_settings
-from lagcli.simulate.trajectory import RowSink, Trajectory
+from lagcli.simulate.trajectory import RowSink, Tee, Trajectory
 from lagcli.spec.files import read_spec_bytes
 
 
@@ -63,7 +63,7 @@ def _simulate(request: Request, note, progress, sink: RowSink) -> Outcome:
     compiler = c_backend.find_compiler()
     if request.backend == "c":
         c_backend.require_compiler(request.method or EXPLICIT_METHODS[0])   # before any work
-    if compiler and request.backend in (None, "c") and request.method in (None, *EXPLICIT_METHODS):
+    if compiler and request.backend in (None, "c") and request.method in (None, *C_METHODS):
         outcome = _warm(request, compiler, note, progress, sink)
         if outcome is not None:
             return outcome
@@ -82,8 +82,9 @@ def _warm(request: Request, compiler: str, note, progress, sink: RowSink) -> Out
         return None
     meta, layout = cached.meta, cached.layout
     settings = resolve_settings(request, layout.settings.as_dict())
-    if settings.method not in EXPLICIT_METHODS:
-        return None
+    if settings.method not in C_METHODS or (settings.method == VARIATIONAL and any(
+            m.kind != "holonomic" for m in layout.multipliers)):
+        return None                           # the cold path refuses it, naming the constraint
     sets, inits = _overrides(request, layout)
     if sets or inits:
         given = {**meta["initial"], **inits}
@@ -94,12 +95,14 @@ def _warm(request: Request, compiler: str, note, progress, sink: RowSink) -> Out
         return None                           # the spec's own state is inconsistent: cold path says so
     limit = CONSTRAINT_TOLERANCE if layout.constrained and (sets or inits) else None
     args = c_backend.driver_arguments(settings, sets, dict(zip(layout.state_names, state)))
+    watched, drift = _watched(settings, layout, sink)
     with progress(settings.t_end) as update:
-        traj = c_backend.run(cached, args, update, max_first_residual=limit, sink=sink)
+        traj = c_backend.run(cached, args, update, max_first_residual=limit, sink=watched)
     if traj is None:
         return None
     for text in notes:
         note(text)
+    _drift_note(drift, settings, note)
     return Outcome(traj, "c", layout.coordinates, meta["energy_conserved"])
 
 
@@ -110,13 +113,31 @@ def _cold(request: Request, compiler: str | None, note, progress, sink: RowSink)
     system = load(Path(request.spec))
     layout = system.layout
     settings = resolve_settings(request, layout.settings.as_dict())
-    backend = request.backend or ("c" if compiler and settings.method in EXPLICIT_METHODS else "python")
+    backend = request.backend or ("c" if compiler and settings.method in C_METHODS else "python")
     sets, inits = _overrides(request, layout)
     start = system.start(sets, inits)
     for text in start.notes:
         note(text)
-    traj = system.run(settings, sets, start, backend, sink, progress)
+    watched, drift = _watched(settings, layout, sink)
+    traj = system.run(settings, sets, start, backend, watched, progress)
+    _drift_note(drift, settings, note)
     return Outcome(traj, backend, layout.coordinates, system.energy_conserved)
+
+
+def _watched(settings, layout, sink: RowSink):
+    """`sink`, and for --method variational also the drift of the integrals
+    (`lagcli.simulate.variational.IntegralDrift`, the end-of-run line)."""
+    if settings.method != VARIATIONAL:
+        return sink, None
+    from lagcli.simulate.variational import IntegralDrift
+
+    drift = IntegralDrift(layout)
+    return Tee(sink, drift), drift
+
+
+def _drift_note(drift, settings, note) -> None:
+    if drift is not None and drift.rows:
+        note(drift.summary(settings.dt, settings.steps_per_row))
 
 
 def _overrides(request: Request, layout) -> tuple[dict, dict]:
