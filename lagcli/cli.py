@@ -9,12 +9,14 @@ import warnings
 import click
 
 from lagcli import __version__, commands
+from lagcli.cli_options import LanguageChoice, note, quiet, quiet_option
 from lagcli.emit import LANGUAGES
 from lagcli.emit.escape import terminal_text
 from lagcli.errors import LagcliError, SpecWarning
 from lagcli.numerics import METHODS
 from lagcli.interrupts import interrupt_on_termination
 from lagcli.output import open_output, write_output
+from lagcli.runtime.run_rules import EXPLICIT_METHODS
 
 SPEC = click.Path(dir_okay=False, path_type=str)
 
@@ -22,10 +24,15 @@ SPEC = click.Path(dir_okay=False, path_type=str)
 @click.group(context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(__version__, prog_name="lagcli")
 @click.option("--traceback", "show_traceback", is_flag=True, help="Show the Python traceback of errors.")
+@quiet_option
 @click.pass_context
 def cli(ctx: click.Context, show_traceback: bool) -> None:
-    """Equations of motion from a spec file, by Lagrange's method."""
-    ctx.obj = {"traceback": show_traceback}
+    """Equations of motion from a spec file, by Lagrange's method.
+
+    SPEC is a .yaml, .yml or .toml file, or - for standard input (YAML, or TOML when
+    its first line is a [table] or key = value). Every command takes -q/--quiet.
+    """
+    ctx.obj = {**(ctx.obj or {}), "traceback": show_traceback}    # -q may have set "quiet"
     ctx.with_resource(interrupt_on_termination())     # SIGTERM, SIGHUP: as Ctrl-C
 
 
@@ -52,6 +59,8 @@ def _spec_warnings_on_stderr():
         finally:
             shown = set()
             for item in caught:
+                if quiet() and isinstance(item.message, SpecWarning):
+                    continue
                 if not isinstance(item.message, SpecWarning):
                     warnings.showwarning(item.message, item.category, item.filename, item.lineno)
                 elif str(item.message) not in shown:
@@ -71,6 +80,7 @@ def _spec_warnings_on_stderr():
               help="With --text or --latex: only these sections (system, energies, forces, "
                    "equations, constraints, explicit, conservation).")
 @click.option("-o", "--output", default=None, help="Output file ('-' or none: stdout).")
+@quiet_option
 @click.pass_context
 def derive(ctx, spec, as_text, as_latex, as_json, standalone, simplify, parts, output):
     """Derive the equations of motion of SPEC and report them.
@@ -103,19 +113,49 @@ def derive(ctx, spec, as_text, as_latex, as_json, standalone, simplify, parts, o
 
 
 @cli.command()
-@click.argument("spec", type=SPEC)
+@click.argument("specs", nargs=-1, required=True, type=SPEC, metavar="SPEC...")
+@click.option("--json", "as_json", is_flag=True,
+              help="One record per file: file, valid, problems (file, line, column, path, severity, "
+                   "message, hint).")
+@quiet_option
 @click.pass_context
-def check(ctx, spec):
-    """Validate SPEC and summarise it: coordinates, constraints, DOF."""
-    _run(ctx, lambda: click.echo(commands.check_summary(spec), nl=False))
+def check(ctx, specs, as_json):
+    """Validate each SPEC and summarise it: coordinates, constraints, DOF.
+
+    Every file is checked, even after a broken one; the exit status is 2 if any is invalid.
+
+    \b
+    Examples:
+      lagcli check specs/cart_pole.yaml
+      lagcli check specs/*.yaml --json
+      lagcli examples cart_pole | lagcli check -
+    """
+    from lagcli.diagnostics import check_file, to_json
+
+    verdicts = [check_file(spec, commands.check_summary) for spec in specs]
+    if as_json:
+        click.echo(to_json(verdicts), nl=False)
+    for verdict in [] if as_json else verdicts:
+        for warning in [] if quiet() else verdict.warnings:
+            click.echo(terminal_text(warning.render()), err=True)
+        if verdict.error is None:
+            click.echo(verdict.summary, nl=False)
+            continue
+        if ctx.obj and ctx.obj.get("traceback"):
+            traceback.print_exception(verdict.error)
+        click.echo(terminal_text(verdict.error.render()), err=True)
+    failed = [v.error.exit_code for v in verdicts if v.error is not None]
+    if failed:
+        sys.exit(max(failed))
 
 
 @cli.command()
 @click.argument("spec", type=SPEC)
-@click.option("--lang", required=True, type=click.Choice(list(LANGUAGES)),
+@click.option("--lang", required=True, type=LanguageChoice(LANGUAGES),
               help="python: one module (numpy); c: <name>.h, <name>.c, <name>_main.c; "
                    "octave: MATLAB/Octave functions and an ode45 script; rust: a crate; "
-                   "latex: a standalone document; fmu: an FMI 2.0 FMU (needs cc).")
+                   "latex: a standalone document; fmu: an FMI 2.0 FMU (needs cc). Any letter case; "
+                   "matlab is octave.")
 @click.option("-o", "--output", default=None,
               help="Output file ('-' or none: stdout); for --lang c, octave, rust the directory (required); "
                    "for --lang fmu the .fmu file (required).")
@@ -123,6 +163,7 @@ def check(ctx, spec):
               show_default=True,
               help="hamiltonian: a Python module whose state is (q, p), rhs = Hamilton's equations "
                    "(unconstrained systems).")
+@quiet_option
 @click.pass_context
 def generate(ctx, spec, lang, output, form):
     """Generate code (Python, C) or a LaTeX document from SPEC's equations of motion.
@@ -133,7 +174,7 @@ def generate(ctx, spec, lang, output, form):
       lagcli generate specs/double_pendulum.yaml --lang c -o double_pendulum/
       lagcli generate specs/spherical_pendulum.yaml --lang python --form hamiltonian -o sp_h.py
     """
-    _run(ctx, lambda: commands.generate(spec, lang, output, form))
+    _run(ctx, lambda: commands.generate(spec, lang, output, form, note=note))
 
 
 @cli.command()
@@ -161,6 +202,7 @@ def generate(ctx, spec, lang, output, form):
               help="With --plot: draw these columns, one panel per kind (angles, lengths, velocities, ...).")
 @click.option("--phase", "phase", multiple=True, metavar="Q",
               help="With --plot: add the phase portrait (Q_dot against Q) of coordinate Q (repeatable).")
+@quiet_option
 @click.pass_context
 def simulate(ctx, spec, t_end, dt, method, rtol, atol, sets, inits, backend, baumgarte, steps_per_row,
              output, plot, columns, phase):
@@ -179,7 +221,7 @@ def simulate(ctx, spec, t_end, dt, method, rtol, atol, sets, inits, backend, bau
     request = Request(spec, t_end, dt, method, rtol, atol, tuple(sets), tuple(inits), backend,
                       tuple(baumgarte) if baumgarte else None, steps_per_row)
     chosen = tuple(c.strip() for c in columns.split(",")) if columns else None
-    _run(ctx, lambda: commands.simulate(request, output, plot, note=lambda text: click.echo(text, err=True),
+    _run(ctx, lambda: commands.simulate(request, output, plot, note=note,
                                         progress=_progress_bar, columns=chosen, phase=tuple(phase)))
 
 
@@ -199,7 +241,8 @@ def simulate(ctx, spec, t_end, dt, method, rtol, atol, sets, inits, backend, bau
               help="Summary column exceed_NAME: first output time with |NAME| > VALUE (repeatable).")
 @click.option("--t-end", type=float, help="End time (default: the spec's simulate.t_end, else 10).")
 @click.option("--dt", type=float, help="Output interval (default: simulate.dt, else 0.01).")
-@click.option("--method", type=click.Choice(list(METHODS)), help="RK45 or DOP853 (the compiled driver's).")
+@click.option("--method", type=click.Choice(EXPLICIT_METHODS),
+              help="RK45 or DOP853 (the compiled driver's; default: simulate.method, else DOP853).")
 @click.option("--rtol", type=float, help="Relative tolerance (default: simulate.rtol, else 1e-9).")
 @click.option("--atol", type=float, help="Absolute tolerance (default: simulate.atol, else 1e-12).")
 @click.option("--baumgarte", nargs=2, type=float, metavar="ALPHA BETA",
@@ -208,6 +251,7 @@ def simulate(ctx, spec, t_end, dt, method, rtol, atol, sets, inits, backend, bau
 @click.option("--workers", type=int, help="Local driver processes (default: every core).")
 @click.option("--scheduler", metavar="ADDRESS", help="Run on a Dask cluster, e.g. tcp://127.0.0.1:8786.")
 @click.option("-o", "--output", required=True, help="Summary file: .csv, or .parquet (pyarrow).")
+@quiet_option
 @click.pass_context
 def sweep(ctx, spec, grids, samples, count, seed, runs, sets, inits, exceed, t_end, dt, method, rtol, atol,
           baumgarte, trajectories, workers, scheduler, output):
@@ -227,7 +271,7 @@ def sweep(ctx, spec, grids, samples, count, seed, runs, sets, inits, exceed, t_e
                "baumgarte": tuple(baumgarte) if baumgarte else None, "parameters": sets, "initial": inits,
                "exceed": exceed, "output": output, "trajectories": trajectories, "workers": workers,
                "scheduler": scheduler}
-    _run(ctx, lambda: commands.sweep(spec, plan, options, note=lambda text: click.echo(text, err=True),
+    _run(ctx, lambda: commands.sweep(spec, plan, options, note=note,
                                      progress=_count_bar))
 
 
@@ -245,6 +289,7 @@ def sweep(ctx, spec, grids, samples, count, seed, runs, sets, inits, exceed, t_e
 @click.option("--fps", type=float, default=25.0, show_default=True, help="Frames per second of simulated time.")
 @click.option("--frame", type=float, metavar="T", help="Only the frame at time T, as a PNG.")
 @click.option("-o", "--output", required=True, help="motion.gif, motion.mp4 (ffmpeg) or frame.png (--frame).")
+@quiet_option
 @click.pass_context
 def animate(ctx, spec, csv_path, t_end, dt, sets, inits, links, traces, fps, frame, output):
     """Draw the motion of SPEC: particles, bodies' axes, springs, rods, traces and the time.
@@ -260,7 +305,7 @@ def animate(ctx, spec, csv_path, t_end, dt, sets, inits, links, traces, fps, fra
     request = Request(spec, t_end, dt, sets=tuple(sets), inits=tuple(inits))
     drawing = {"links": links, "traces": traces, "fps": fps, "frame": frame}
     _run(ctx, lambda: commands.animate(spec, csv_path, request, output, drawing,
-                                       note=lambda text: click.echo(text, err=True)))
+                                       note=note))
 
 
 @contextlib.contextmanager
@@ -279,6 +324,7 @@ def _count_bar(total: int):
 @click.argument("name", required=False)
 @click.option("--copy", "copy_to", metavar="DIR", help="Copy every bundled spec into DIR.")
 @click.option("-o", "--output", default=None, help="With NAME: write the spec to this file ('-' or none: stdout).")
+@quiet_option
 @click.pass_context
 def examples(ctx, name, copy_to, output):
     """List the bundled example specs, print one (NAME), or copy them all (--copy DIR).
@@ -294,11 +340,35 @@ def examples(ctx, name, copy_to, output):
     def action():
         if copy_to:
             written = bundled.copy_all(copy_to)
-            click.echo(f"copied {len(written)} specs into {copy_to}", err=True)
+            note(f"copied {len(written)} specs into {copy_to}")
         elif name:
             write_output(output, bundled.find(name).read_text(encoding="utf-8"))
         else:
             click.echo(bundled.listing(), nl=False)
+    _run(ctx, action)
+
+
+@cli.command()
+@click.option("-o", "--output", default=None, help="Output file ('-' or none: stdout).")
+@quiet_option
+@click.pass_context
+def schema(ctx, output):
+    """Print the JSON Schema (draft 2020-12) of spec files: editors complete and check specs with it.
+
+    It is made from the tables `lagcli check` uses; it sees keys and the shapes of values,
+    not what expressions mean (docs/spec.md, "Editor support").
+
+    \b
+    Examples:
+      lagcli schema -o lagcli.schema.json
+      # then, as a spec's first line: # yaml-language-server: $schema=lagcli.schema.json
+    """
+    from lagcli.spec.json_schema import json_schema_text
+
+    def action():
+        write_output(output, json_schema_text())
+        if output not in (None, "-"):
+            note(f"wrote {output}")
     _run(ctx, action)
 
 
@@ -314,6 +384,7 @@ def cache():
 
 
 @cache.command("info")
+@quiet_option
 def cache_info():
     """Show the cache directory, whether it is usable, its entries and their size.
 
@@ -327,6 +398,7 @@ def cache_info():
 
 
 @cache.command("clear")
+@quiet_option
 def cache_clear():
     """Remove lagcli's cache entries (only those; nothing else in the directory).
 
@@ -390,6 +462,7 @@ def _format(as_json: bool, as_latex: bool = False) -> str:
 @click.option("--json", "as_json", is_flag=True, help="JSON (full precision).")
 @click.option("--latex", "as_latex", is_flag=True, help="A LaTeX fragment (amsmath).")
 @click.option("-o", "--output", default=None, help="Output file ('-' or none: stdout).")
+@quiet_option
 @click.pass_context
 def linearize(ctx, spec, at, independent, inputs, sweep, find_critical, symbolic, as_json, as_latex, output):
     """Linearize SPEC about an operating point: A, B, M, C, K, eigenvalues and a stability verdict.
@@ -415,6 +488,7 @@ def linearize(ctx, spec, at, independent, inputs, sweep, find_critical, symbolic
                    "initial state and the origin).")
 @click.option("--json", "as_json", is_flag=True, help="JSON (full precision).")
 @click.option("-o", "--output", default=None, help="Output file ('-' or none: stdout).")
+@quiet_option
 @click.pass_context
 def equilibria(ctx, spec, sets, guesses, as_json, output):
     """Equilibria of SPEC (q' = 0: stationary points of V - T0) and their stability.
@@ -437,6 +511,7 @@ def equilibria(ctx, spec, sets, guesses, as_json, output):
               help="A starting point for the steady-motion search (repeatable).")
 @click.option("--json", "as_json", is_flag=True, help="JSON.")
 @click.option("-o", "--output", default=None, help="Output file ('-' or none: stdout).")
+@quiet_option
 @click.pass_context
 def routh(ctx, spec, momenta, sets, guesses, as_json, output):
     """Routh reduction of SPEC over its cyclic coordinates: Routhian, effective potential,
@@ -455,6 +530,7 @@ def routh(ctx, spec, momenta, sets, guesses, as_json, output):
 @click.option("--json", "as_json", is_flag=True, help="JSON.")
 @click.option("--latex", "as_latex", is_flag=True, help="A LaTeX fragment (amsmath).")
 @click.option("-o", "--output", default=None, help="Output file ('-' or none: stdout).")
+@quiet_option
 @click.pass_context
 def hamiltonian(ctx, spec, as_json, as_latex, output):
     """Hamilton's form of SPEC: momenta p = M q' + a, H(q, p, t) and Hamilton's equations.

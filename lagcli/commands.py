@@ -100,14 +100,16 @@ def _plot_options(spec: str, columns, phase):
     return PlotOptions(columns, tuple(phase), angle_coordinates(load_model(spec)))
 
 
-def generate(path: str, lang: str, output: str | None = None, form: str = "lagrangian") -> None:
+def generate(path: str, lang: str, output: str | None = None, form: str = "lagrangian",
+             note=lambda text: None) -> None:
     """`lagcli generate`: code or a document for `path` in `lang` (see lagcli.emit.LANGUAGES).
 
     One-file languages write to `output` (stdout for None or '-'; the FMU's zip needs
     `output`, '-' for stdout); C writes its files
     into the directory `output` (required; created if only it is missing), each
     atomically, after all are made.  The target is checked before deriving.
-    `form="hamiltonian"`: the Python module in (q, p) of lagcli/emit/hamilton.py."""
+    `form="hamiltonian"`: the Python module in (q, p) of lagcli/emit/hamilton.py.
+    `note(text)` is told what was written ("wrote dp_c/: 8 files"), unless it went to stdout."""
     from lagcli.emit import LANGUAGES
     from lagcli.errors import UsageError
     from lagcli.output import check_directory_output, open_output
@@ -119,6 +121,7 @@ def generate(path: str, lang: str, output: str | None = None, form: str = "lagra
         from lagcli.emit.hamilton import hamilton_module
         with open_output(output) as out:
             out.stream.write(hamilton_module(_derive(path)))
+        _wrote(output, note)
         return
 
     language = LANGUAGES.get(lang)
@@ -126,7 +129,8 @@ def generate(path: str, lang: str, output: str | None = None, form: str = "lagra
         if output in (None, "-"):
             raise UsageError(f"--lang {lang} writes several files: give the directory with -o DIR")
         check_directory_output(output)
-        load(Path(path)).generate(lang, output)
+        files = load(Path(path)).generate(lang, output)
+        note(f"wrote {output}: {len(files)} file{'s' if len(files) != 1 else ''}")
         return
     binary = language is not None and language.binary
     if binary and output is None:
@@ -135,6 +139,12 @@ def generate(path: str, lang: str, output: str | None = None, form: str = "lagra
     with open_output(output, binary=binary) as out:
         (data,) = load(Path(path)).generate(lang).values()
         out.stream.write(data)
+    _wrote(output, note)
+
+
+def _wrote(output: str | None, note) -> None:
+    if output not in (None, "-"):
+        note(f"wrote {output}")
 
 
 # -- analysis: lagcli linearize / equilibria / hamiltonian / routh (lagcli/analysis/) --

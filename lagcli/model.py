@@ -262,6 +262,12 @@ class _ModelBuilder:
         given = {g.name: self.expr(g.expr, check=self.no_accelerations) for g in self.spec.generalized_forces}
         return tuple(given.get(q.name, sp.S.Zero) for q in self.q)
 
+    def spec_initial_values(self) -> dict[str, float]:
+        """The spec's `initial:` values at the parameters' values (built once)."""
+        if not hasattr(self, "_initial_values"):
+            self._initial_values = self._initial(self._parameters())
+        return self._initial_values
+
     def _initial(self, parameters) -> dict:
         values = {p.symbol.name: sp.Float(p.value) for p in parameters}
         return {item.name: self.constant(item.expr, 0.0, values) for item in self.spec.initial}

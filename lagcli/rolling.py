@@ -33,6 +33,7 @@ from lagcli.model_types import ConstraintSpec
 from lagcli.spec.frames import rolling_row_prefix
 from lagcli.spec.types import Rolling, Src, Surface
 
+ROOT_MAX_OPS = 60         # larger squares are left under their root (trigsimp is slow)
 GROUND = Surface(normal=(Src("0", None), Src("0", None), Src("1", None)))
 
 
@@ -40,26 +41,58 @@ def rolling_constraints(item: Rolling, model) -> tuple[ConstraintSpec, ...]:
     """The rows of one rolling contact; `model` is the model builder (its parser and scope)."""
     surface = item.surface or GROUND
     body = model.scope.names[item.body]
-    normal = _unit(Vector.of(model.vector(surface.normal, model.constant_in_motion)))
+    reference = reference_state(model)
+    normal = _unit(Vector.of(model.vector(surface.normal, model.constant_in_motion)), reference)
     height = model.expr(surface.height, sp.S.Zero, model.constant_in_motion)
     offset = (_wheel_offset(body, model.expr(item.wheel[0], check=model.constant_in_motion), item.wheel[1],
-                            normal) if item.wheel else Vector.of(model.vector(item.contact, model.no_velocities)))
+                            normal, reference)
+              if item.wheel else Vector.of(model.vector(item.contact, model.no_velocities)))
     contact = body.material_point(offset)
     slip = contact.velocity - _surface_velocity(surface, model, normal, contact.position)
-    tangents, normal_axis = _tangents(normal, model.parameter_values)
+    tangents, normal_axis = _tangents(normal, model.parameter_values, reference)
     prefix = rolling_row_prefix(item.body)
-    rows = [ConstraintSpec(prefix + axis, slip.dot(t), item.loc) for axis, t in tangents]
+    rows = [ConstraintSpec(prefix + axis, _grouped(slip.dot(t), set(model.qd)), item.loc)
+            for axis, t in tangents]
     gap = normal.dot(contact.position) - height
     if not numerically_zero([gap]):
         rows.insert(0, ConstraintSpec(prefix + normal_axis, gap, item.loc))
     return tuple(rows)
 
 
-def _wheel_offset(body, radius: sp.Expr, axis: str, normal: Vector) -> Vector:
+def _wheel_offset(body, radius: sp.Expr, axis: str, normal: Vector, reference: dict) -> Vector:
     a = body.unit(axis)
     along_axis = normal.dot(a)
     # |n - (n.a) a| = sqrt(1 - (n.a)^2) for unit n and a: the short form of the length
-    return (normal - a.scaled(along_axis)).scaled(-radius / sp.sqrt(1 - along_axis**2))
+    in_plane = Vector(tuple(_tidy(c) for c in (normal - a.scaled(along_axis)).components))
+    return in_plane.scaled(-radius / root(1 - along_axis**2, reference))
+
+
+def _grouped(row: sp.Expr, velocities: set) -> sp.Expr:
+    """A row as a textbook writes it: the plain velocity terms (x_dot) and the terms free
+    of velocities apart, the common factor of the others pulled out
+    (`x_dot - r*(phi_dot*cos(psi) + ...)`); small rows only."""
+    if row.count_ops() > 4 * ROOT_MAX_OPS:
+        return row
+    terms = sp.Add.make_args(sp.expand(row))
+    plain = [term for term in terms
+             if term in velocities or -term in velocities or not term.free_symbols & velocities]
+    rest = sp.Add(*[term for term in terms if term not in plain])
+    return sp.Add(*plain) + sp.factor_terms(rest, sign=True)
+
+
+def _tidy(value: sp.Expr) -> sp.Expr:
+    """`value` with sin(x)**2 or cos(x)**2 of one argument x rewritten by the Pythagorean
+    identity where that makes it shorter (`1 - sin(theta)**2` -> cos(theta)**2); small
+    values only (a targeted rewrite: sympy's trigsimp turns products into sums of angles)."""
+    if value.count_ops() > ROOT_MAX_OPS:
+        return value
+    best = value
+    for x in sorted({f.args[0] for f in value.atoms(sp.sin, sp.cos)}, key=sp.default_sort_key):
+        for square, other in ((sp.sin(x)**2, sp.cos(x)**2), (sp.cos(x)**2, sp.sin(x)**2)):
+            candidate = sp.expand(best.subs(square, 1 - other))
+            if sp.count_ops(candidate) < sp.count_ops(best):
+                best = candidate
+    return sp.factor_terms(best)
 
 
 def _surface_velocity(surface: Surface, model, normal: Vector, where: Vector) -> Vector:
@@ -70,12 +103,43 @@ def _surface_velocity(surface: Surface, model, normal: Vector, where: Vector) ->
     return normal.scaled(rate).cross(where - centre)
 
 
-def _unit(vector: Vector) -> Vector:
-    length = sp.sqrt(sp.trigsimp(vector.dot(vector)))
+def _unit(vector: Vector, reference: dict) -> Vector:
+    length = root(vector.dot(vector), reference)
     return vector if length == 1 else vector.scaled(1 / length)
 
 
-def _tangents(normal: Vector, values: dict) -> tuple[list[tuple[str, Vector]], str]:
+def reference_state(model) -> dict:
+    """The parameters' values and the spec's initial coordinates (0 where not given):
+    where `root` takes the sign of what it un-squares."""
+    initial = model.spec_initial_values()
+    return {**model.parameter_values, **{q: initial.get(q.name, 0.0) for q in model.q}}
+
+
+def root(square: sp.Expr, reference: dict) -> sp.Expr:
+    """sqrt(square), written as the textbook does when `square` is a perfect square c**2
+    (`1 - sin(theta)**2` -> cos(theta), `cos(alpha)**2` -> cos(alpha)): |c| becomes c or -c,
+    the sign c has at `reference`. The rows then hold while c keeps that sign, i.e. (for a
+    wheel) while it does not lie flat, which no rolling motion passes through. Where c is 0
+    at the reference, or the square is not a perfect one, the root stays as it is."""
+    if square.count_ops() > ROOT_MAX_OPS:
+        return sp.sqrt(square)
+    length = sp.sqrt(sp.factor(_tidy(square)))
+    if not length.has(sp.Abs):
+        return length if not isinstance(length, sp.Pow) else sp.sqrt(square)
+    signs = {a: _sign_at(a.args[0], reference) for a in length.atoms(sp.Abs)}
+    if 0 in signs.values():
+        return sp.sqrt(square)
+    return length.xreplace({a: sign * a.args[0] for a, sign in signs.items()})
+
+
+def _sign_at(value: sp.Expr, reference: dict) -> int:
+    if not value.free_symbols <= set(reference):
+        return 0
+    number = complex(value.xreplace(reference).evalf())
+    return 0 if number.imag or number.real == 0 else (1 if number.real > 0 else -1)
+
+
+def _tangents(normal: Vector, values: dict, reference: dict) -> tuple[list[tuple[str, Vector]], str]:
     """The plane's two directions, from the inertial axes least along the normal."""
     sizes = [abs(float(c.xreplace(values))) if c.free_symbols <= set(values) else 0.0
              for c in normal.components]
@@ -87,5 +151,6 @@ def _tangents(normal: Vector, values: dict) -> tuple[list[tuple[str, Vector]], s
         t = Vector(tuple(sp.S(int(axis == a)) for a in AXES))
         for other in [normal] + [u for _, u in tangents]:
             t = t - other.scaled(t.dot(other))
-        tangents.append((axis, _unit(t)))
+        t = Vector(tuple(_tidy(c) for c in t.components))
+        tangents.append((axis, _unit(t, reference)))
     return tangents, normal_axis

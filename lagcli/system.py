@@ -284,13 +284,9 @@ class System:
     # --- rich display -------------------------------------------------------------------
 
     def _repr_latex_(self) -> str:
-        """The equations of motion and the constraints, for Jupyter (MathJax)."""
-        from lagcli.emit.latex import latex_printer
-        from lagcli.parts import aligned
-
-        parts = self.parts
-        pairs = parts.equations.value + (parts.constraints.value if self.layout.constrained else ())
-        return "$$" + aligned(latex_printer(self.derivation), pairs) + "$$"
+        """The equations of motion and the constraints, for Jupyter (MathJax): the rows of
+        `lagcli derive --latex`, long ones broken, big expressions through named quantities."""
+        return "$$" + self.parts.latex_of("equations", "constraints") + "$$"
 
     def _repr_html_(self) -> str:
         from html import escape

@@ -58,15 +58,21 @@ def _body(context: dict) -> str:
     """The fragment, its "Named quantities" holding the definitions that the selected
     parts use (directly or through a later definition that uses them)."""
     body = render("latex/fragment.tex.jinja", **context, named_rows=[])
-    needed, shown = [], body
-    for symbol, expr in reversed(context["named"]):
+    named_rows = named_rows_used(context["named"], body)
+    if not named_rows:
+        return body
+    return render("latex/fragment.tex.jinja", **context, named_rows=named_rows)
+
+
+def named_rows_used(named: list, shown: str) -> list[str]:
+    """The rows defining the named quantities that `shown` uses, directly or through a
+    later definition that uses them, in definition order."""
+    needed = []
+    for symbol, expr in reversed(named):
         if re.search(re.escape(symbol) + r"(?![\w{])", shown):
             needed.append((symbol, expr))
             shown += f" {expr}"
-    if not needed:
-        return body
-    named_rows = [row for symbol, expr in reversed(needed) for row in rows(symbol, expr)]
-    return render("latex/fragment.tex.jinja", **context, named_rows=named_rows)
+    return [row for symbol, expr in reversed(needed) for row in rows(symbol, expr)]
 
 
 # -- rows of align* -----------------------------------------------------------------
@@ -130,10 +136,22 @@ def matrix_block(name: str, entries: list[list[Tex]], kind: str) -> dict:
 
 # -- the template context -------------------------------------------------------------
 
+def latex_content(d: Derivation, simplify: bool = True) -> dict:
+    """The report's content (`report_content`) printed in LaTeX (`Tex` strings, named
+    quantities for big expressions): what every LaTeX surface shows."""
+    printer = latex_printer(d)
+    return report_content(d, ReportPrinter(printer.tex, printer.tex_terms), simplify, named=True)
+
+
 def _context(d: Derivation, simplify: bool) -> dict:
+    return latex_context(d, latex_content(d, simplify))
+
+
+def latex_context(d: Derivation, r: dict) -> dict:
+    """The template context of the LaTeX report made from its content `r`: pre-printed
+    rows, also shown one part at a time in notebooks (`lagcli.parts`)."""
     m = d.model
     printer = latex_printer(d)
-    r = report_content(d, ReportPrinter(printer.tex, printer.tex_terms), simplify, named=True)
     qtex = {q.name: printer.doprint(q) for q in m.q}
     qs = [qtex[name] for name in r["coordinates"]]
 

@@ -136,7 +136,19 @@ def parse_value(text: str, where: str) -> float:
 
 
 def _hint(name: str, allowed, plural: str) -> str:
-    guess = difflib.get_close_matches(name, list(allowed), n=1, cutoff=HINT_CUTOFF)
+    guess = closest_name(name, allowed)
     listing = ", ".join(allowed) if allowed else "(none)"
-    did_you_mean = f"did you mean {guess[0]!r}? " if guess else ""
+    did_you_mean = f"did you mean {guess!r}? " if guess else ""
     return f"\n  hint: {did_you_mean}{plural} are: {listing}"
+
+
+def closest_name(name: str, allowed) -> str | None:
+    """The allowed name `name` was probably meant to be: the same letters in another case
+    (`K` for `k`), else the closest by difflib, letter case ignored (`MM` for `m`)."""
+    by_lower = {}
+    for choice in allowed:
+        by_lower.setdefault(choice.lower(), choice)
+    if name.lower() in by_lower:
+        return by_lower[name.lower()]
+    guess = difflib.get_close_matches(name.lower(), list(by_lower), n=1, cutoff=HINT_CUTOFF)
+    return by_lower[guess[0]] if guess else None

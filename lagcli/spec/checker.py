@@ -16,6 +16,7 @@ from typing import Any, Callable
 from lagcli.errors import Problem
 from lagcli.layout import column_clash
 from lagcli.layout import reserved_reason as generated_name_reason
+from lagcli.spec.format import Table
 from lagcli.spec.reader import KeyPath, RawDoc
 from lagcli.spec.types import Src, Vector, VectorSrc
 
@@ -100,9 +101,10 @@ class Checker:
 
     # --- shapes --------------------------------------------------------------------------
 
-    def table(self, path: KeyPath, value: Any, allowed: tuple[str, ...],
-              required: tuple[str, ...] = ()) -> dict | None:
-        """A mapping with only `allowed` keys (did-you-mean otherwise) and all `required` ones."""
+    def table(self, path: KeyPath, value: Any, shape: Table) -> dict | None:
+        """A mapping with only the keys of `shape` (did-you-mean otherwise) and all its required
+        ones; `shape` is a table of lagcli/spec/format.py, which `lagcli schema` reads too."""
+        allowed, required = shape.allowed, shape.required
         if not isinstance(value, dict):
             self.fail(path, f"expected a mapping with keys {', '.join(allowed)}; got {describe(value)}")
             return None

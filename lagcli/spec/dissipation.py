@@ -11,10 +11,9 @@ from __future__ import annotations
 
 from typing import Any
 
+from lagcli.spec import format as fmt
 from lagcli.spec.reader import KeyPath
 from lagcli.spec.types import Damper
-
-DISSIPATION_KEYS = ("dampers", "dissipation")
 
 
 def dissipation_fields(checker, top: dict) -> dict:
@@ -26,7 +25,7 @@ def dissipation_fields(checker, top: dict) -> dict:
 
 
 def _damper(checker, path: KeyPath, value: Any) -> Damper | None:
-    table = checker.table(path, value, ("between", "damping"), ("between", "damping"))
+    table = checker.table(path, value, fmt.DAMPER)
     if table is None:
         return None
     ends = checker.spring_ends(path + ("between",), table["between"]) if "between" in table else None

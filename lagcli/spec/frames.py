@@ -9,14 +9,12 @@ from __future__ import annotations
 from typing import Any
 
 from lagcli.errors import Problem
+from lagcli.spec import format as fmt
 from lagcli.spec.checker import describe
 from lagcli.spec.reader import KeyPath
 from lagcli.spec.types import Frame, Rolling, Src, Surface
 
-AXES = ("x", "y", "z")
-FRAME_KEYS = ("parent", "rotations")
-ROLLING_KEYS = ("body", "wheel", "contact", "surface")
-SURFACE_KEYS = ("normal", "height", "angular_velocity", "centre")
+AXES = fmt.AXES
 
 
 def rolling_row_prefix(body: str) -> str:
@@ -41,7 +39,7 @@ class FrameChecks:
         self.declare(name, "frame", path)
         for axis in AXES:
             self.declare(f"{name}_{axis}", f"unit vector of frame {name}", path)
-        table = self.table(path, value, FRAME_KEYS, ("rotations",))
+        table = self.table(path, value, fmt.FRAME)
         if table is None:
             return None
         parent = self.reference(path + ("parent",), table["parent"], ("frame",)) if "parent" in table else None
@@ -80,7 +78,7 @@ class FrameChecks:
         return isinstance(value, str) and (bool(self.frame_names) or "[" in value)
 
     def rolling(self, path: KeyPath, value: Any) -> Rolling | None:
-        table = self.table(path, value, ROLLING_KEYS, ("body",))
+        table = self.table(path, value, fmt.ROLLING)
         if table is None:
             return None
         self.note_dim(3, path)
@@ -97,7 +95,7 @@ class FrameChecks:
         return Rolling(body, wheel, contact, surface, self.raw.loc(path))
 
     def wheel(self, path: KeyPath, value: Any) -> tuple[Src, str] | None:
-        table = self.table(path, value, ("radius", "axis"), ("radius", "axis"))
+        table = self.table(path, value, fmt.WHEEL)
         if table is None or "radius" not in table or "axis" not in table:
             return None
         if table["axis"] not in AXES:
@@ -109,7 +107,7 @@ class FrameChecks:
         return (radius, table["axis"]) if radius is not None else None
 
     def surface(self, path: KeyPath, value: Any) -> Surface | None:
-        table = self.table(path, value, SURFACE_KEYS, ("normal",))
+        table = self.table(path, value, fmt.SURFACE)
         if table is None or "normal" not in table:
             return None
         normal = self.vector(path + ("normal",), table["normal"])

@@ -23,7 +23,7 @@ from typing import Any
 import yaml
 
 from lagcli.errors import Loc, Problem, SpecError
-from lagcli.spec.files import MAX_BYTES, read_spec_bytes
+from lagcli.spec.files import MAX_BYTES, STDIN, STDIN_NAME, read_spec_bytes
 from lagcli.spec.slips import toml_line_hint, yaml_scanner_hint
 from lagcli.spec.toml_positions import toml_marks
 
@@ -37,6 +37,7 @@ _TAG = "tag:yaml.org,2002:"
 _SCALAR_TAGS = {_TAG + t for t in ("str", "int", "float", "bool", "null", "timestamp")}
 _DECIMAL = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
 _TOML_AT = re.compile(r"^(.*) \(at line (\d+), column (\d+)\)$", re.S)
+_TOML_FIRST_LINE = re.compile(r"\s*(\[\[?[A-Za-z0-9_.\"' -]+\]|[A-Za-z0-9_.\"'-]+\s*=(?!=))")
 
 
 @dataclass(frozen=True)
@@ -83,8 +84,12 @@ def format_path(path: KeyPath) -> str:
 
 
 def read_document(path: str | Path) -> RawDoc:
-    """Read and parse the spec at `path`; raise `SpecError` for anything unreadable."""
+    """Read and parse the spec at `path` (`-`: standard input, see `looks_like_toml`);
+    raise `SpecError` for anything unreadable."""
     name = str(path)
+    if name == STDIN:
+        text = _read_text(name, STDIN_NAME)
+        return parse_text(STDIN_NAME, text, toml=looks_like_toml(text))
     suffix = Path(name).suffix.lower()
     if suffix not in (".yaml", ".yml", ".toml"):
         raise SpecError(Problem(Loc(name), f"unknown spec format '{suffix or name}'",
@@ -99,12 +104,21 @@ def parse_text(name: str, text: str, toml: bool = False) -> RawDoc:
     return _read_toml(name, text) if toml else _read_yaml(name, text)
 
 
-def _read_text(name: str) -> str:
+def looks_like_toml(text: str) -> bool:
+    """A spec given as text without a file name is TOML when its first line that is not
+    blank or a comment is a `[table]` header or a `key = value` line; else YAML."""
+    for line in text.splitlines():
+        if line.strip() and not line.lstrip().startswith("#"):
+            return _TOML_FIRST_LINE.match(line) is not None
+    return False
+
+
+def _read_text(name: str, shown: str | None = None) -> str:
     data = read_spec_bytes(name)
     try:
         return data.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
-        raise SpecError(Problem(Loc(name), f"spec is not valid UTF-8 (byte {exc.start})")) from None
+        raise SpecError(Problem(Loc(shown or name), f"spec is not valid UTF-8 (byte {exc.start})")) from None
 
 
 # --- YAML -------------------------------------------------------------------------------

@@ -18,20 +18,15 @@ from lagcli.spec.checker import IDENTIFIER, Checker, describe, did_you_mean
 from lagcli.spec.frames import FrameChecks
 from lagcli.spec.latex_subset import HINT as LATEX_HINT
 from lagcli.spec.latex_subset import latex_problem
+from lagcli.spec.files import STDIN_NAME
 from lagcli.spec.reader import KeyPath, RawDoc
-from lagcli.spec.dissipation import DISSIPATION_KEYS, dissipation_fields
+from lagcli.spec.dissipation import dissipation_fields
+from lagcli.spec import format as fmt
 from lagcli.spec.slips import axis_hint, misplaced_toml_keys
 from lagcli.spec.types import (Body, Constraint, Coordinate, Force, Input, Named, Parameter, Particle,
                                SimulateSettings, Spec, Spring, Src, Vector, VectorSrc)
 
-TOP_KEYS = ("name", "description", "coordinates", "parameters", "inputs", "known", "definitions",
-            "gravity", "particles", "bodies", "forces", "springs", "potential", "kinetic",
-            "generalized_forces", "constraints", "initial", "simulate", "frames", "rolling")
-TOP_KEYS += DISSIPATION_KEYS
-BODY_KEYS = ("mass", "inertia", "position", "angle", "orientation", "frame")
-FORCE_KEYS = ("at", "point", "body", "force", "torque")
-SIMULATE_KEYS = ("t_end", "dt", "method", "rtol", "atol")
-AXES = ("x", "y", "z")
+AXES = fmt.AXES
 SPATIAL_INERTIA = "[I1, I2, I3], 6 values [Ixx, Iyy, Izz, Ixy, Iyz, Izx] or a 3x3 list"
 
 
@@ -48,12 +43,13 @@ def check(raw: RawDoc) -> tuple[Spec, list]:
     trustworthy when there are none; later stages may still scan it for more problems)."""
     checker = _SpecChecker(raw)
     spec = checker.spec()
-    return spec, checker.problems + misplaced_toml_keys(raw, TOP_KEYS)
+    return spec, checker.problems + misplaced_toml_keys(raw, fmt.TOP.allowed)
 
 
 def default_name(file: str) -> str:
-    """The file stem made into an identifier: `double-pendulum.yaml` -> `double_pendulum`."""
-    name = re.sub(r"[^A-Za-z0-9_]", "_", Path(file).stem)
+    """The file stem made into an identifier: `double-pendulum.yaml` -> `double_pendulum`
+    (`<stdin>` -> `stdin`)."""
+    name = re.sub(r"[^A-Za-z0-9_]", "_", "stdin" if file == STDIN_NAME else Path(file).stem)
     return name if IDENTIFIER.fullmatch(name) else f"_{name}"
 
 
@@ -65,7 +61,7 @@ class _SpecChecker(FrameChecks, Checker):
         self.constraint_names: set[str | None] = set()
 
     def spec(self) -> Spec:
-        top = self.table((), self.raw.data, TOP_KEYS, ("coordinates",)) or {}
+        top = self.table((), self.raw.data, fmt.TOP) or {}
         fields = dict(  # in this order: declarations first, then the sections that use them
             coordinates=self.coordinates(top.get("coordinates")),
             parameters=self.mapping_items(top, "parameters", self.parameter),
@@ -118,7 +114,7 @@ class _SpecChecker(FrameChecks, Checker):
         if not isinstance(item, dict):
             self.fail(path, f"expected a coordinate name or {{name, latex}}; got {describe(item)}")
             return None
-        table = self.table(path, item, ("name", "latex", "unit"), ("name",))
+        table = self.table(path, item, fmt.COORDINATE)
         name = self.string(path + ("name",), table["name"], "a name") if "name" in table else None
         latex = self.latex_symbol(table, path)
         unit = self.optional_string(table, path, "unit")
@@ -129,7 +125,7 @@ class _SpecChecker(FrameChecks, Checker):
         if not isinstance(value, dict):
             src = self.expr(path, value)
             return Parameter(name, src, None, None, self.raw.loc(path, at_key=True)) if src else None
-        table = self.table(path, value, ("value", "latex", "description", "unit"), ("value",))
+        table = self.table(path, value, fmt.PARAMETER)
         src = self.expr(path + ("value",), table["value"]) if "value" in table else None
         latex = self.latex_symbol(table, path)
         description = self.optional_string(table, path, "description")
@@ -155,7 +151,7 @@ class _SpecChecker(FrameChecks, Checker):
         if not isinstance(value, dict):
             src = self.expr(path, value) if value is not None else None
             return Input(name, src, None, None, loc) if src or value is None else None
-        table = self.table(path, value, ("value", "latex", "description"))
+        table = self.table(path, value, fmt.INPUT)
         src = self.expr(path + ("value",), table["value"]) if "value" in table else None
         return Input(name, src, self.latex_symbol(table, path),
                      self.optional_string(table, path, "description"), loc)
@@ -179,7 +175,7 @@ class _SpecChecker(FrameChecks, Checker):
 
     def particle(self, name: str, path: KeyPath, value: Any) -> Particle | None:
         self.declare(name, "particle", path)
-        table = self.table(path, value, ("mass", "position"), ("mass", "position"))
+        table = self.table(path, value, fmt.PARTICLE)
         if table is None:
             return None
         mass = self.expr(path + ("mass",), table["mass"]) if "mass" in table else None
@@ -190,7 +186,7 @@ class _SpecChecker(FrameChecks, Checker):
 
     def body(self, name: str, path: KeyPath, value: Any) -> Body | None:
         self.declare(name, "body", path)
-        table = self.table(path, value, BODY_KEYS, ("mass", "inertia", "position"))
+        table = self.table(path, value, fmt.BODY)
         if table is None:
             return None
         spatial = self.body_is_spatial(path, table)
@@ -257,7 +253,7 @@ class _SpecChecker(FrameChecks, Checker):
     # --- sections that use the names ----------------------------------------------------
 
     def force(self, path: KeyPath, value: Any) -> Force | None:
-        table = self.table(path, value, FORCE_KEYS)
+        table = self.table(path, value, fmt.FORCE)
         if table is None:
             return None
         places = [key for key in ("at", "point", "body") if key in table]
@@ -296,7 +292,7 @@ class _SpecChecker(FrameChecks, Checker):
         return (src,) if src else None
 
     def spring(self, path: KeyPath, value: Any) -> Spring | None:
-        table = self.table(path, value, ("between", "stiffness", "rest_length"), ("between", "stiffness"))
+        table = self.table(path, value, fmt.SPRING)
         if table is None:
             return None
         ends = self.spring_ends(path + ("between",), table["between"]) if "between" in table else None
@@ -329,7 +325,7 @@ class _SpecChecker(FrameChecks, Checker):
         if not isinstance(value, dict):
             src = self.expr(path, value)
             return Constraint(None, src, self.raw.loc(path)) if src else None
-        table = self.table(path, value, ("name", "expr"), ("expr",))
+        table = self.table(path, value, fmt.CONSTRAINT)
         name = self.identifier(path + ("name",), table["name"]) if "name" in table else None
         if name is not None and name in self.constraint_names:
             self.fail(path + ("name",), f"duplicate constraint name '{name}' (multiplier lambda_{name})")
@@ -353,10 +349,10 @@ class _SpecChecker(FrameChecks, Checker):
 
     def simulate(self, value: Any) -> SimulateSettings:
         path: KeyPath = ("simulate",)
-        table = self.table(path, value, SIMULATE_KEYS) if value is not None else None
+        table = self.table(path, value, fmt.SIMULATE) if value is not None else None
         if not table:
             return SimulateSettings()
-        numbers = {key: self.expr(path + (key,), table[key]) for key in SIMULATE_KEYS
+        numbers = {key: self.expr(path + (key,), table[key]) for key in fmt.SIMULATE.allowed
                    if key in table and key != "method"}
         method = self.method(path + ("method",), table["method"]) if "method" in table else None
         return SimulateSettings(method=method, **numbers)
