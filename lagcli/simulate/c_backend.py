@@ -50,7 +50,7 @@ def require_compiler(method: str) -> str:
     """The C compiler for a run with `method`, or the error saying why there is none."""
     if method not in C_METHODS:
         raise UsageError(f"--method {method}: the C backend implements "
-                         f"{', '.join(C_METHODS)} only; use --backend python for {method}")
+                         f"{', '.join(C_METHODS[:-1])} and {C_METHODS[-1]} only; use --backend python for {method}")
     compiler = find_compiler()
     if compiler is None:
         raise SimulationError("--backend c needs a C compiler, but 'cc' was not found on PATH "
