@@ -80,14 +80,25 @@ def discrete_groups(d: Derivation) -> DiscreteGroups:
     return DiscreteGroups(
         momentum=tuple(g),
         momentum_rate=tuple(f),
-        momentum_q=tuple(g[i].diff(q[j]) for i in range(n) for j in range(n)),
+        momentum_q=tuple(_derivative(g[i], q[j]) for i in range(n) for j in range(n)),
         momentum_v=tuple(M[min(i, j), max(i, j)] for i in range(n) for j in range(n)),
-        rate_q=tuple(f[i].diff(q[j]) for i in range(n) for j in range(n)),
-        rate_v=tuple(f[i].diff(qd[j]) for i in range(n) for j in range(n)),
+        rate_q=tuple(_derivative(f[i], q[j]) for i in range(n) for j in range(n)),
+        rate_v=tuple(_derivative(f[i], qd[j]) for i in range(n) for j in range(n)),
         position=tuple(r.expr for r in rows),
         gradient=tuple(a for r in rows for a in r.a),
         position_rate=tuple(r.d for r in rows),
     )
+
+
+def _derivative(expr: sp.Expr, symbol: sp.Symbol) -> sp.Expr:
+    """d expr / d symbol for Newton's Jacobian, with the derivatives of the kinks of
+    sign, abs, min and max taken where they exist: DiracDelta -> 0 (sign is flat on both
+    sides), Heaviside(z) -> (1 + sign(z))/2 (the side of min/max that is chosen)."""
+    derivative = sp.diff(expr, symbol)
+    if derivative.has(sp.DiracDelta, sp.Heaviside):
+        derivative = derivative.replace(sp.DiracDelta, lambda *args: sp.S.Zero)
+        derivative = derivative.replace(sp.Heaviside, lambda z, *rest: (1 + sp.sign(z)) / 2)
+    return derivative
 
 
 def refusal(d: Derivation) -> str | None:
