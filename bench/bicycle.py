@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import sympy as sp
 
-from lagcli.spec_printer import spec_str
+from lagcli.render.spec_printer import spec_str
 
 COORDINATES = ("x", "y", "psi", "theta", "phi", "beta", "delta", "phi_f")
 PARAMETERS = {"g": 9.81, "r": 0.3, "r_f": 0.35, "m_r": 2.0, "m_b": 85.0, "m_h": 4.0, "m_f": 3.0,

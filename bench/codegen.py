@@ -41,12 +41,12 @@ from sympy.physics import mechanics as me
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from lagcli.api import load_model  # noqa: E402
+from lagcli.derive.pipeline import load_model  # noqa: E402
 from lagcli.derive import derive  # noqa: E402
-from lagcli.emit import codegen  # noqa: E402
-from lagcli.emit.c import c_files  # noqa: E402
-from lagcli.emit.python import python_module  # noqa: E402
-from lagcli.emit.rust import crate_name, rust_files  # noqa: E402
+from lagcli.targets import codegen  # noqa: E402
+from lagcli.targets.c import c_files  # noqa: E402
+from lagcli.targets.python import python_module  # noqa: E402
+from lagcli.targets.rust import crate_name, rust_files  # noqa: E402
 
 CFLAGS = ["-std=c99", "-O2", "-Wall", "-Wextra", "-Werror", "-pedantic"]
 CALLS = 200_000          # C calls per timed loop

@@ -22,7 +22,7 @@ import sympy as sp
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from nlink import mechanics_nlink, nlink_spec_text  # noqa: E402
 
-from lagcli.api import load_model  # noqa: E402
+from lagcli.derive.pipeline import load_model  # noqa: E402
 from lagcli.derive import derive  # noqa: E402
 
 

@@ -73,10 +73,10 @@ def main() -> None:
     import numpy as np
     from scipy.integrate import solve_ivp
 
-    from lagcli.api import derive_file
-    from lagcli.simulate import c_backend
-    from lagcli.simulate.options import Request, resolve_settings
-    from lagcli.simulate.python_backend import integrate_module, load_module
+    from lagcli.derive.pipeline import derive_file
+    from lagcli.run import c_backend
+    from lagcli.run.options import Request, resolve_settings
+    from lagcli.run.python_backend import integrate_module, load_module
 
     start = time.perf_counter()
     run_quiet(command("--backend", "c"), env)          # cold: derive, generate, compile

@@ -33,7 +33,7 @@ sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "bench"))
 
 import lagcli  # noqa: E402
-from lagcli.simulate import c_backend  # noqa: E402
+from lagcli.run import c_backend  # noqa: E402
 
 
 def driver(system) -> str:

@@ -3,6 +3,7 @@
 Run:  python bench/whole_command.py [--n 5 10 20 40] [--repeats 3] [--lagranges-max 10]
                                     [--formats json text latex c python check] [--clock wall|cpu]
                                     [--bicycle [--bicycle-spec specs/benchmark_bicycle.yaml]]
+       python bench/whole_command.py --n --simulate specs/double_pendulum.yaml --clock cpu
 
 For each planar N-link pendulum (bench/nlink.py) it times, each in a new Python
 process (`python -m lagcli ...`, output to a temporary file): every `lagcli derive`
@@ -13,7 +14,9 @@ processes, sympy.physics.mechanics building the same system: LagrangesMethod
 ratios mechanics / lagcli are printed. With --bicycle the same lagcli commands run
 on bench/specs/bicycle.yaml (bench/bicycle.py: 4 spatial bodies, 8 coordinates,
 5 constraints), and the standalone LaTeX is compiled with pdflatex when present.
-Nothing here is asserted in tests (machines are noisy).
+With --simulate SPEC it times `lagcli simulate SPEC` as a whole command: a first
+run (an empty cache: the derivation, the C code, its compilation) and a warm run
+(the cached driver), each with and without `--plot`. Nothing here is asserted in tests (machines are noisy).
 """
 from __future__ import annotations
 
@@ -117,6 +120,27 @@ def bicycle(formats, repeats: int, spec: Path) -> None:
             print(f"bicycle pdflatex: {elapsed:8.2f} s, {count} pages", flush=True)
 
 
+SIMULATE_CASES = (("first", False), ("first", True), ("warm", False), ("warm", True))
+
+
+def simulate_table(spec: Path, repeats: int) -> None:
+    """Whole `lagcli simulate` commands: first (empty cache) and warm, with and without --plot."""
+    import os
+
+    for kind, plot in SIMULATE_CASES:
+        runs = []
+        for _ in range(repeats):
+            with tempfile.TemporaryDirectory() as cache, tempfile.TemporaryDirectory() as out:
+                os.environ["XDG_CACHE_HOME"] = cache        # inherited by the timed child
+                args = [sys.executable, "-m", "lagcli", "simulate", str(spec), "-o", f"{out}/out.csv"]
+                extra = ["--plot", f"{out}/out.png"] if plot else []
+                if kind == "warm":
+                    subprocess.run(args, capture_output=True, check=True)    # fills the cache
+                runs.append(timed(args + extra))
+        label = f"simulate {kind}{' --plot' if plot else ''}"
+        print(f"{label:>24}: {statistics.median(runs):8.3f} s", flush=True)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--n", type=int, nargs="*", default=[5, 10, 20, 40], help="chain lengths (none: only --bicycle)")
@@ -130,11 +154,15 @@ def main() -> None:
                         help="the bicycle-sized spec (e.g. specs/benchmark_bicycle.yaml, the Meijaard bicycle)")
     parser.add_argument("--clock", choices=("wall", "cpu"), default="wall",
                         help="wall time, or the child's user + system CPU time (steadier under load)")
+    parser.add_argument("--simulate", metavar="SPEC", default=None,
+                        help="time `lagcli simulate SPEC`: first (empty cache) and warm, with and without --plot")
     args = parser.parse_args()
     global CLOCK
     CLOCK = args.clock
     if args.n:
         nlink_table(args.n, args.formats, args.repeats, args.lagranges_max, args.kane_max)
+    if args.simulate:
+        simulate_table(Path(args.simulate), args.repeats)
     if args.bicycle:
         bicycle(args.formats, args.repeats, Path(args.bicycle_spec))
 

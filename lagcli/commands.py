@@ -1,7 +1,7 @@
 """What each CLI command does, without click: path + options in, text out.
 
 `derive`, `check`, `generate` and `simulate` are thin clients of the Python API
-(`lagcli.system.System`; `simulate` through `lagcli.simulate.run`, whose cold path
+(`lagcli.system.System`; `simulate` through `lagcli.run.simulate`, whose cold path
 loads a System). The engine (sympy) is imported inside the functions, not at the
 top: `lagcli simulate` with a warm C cache must start without importing sympy at all.
 """
@@ -39,10 +39,10 @@ def derive_latex(path: str, simplify: bool = True, standalone: bool = False,
 
 def check_summary(path: str) -> str:
     """Validate the spec (through the derivation, which classifies constraints) and summarise."""
-    from lagcli.emit.report import check_content
-    from lagcli.emit.templates import render
+    from lagcli.report.content import check_content
+    from lagcli.render.templates import render
 
-    from lagcli.units import check_derivation_units
+    from lagcli.model.units import check_derivation_units
 
     derivation = _derive(path)
     check_derivation_units(derivation)
@@ -53,28 +53,31 @@ PLOT_ROWS = 20_000     # --plot draws at most 2 x this many rows (evenly thinned
 
 
 def simulate(request, output: str | None = None, plot: str | None = None,
-             note=lambda text: None, progress=None, columns=None, phase=()) -> None:
-    """`lagcli simulate`: run `request` (a lagcli.simulate.options.Request), writing the
+             note=lambda text: None, progress=None, columns=None, phase=(), events: str | None = None) -> None:
+    """`lagcli simulate`: run `request` (a lagcli.run.options.Request), writing the
     CSV to `output` (stdout for None or '-') row by row as it is computed, then the PNG
     to `plot`.  Both targets are checked, and `output` opened, before any work starts.
     The CSV is kept even when the integration fails or is interrupted (the rows so
     far); the error is raised after it.  `note` and `progress`: see
-    lagcli.simulate.run.simulate."""
+    lagcli.run.simulate.simulate. `events`: the file of one row per event (`--events`),
+    written after the run; a run with events also says on stderr what happened."""
     from lagcli.errors import SimulationError
-    from lagcli.output import open_output, resolve_target
-    from lagcli.simulate.run import Interrupted, simulate as run
-    from lagcli.simulate.trajectory import CsvSink, Decimated, Tee
+    from lagcli.render.output import open_output, resolve_target
+    from lagcli.run.simulate import Interrupted, simulate as run
+    from lagcli.run.rows import CsvSink, Decimated, Tee
 
-    if plot:
-        resolve_target(plot)
+    for target in (plot, events):
+        if target:
+            resolve_target(target)
     with open_output(output) as out:
         csv = CsvSink(out.stream)
         shown = Decimated(PLOT_ROWS) if plot else None        # the plot's bounded copy
         outcome = run(request, note, progress, Tee(csv, shown) if shown else csv)
     sink = outcome.trajectory
+    _report_events(sink, outcome, events, note)
     plot_error = None
     if plot and sink.rows:
-        from lagcli.simulate.plot import plot_png
+        from lagcli.viz.plot import plot_png
         try:
             plot_png(shown.trajectory(), outcome.coordinates, outcome.energy_conserved, plot, request.spec,
                      _plot_options(request.spec, columns, phase))
@@ -91,34 +94,47 @@ def simulate(request, output: str | None = None, plot: str | None = None,
         raise plot_error
 
 
+def _report_events(sink, outcome, events: str | None, note) -> None:
+    """The summary line and the end note of a run with events on stderr; the --events file."""
+    from lagcli.hybrid.records import events_csv, summary
+    from lagcli.render.output import write_output
+
+    if sink.events or outcome.watched_events:
+        note(summary(sink.events))
+    if sink.end_note:
+        note(f"note: {sink.end_note}")
+    if events:
+        write_output(events, events_csv(sink.events, outcome.states))
+
+
 def _plot_options(spec: str, columns, phase):
     """What `--plot` draws: the coordinates split into angles and lengths (the model says
     which are angles), or the `--columns`; `--phase` portraits."""
-    from lagcli.api import load_model
-    from lagcli.simulate.plot import PlotOptions, angle_coordinates
+    from lagcli.derive.pipeline import load_model
+    from lagcli.viz.plot import PlotOptions, angle_coordinates
 
     return PlotOptions(columns, tuple(phase), angle_coordinates(load_model(spec)))
 
 
 def generate(path: str, lang: str, output: str | None = None, form: str = "lagrangian",
              note=lambda text: None) -> None:
-    """`lagcli generate`: code or a document for `path` in `lang` (see lagcli.emit.LANGUAGES).
+    """`lagcli generate`: code or a document for `path` in `lang` (see lagcli.targets.LANGUAGES).
 
     One-file languages write to `output` (stdout for None or '-'; the FMU's zip needs
     `output`, '-' for stdout); C writes its files
     into the directory `output` (required; created if only it is missing), each
     atomically, after all are made.  The target is checked before deriving.
-    `form="hamiltonian"`: the Python module in (q, p) of lagcli/emit/hamilton.py.
+    `form="hamiltonian"`: the Python module in (q, p) of lagcli/targets/hamilton.py.
     `note(text)` is told what was written ("wrote dp_c/: 8 files"), unless it went to stdout."""
-    from lagcli.emit import LANGUAGES
+    from lagcli.targets import LANGUAGES
     from lagcli.errors import UsageError
-    from lagcli.output import check_directory_output, open_output
+    from lagcli.render.output import check_directory_output, open_output
     from lagcli.system import load
 
     if form == "hamiltonian":
         if lang != "python":
             raise UsageError(f"--form hamiltonian: generated for --lang python only (not {lang})")
-        from lagcli.emit.hamilton import hamilton_module
+        from lagcli.targets.hamilton import hamilton_module
         with open_output(output) as out:
             out.stream.write(hamilton_module(_derive(path)))
         _wrote(output, note)
@@ -150,8 +166,10 @@ def _wrote(output: str | None, note) -> None:
 # -- analysis: lagcli linearize / equilibria / hamiltonian / routh (lagcli/analysis/) --
 
 def linearize(path: str, at=(), independent=(), inputs=(), sweep: str | None = None,
-              find_critical: bool = False, fmt: str = "text", symbolic: bool = False) -> str:
-    """`lagcli linearize`: the linear model about `--at`, or the eigenvalue table of a sweep."""
+              find_critical: bool = False, fmt: str = "text", symbolic: bool = False,
+              closed: bool = False) -> str:
+    """`lagcli linearize`: the linear model about `--at`, or the eigenvalue table of a sweep;
+    `closed`: with the spec's input laws substituted (lagcli/hybrid/closed_loop.py)."""
     from lagcli.analysis import report
     from lagcli.analysis.linearize import CompiledSystem, linearize as linear_model
     from lagcli.analysis.operating_point import evaluate, parse_assignments
@@ -160,6 +178,9 @@ def linearize(path: str, at=(), independent=(), inputs=(), sweep: str | None = N
     from lagcli.errors import UsageError
 
     d = _derive(path)
+    if closed:
+        from lagcli.hybrid.closed_loop import closed_loop
+        d = closed_loop(d)
     span = parse_sweep(sweep) if sweep else None
     if find_critical and span is None:
         raise UsageError("--find-critical needs --sweep NAME=START:STOP:COUNT")
@@ -186,8 +207,8 @@ def linearize(path: str, at=(), independent=(), inputs=(), sweep: str | None = N
 def _symbolic_linear(d, points, inputs, fmt: str) -> str:
     from lagcli.analysis import report
     from lagcli.analysis.symbolic import symbolic_linear
-    from lagcli.emit.latex_printer import LatexPrinter
-    from lagcli.spec_printer import spec_str
+    from lagcli.report.latex_printer import LatexPrinter
+    from lagcli.render.spec_printer import spec_str
 
     lin = symbolic_linear(d, points, inputs)
     if fmt == "latex":
@@ -198,7 +219,7 @@ def _symbolic_linear(d, points, inputs, fmt: str) -> str:
 
 def _latex_names(d):
     """name -> LaTeX of a coordinate, velocity or parameter, by the LaTeX emitter's printer."""
-    from lagcli.emit.latex_printer import LatexPrinter
+    from lagcli.report.latex_printer import LatexPrinter
 
     printer = LatexPrinter(d.model)
     return lambda name: printer.doprint(d.model.symbol(name))
@@ -206,7 +227,7 @@ def _latex_names(d):
 
 def _parameters(d, sets) -> dict:
     """Every parameter's and input's value by name: the spec's, overridden by `--set NAME=VALUE`."""
-    from lagcli.simulate.options import parse_assignments as assignments
+    from lagcli.run.options import parse_assignments as assignments
 
     constants = (*d.model.parameters, *d.model.inputs)
     names = [p.symbol.name for p in constants]
@@ -216,7 +237,7 @@ def _parameters(d, sets) -> dict:
 
 def _guesses(d, guesses) -> list[dict]:
     """`--guess theta=1.2,phi=0` (one starting point each) -> [{name: value}]."""
-    from lagcli.simulate.options import parse_assignments as assignments
+    from lagcli.run.options import parse_assignments as assignments
 
     names = [s.name for s in (*d.model.q, *d.multipliers)]
     return [assignments(tuple(g.split(",")), "--guess", names, "coordinate", "coordinates") for g in guesses]
@@ -226,7 +247,7 @@ def equilibria(path: str, sets=(), guesses=(), fmt: str = "text") -> str:
     """`lagcli equilibria`: static and relative equilibria with their stability."""
     from lagcli.analysis import report
     from lagcli.analysis.equilibria import default_guesses, equilibria as find
-    from lagcli.spec_printer import spec_str
+    from lagcli.render.spec_printer import spec_str
 
     d = _derive(path)
     found = find(d, _parameters(d, sets), default_guesses(d, _guesses(d, guesses)))
@@ -238,8 +259,8 @@ def routh(path: str, momenta=(), sets=(), guesses=(), fmt: str = "text") -> str:
     """`lagcli routh`: the Routhian over the cyclic coordinates and the steady motions."""
     from lagcli.analysis import report
     from lagcli.analysis.routh import routhian, steady_motions
-    from lagcli.simulate.options import parse_assignments as assignments
-    from lagcli.spec_printer import spec_str
+    from lagcli.run.options import parse_assignments as assignments
+    from lagcli.render.spec_printer import spec_str
 
     d = _derive(path)
     reduction = routhian(d)
@@ -261,8 +282,8 @@ def hamiltonian(path: str, fmt: str = "text") -> str:
     """`lagcli hamiltonian`: momenta, H(q, p, t) and Hamilton's equations."""
     from lagcli.analysis import report
     from lagcli.analysis.hamiltonian import hamilton_form
-    from lagcli.emit.latex_printer import LatexPrinter
-    from lagcli.spec_printer import spec_str
+    from lagcli.report.latex_printer import LatexPrinter
+    from lagcli.render.spec_printer import spec_str
 
     d = _derive(path)
     form = hamilton_form(d)
@@ -279,11 +300,17 @@ def sweep(spec: str, plan_options: dict, options: dict, note=lambda text: None, 
     """`lagcli sweep`: the runs of a grid, samples or a table through the compiled driver;
     the summary written to options["output"] (docs/sweep.md)."""
     import lagcli
-    from lagcli.simulate.options import parse_assignments
+    from lagcli.run.options import parse_assignments
     from lagcli.sweep import SweepOptions, make_plan, sweep as run_sweep
 
+    from lagcli.errors import UsageError
+
+    laws = options.pop("inputs", ())
     plan = make_plan(**plan_options)                   # option mistakes before deriving
     system = lagcli.load(Path(spec))
+    if laws or system.model.events or system.model.laws:
+        raise UsageError(f"{spec}: lagcli sweep runs the compiled C driver, which does not run events or "
+                         "input laws yet\n  hint: loop over `lagcli simulate` (the Python backend runs them)")
     names = [*system.layout.parameter_names, *system.layout.state_names]
     fixed = {key: parse_assignments(options.pop(key), f"--{flag}", names, what, "names")
              for key, flag, what in (("parameters", "set", "parameter"), ("initial", "init", "initial value"),
@@ -298,15 +325,15 @@ def sweep(spec: str, plan_options: dict, options: dict, note=lambda text: None, 
 def animate(spec: str, csv_path: str | None, request, output: str, drawn: dict, note=lambda text: None):
     """`lagcli animate`: the motion of SPEC from a CSV of `lagcli simulate` (--csv) or a
     run made here with the request's settings (docs/animate.md); `drawn`: links,
-    traces, fps, frame (the options of lagcli.animate.Request)."""
+    traces, fps, frame (the options of lagcli.viz.animate.Request)."""
     import numpy as np
 
     import lagcli
-    from lagcli.animate import Request, animate as draw, check_names, parse_links
+    from lagcli.viz.animate import Request, animate as draw, check_names, parse_links
     from lagcli.errors import UsageError
-    from lagcli.simulate.options import parse_assignments
-    from lagcli.simulate.run import simulate as run
-    from lagcli.simulate.trajectory import parse_csv
+    from lagcli.run.options import parse_assignments
+    from lagcli.run.simulate import simulate as run
+    from lagcli.run.rows import parse_csv
 
     system = lagcli.load(Path(spec))
     names = list(system.layout.parameter_names)

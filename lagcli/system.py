@@ -12,8 +12,8 @@ The command line is a thin client of this class: `lagcli derive`, `generate`,
 `check` and the cold path of `simulate` load a `System` and call the methods below
 (only a warm `simulate`, which finds a compiled driver in the cache, runs without
 one: it must not import sympy). Each method delegates to one piece of machinery: the
-report functions of `lagcli.emit`, the code generators, the consistent initial state
-of `lagcli.simulate.initial`, and the two backends of `lagcli.simulate` (the
+report functions of `lagcli.report`, the code targets of `lagcli.targets`, the consistent initial state
+of `lagcli.analysis.initial_state`, and the two backends of `lagcli.run` (the
 generated Python module with scipy, the compiled C driver). docs/api.md has a
 worked example.
 """
@@ -26,9 +26,9 @@ from pathlib import Path
 
 from lagcli.derive.result import Derivation
 from lagcli.errors import UsageError
-from lagcli.layout import Layout, layout_of
-from lagcli.model_types import Model
-from lagcli.output import check_directory_output, write_output
+from lagcli.interface import Layout, layout_of
+from lagcli.model.model_types import Model
+from lagcli.render.output import check_directory_output, write_output
 
 SPEC_SUFFIXES = (".yaml", ".yml", ".toml")
 REPORT_FORMATS = ("text", "json", "dict", "latex", "latex-document")
@@ -39,7 +39,7 @@ def load(source: str | Path) -> "System":
     """A `System` from a spec file (a `Path`, or a string ending in .yaml/.yml/.toml
     without a newline) or from the spec's YAML text. Raises `lagcli.errors.SpecError`
     with every problem found, each located."""
-    from lagcli.api import derive_model, load_model, load_model_text
+    from lagcli.derive.pipeline import derive_model, load_model, load_model_text
 
     from lagcli.spec.files import read_spec_bytes
 
@@ -63,10 +63,10 @@ class System:
 
     @property
     def parts(self):
-        """The derivation's parts for notebooks (`lagcli.parts.Parts`): `parts.mass_matrix`,
+        """The derivation's parts for notebooks (`lagcli.report.parts.Parts`): `parts.mass_matrix`,
         `parts.equations`, `parts.lagrangian`...; each shows as LaTeX in Jupyter and as
         spec-language text in a console, and holds the sympy object in `.value`."""
-        from lagcli.parts import Parts
+        from lagcli.report.parts import Parts
 
         return self._once("_parts", lambda: Parts(self.derivation))
 
@@ -76,7 +76,7 @@ class System:
         """What `lagcli derive` prints: "text", "json" (a string), "dict" (the same
         content as Python values), "latex" (a fragment) or "latex-document"; `parts`
         (text and LaTeX): the sections to print, e.g. "equations,energies" (None: all)."""
-        from lagcli.emit.report import report_content, report_parts, spec_printer
+        from lagcli.report.content import report_content, report_parts, spec_printer
 
         if format in ("json", "dict"):
             if parts is not None:
@@ -85,22 +85,22 @@ class System:
             content = report_content(self.derivation, spec_printer(), simplify)
             return content if format == "dict" else json.dumps(content, indent=2) + "\n"
         if format == "text":
-            from lagcli.emit.templates import render
+            from lagcli.render.templates import render
 
             content = report_content(self.derivation, spec_printer(), simplify, named=True)
             return render("report/derive.txt.jinja", r=content, parts=report_parts(parts))
         if format in ("latex", "latex-document"):
-            from lagcli.emit.latex import latex_document, latex_fragment
+            from lagcli.report.latex import latex_document, latex_fragment
 
             make = latex_document if format == "latex-document" else latex_fragment
             return make(self.derivation, simplify, report_parts(parts))
         raise UsageError(f"report format {format!r}: expected one of {', '.join(REPORT_FORMATS)}")
 
     def generate(self, target: str, path: str | Path | None = None) -> dict[str, str | bytes]:
-        """{file name: text} of `target` (python, c, latex; fmu: bytes: `lagcli.emit.LANGUAGES`),
+        """{file name: text} of `target` (python, c, latex; fmu: bytes: `lagcli.targets.LANGUAGES`),
         embedding the spec's initial state made consistent; written atomically into
         `path` when given (a directory for C, a file otherwise)."""
-        from lagcli.emit import LANGUAGES, generate as emit
+        from lagcli.targets import LANGUAGES, generate as emit
 
         language = LANGUAGES.get(target)
         directory = None
@@ -131,8 +131,8 @@ class System:
     def initial_state(self, parameters: dict | None = None, initial: dict | None = None):
         """The initial state [q..., q'...] from the spec's `initial:` overridden by
         `initial`, made consistent with the constraints for `parameters` (a
-        `lagcli.simulate.initial.InitialState`: values and notes)."""
-        from lagcli.simulate.initial import Sources
+        `lagcli.analysis.initial_state.InitialState`: values and notes)."""
+        from lagcli.analysis.initial_state import Sources
 
         given = dict(initial or {})
         self._known("initial", given, self.layout.state_names, "coordinate or velocity")
@@ -141,8 +141,8 @@ class System:
     def start(self, parameters: dict[str, float], initial: dict[str, float], sources=None):
         """`initial_state` for names already checked: `parameters` and `initial` hold the
         values given for this run only; `sources` names them in notes and hints
-        (`lagcli.simulate.initial.Sources`; the command line's by default)."""
-        from lagcli.simulate.initial import Sources, initial_state
+        (`lagcli.analysis.initial_state.Sources`; the command line's by default)."""
+        from lagcli.analysis.initial_state import Sources, initial_state
 
         spec_start, consistent = self.spec_start()
         if not parameters and not initial and consistent:
@@ -154,9 +154,9 @@ class System:
 
     def spec_start(self):
         """The spec's own initial state made consistent, and whether that was possible
-        (`lagcli.simulate.initial.spec_initial_state`), computed once: what generated
+        (`lagcli.analysis.initial_state.spec_initial_state`), computed once: what generated
         code embeds."""
-        from lagcli.simulate.initial import spec_initial_state
+        from lagcli.analysis.initial_state import spec_initial_state
 
         return self._once("_spec_start", lambda: spec_initial_state(self.derivation))
 
@@ -169,30 +169,56 @@ class System:
         once and cached, RK45, DOP853 and variational). None takes the spec's `simulate:`
         value, else lagcli's default. `method="variational"`: lagcli's variational
         integrator (docs/simulate.md), `steps_per_row` fixed steps of dt / steps_per_row
-        between rows (default 1). `inputs`: {name: value} of the spec's `inputs:`, held constant
-        (missing ones at their defaults). Returns a `lagcli.trajectory.Trajectory`; a
-        failed integration keeps its rows and says why in `failure`."""
-        from lagcli.simulate.options import Request, resolve_settings
+        between rows (default 1). `inputs`: {name: value} of the spec's `inputs:`: a number (held
+        constant), an expression string (a law of t, q, q', parameters: "-k*x - c*x_dot")
+        or a Python callable u(t, y) returning a number; missing ones follow the spec's
+        law or sit at their default. Laws and the spec's `events:` run on the Python
+        backend. Returns a `lagcli.trajectory.Trajectory` (its `events` lists what
+        happened); a failed integration keeps its rows and says why in `failure`."""
+        from lagcli.run.options import Request, resolve_settings
         from lagcli.trajectory import from_rows
 
         settings = resolve_settings(Request(self.model.source, t_end, dt, method, rtol, atol,
                                             baumgarte=baumgarte, steps_per_row=steps_per_row),
                                     self.layout.settings.as_dict())
         start = self.initial_state(parameters, initial)
-        rows = self.run(settings, {**self._parameters(parameters), **self._inputs(inputs)}, start, backend)
+        constants, laws = self._inputs(inputs)
+        rows = self.run(settings, {**self._parameters(parameters), **constants}, start, backend, laws=laws)
         return from_rows(self.layout, rows, start.notes, self.energy_conserved)
 
-    def run(self, settings, values: dict[str, float], start, backend: str, sink=None, progress=None):
-        """One run's rows, given to `sink` (a `lagcli.simulate.trajectory.RowSink`; in
+    def hybrid(self, values: dict[str, float], laws: dict | None = None):
+        """The numeric laws and events of one run (`lagcli.hybrid.numeric.Hybrid`), or None
+        when the run has neither. `values`: parameters and constant inputs of the run
+        (a constant overrides the spec's law of that input); `laws`: input name -> a
+        sympy law or a callable u(t, y), overriding both."""
+        from lagcli.hybrid.numeric import hybrid_run
+
+        spec_laws = {law.symbol.name: law.expr for law in self.model.laws if law.symbol.name not in values}
+        laws = {**spec_laws, **(laws or {})}
+        if not self.model.events and not laws:
+            return None
+        params = {**self.layout.parameter_defaults, **{k: v for k, v in values.items()
+                                                       if k in self.layout.parameter_defaults}}
+        inputs = {**self.layout.input_defaults, **{k: v for k, v in values.items()
+                                                   if k in self.layout.input_defaults}, **laws}
+        return hybrid_run(self.derivation, params, inputs)
+
+    def run(self, settings, values: dict[str, float], start, backend: str, sink=None, progress=None,
+            laws: dict | None = None):
+        """One run's rows, given to `sink` (a `lagcli.run.rows.RowSink`; in
         memory when None) as they are computed, and the sink returned: the level
-        `lagcli simulate` works at. `settings`: `lagcli.simulate.options.RunSettings`;
+        `lagcli simulate` works at. `settings`: `lagcli.run.options.RunSettings`;
         `values`: the parameters and inputs changed for this run (as `--set` gives
         them); `start`: from `start`; `progress(t_end)`: a context manager yielding
-        `update(t)` (or None), entered once the code is ready and the integration starts."""
+        `update(t)` (or None), entered once the code is ready and the integration starts;
+        `laws`: see `hybrid`."""
         progress = progress or _no_progress
-        self._check_method(settings.method)
+        hybrid = self.hybrid(values, laws)
+        self._check_method(settings.method, hybrid is not None)
+        if hybrid is not None:
+            return self._run_hybrid(settings, values, start, backend, sink, progress, hybrid)
         if backend == "python":
-            from lagcli.simulate.python_backend import integrate_module
+            from lagcli.run.python_backend import integrate_module
 
             module = self._module()
             params = {**self.layout.parameter_defaults, **values}
@@ -202,7 +228,7 @@ class System:
                 return integrate_module(module, [params[n] for n in self.layout.parameter_names],
                                         list(start.values), settings, update, sink, u)
         if backend == "c":
-            from lagcli.simulate import c_backend
+            from lagcli.run import c_backend
 
             cached = c_backend.driver(self, c_backend.require_compiler(settings.method))
             args = c_backend.driver_arguments(settings, values, dict(zip(self.layout.state_names,
@@ -210,6 +236,21 @@ class System:
             with progress(settings.t_end) as update:
                 return c_backend.run(cached, args, update, sink=sink)
         raise UsageError(f"backend {backend!r}: expected 'python' or 'c'")
+
+    def _run_hybrid(self, settings, values, start, backend, sink, progress, hybrid):
+        """A run with events or input laws: on the Python backend (lagcli/hybrid/hybrid_run.py)."""
+        from lagcli.hybrid.hybrid_run import integrate_hybrid
+
+        if backend != "python":
+            raise UsageError(f"{self.model.source}: the {backend} backend does not run events or input laws "
+                             "yet\n  hint: use the Python backend (--backend python; the default for such a run)")
+        module = self._module()
+        params = {**self.layout.parameter_defaults, **values}
+        inputs = {**self.layout.input_defaults, **values}
+        u = [inputs[n] for n in self.layout.input_names] or None
+        with progress(settings.t_end) as update:
+            return integrate_hybrid(module, [params[n] for n in self.layout.parameter_names],
+                                    list(start.values), settings, hybrid, u, update, sink)
 
     def sweep(self, grid: dict | None = None, sample: dict | None = None, count: int | None = None,
               seed: int | None = None, runs=None, output: str | None = None, **options):
@@ -237,8 +278,8 @@ class System:
         """Draw the motion (docs/animate.md): `trajectory` (a lagcli.trajectory.Trajectory;
         default: `self.simulate(parameters=parameters, **simulate)`), `links` [("origin",
         "P1"), ...], `traces` ["P2"], one PNG `frame` at a time or a .gif/.mp4 `path`.
-        Returns a `lagcli.animate.Drawing` (its `figure` shows in a notebook)."""
-        from lagcli.animate import Request, animate
+        Returns a `lagcli.viz.animate.Drawing` (its `figure` shows in a notebook)."""
+        from lagcli.viz.animate import Request, animate
 
         if trajectory is None:
             trajectory = self.simulate(parameters=parameters, **simulate)
@@ -246,17 +287,22 @@ class System:
         return animate(self, trajectory.t, trajectory.states,
                        {**self.layout.parameter_defaults, **self._parameters(parameters)}, path, request)
 
-    def _check_method(self, method: str) -> None:
-        """A usage error (before any work) when `method` cannot integrate this system."""
+    def _check_method(self, method: str, hybrid: bool) -> None:
+        """A usage error (before any work) when `method` cannot integrate this run."""
         from lagcli.derive.discrete import METHOD, refusal
 
-        reason = refusal(self.derivation) if method == METHOD else None
+        if method != METHOD:
+            return
+        reason = refusal(self.derivation)
+        if reason is None and hybrid:
+            reason = (f"--method {METHOD} does not run events or input laws (yet)\n"
+                      "  hint: use --method DOP853 (or Radau) for this run")
         if reason is not None:
             raise UsageError(f"{self.model.source}: {reason}")
 
     def _module(self):
         """The generated Python module (its source cached on disk), made once per System."""
-        from lagcli.simulate.python_backend import cached_module
+        from lagcli.run.python_backend import cached_module
 
         return self._once("_generated_module", lambda: cached_module(self))
 
@@ -270,10 +316,21 @@ class System:
         self._known("parameters", given, self.layout.parameter_names, "parameter")
         return {k: float(v) for k, v in given.items()}
 
-    def _inputs(self, inputs: dict | None) -> dict[str, float]:
+    def _inputs(self, inputs: dict | None) -> tuple[dict[str, float], dict]:
+        """The constant inputs {name: value} and the laws {name: sympy law or callable}."""
+        from lagcli.hybrid.hybrid_model import parse_law
+
         given = dict(inputs or {})
         self._known("inputs", given, self.layout.input_names, "input")
-        return {k: float(v) for k, v in given.items()}
+        constants, laws = {}, {}
+        for name, value in given.items():
+            if isinstance(value, str):
+                laws[name] = parse_law(self.model, name, value, f"inputs={{{name!r}: ...}}").expr
+            elif callable(value):
+                laws[name] = value
+            else:
+                constants[name] = float(value)
+        return constants, laws
 
     def _known(self, argument: str, given: dict, allowed, what: str) -> None:
         unknown = [name for name in given if name not in allowed]

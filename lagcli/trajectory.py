@@ -5,7 +5,7 @@
 columns"). Columns are read by name (`traj["theta"]`) or by kind
 (`traj.of_kind("momentum")`), never by guessing from a name pattern.
 
-Built, for now, from the backends' CSV-formatted rows (`lagcli.simulate.trajectory`,
+Built, for now, from the backends' CSV-formatted rows (`lagcli.run.rows`,
 the row source `lagcli simulate` writes): `from_rows` is the one adapter.
 """
 from __future__ import annotations
@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from lagcli.layout import Column, Layout
+from lagcli.interface import Column, Layout
 
 
 @dataclass(frozen=True, eq=False)
@@ -25,6 +25,8 @@ class Trajectory:
     notes: tuple[str, ...] = ()        # what was solved for in the initial state
     failure: str | None = None         # "at t = ...: reason" when the integration stopped early
     energy_is_jacobi: bool = False     # the energy column is conserved (plots show its drift)
+    events: tuple = ()                 # lagcli.hybrid.records.EventRecord per event, in time order
+    end_note: str | None = None        # why a run with events ended before t_end (accumulation, ...)
 
     @property
     def columns(self) -> tuple[Column, ...]:
@@ -53,7 +55,7 @@ class Trajectory:
         return self._kinds("coordinate", "velocity")
 
     def of_kind(self, kind: str) -> dict[str, np.ndarray]:
-        """{name: column} of every column of `kind` (lagcli.layout.COLUMN_KINDS)."""
+        """{name: column} of every column of `kind` (lagcli.interface.COLUMN_KINDS)."""
         return {c.name: self.data[:, i] for i, c in enumerate(self.columns) if c.kind == kind}
 
     def _kinds(self, *kinds: str) -> np.ndarray:
@@ -76,8 +78,8 @@ class Trajectory:
     def plot(self, path: str | None = None):
         """The figure of `lagcli simulate --plot` (needs matplotlib); written as a PNG to
         `path` when given."""
-        from lagcli.simulate import plot
-        from lagcli.simulate.trajectory import Trajectory as Rows
+        from lagcli.viz import plot
+        from lagcli.run.rows import Trajectory as Rows
 
         rows = Rows(list(self.names), self.to_csv().splitlines()[1:])
         conserved = any(c.kind == "jacobi" for c in self.columns) and self.energy_is_jacobi
@@ -94,11 +96,12 @@ class Trajectory:
 
 
 def from_rows(layout: Layout, rows, notes=(), energy_is_jacobi: bool = False) -> Trajectory:
-    """The adapter from a backend's rows (`lagcli.simulate.trajectory.Trajectory`: CSV
+    """The adapter from a backend's rows (`lagcli.run.rows.Trajectory`: CSV
     lines under a header that must be the layout's)."""
     if tuple(rows.header) != layout.header:
         raise ValueError(f"backend header {rows.header} is not the layout's {layout.header}")
     text = "".join(line + "\n" for line in rows.lines)
     data = (np.loadtxt(io.StringIO(text), delimiter=",", ndmin=2) if rows.lines
             else np.empty((0, len(layout.columns))))
-    return Trajectory(layout, data, tuple(notes), rows.failure, energy_is_jacobi)
+    return Trajectory(layout, data, tuple(notes), rows.failure, energy_is_jacobi, tuple(rows.events),
+                      rows.end_note)

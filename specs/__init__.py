@@ -1,1 +1,1 @@
-"""The bundled example specs, installed as package data (see lagcli/examples.py)."""
+"""The bundled example specs, installed as package data (see lagcli/spec/examples.py)."""

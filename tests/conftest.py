@@ -43,7 +43,7 @@ def specs_dir() -> Path:
 @pytest.fixture(scope="session")
 def derived():
     """Return `get(name)` -> Derivation of specs/<name>.yaml, cached per session."""
-    from lagcli.api import load_model
+    from lagcli.derive.pipeline import load_model
     from lagcli.derive import derive
 
     def get(name: str):

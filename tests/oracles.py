@@ -269,7 +269,7 @@ def spec_fixtures(spec_path, build_oracle):
 
     @pytest.fixture(scope="module")
     def model():
-        from lagcli.api import load_model
+        from lagcli.derive.pipeline import load_model
         return load_model(spec_path)
 
     @pytest.fixture(scope="module")

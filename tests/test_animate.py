@@ -112,11 +112,11 @@ def test_bad_animate_options_exit_2(tmp_path, args, expected):
     assert result.exit_code == 2 and expected in result.output
 
 
-# --- plots: panels by kind, --columns, --phase (lagcli/simulate/plot.py) -------------------
+# --- plots: panels by kind, --columns, --phase (lagcli/viz/plot.py) -------------------
 
 def test_angles_are_told_from_the_model():
-    from lagcli.api import load_model
-    from lagcli.simulate.plot import angle_coordinates
+    from lagcli.derive.pipeline import load_model
+    from lagcli.viz.plot import angle_coordinates
 
     assert angle_coordinates(load_model(spec_path("rolling_disc"))) == {"psi", "theta", "phi"}
     assert angle_coordinates(load_model(spec_path("cart_pole"))) == {"theta"}
@@ -129,8 +129,8 @@ def test_simulate_plot_groups_the_chosen_columns_by_kind(tmp_path):
                                       str(tmp_path / "c.csv"), "--plot", str(png), "--columns",
                                       "theta_dot,x,theta,energy", "--phase", "theta"])
     assert result.exit_code == 0, result.output
-    from lagcli.simulate.plot import PlotOptions, build_figure
-    from lagcli.simulate.trajectory import Trajectory
+    from lagcli.viz.plot import PlotOptions, build_figure
+    from lagcli.run.rows import Trajectory
 
     header, *lines = (tmp_path / "c.csv").read_text().splitlines()
     figure = build_figure(Trajectory(header.split(","), lines), ["x", "theta"], True, "cart",

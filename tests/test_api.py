@@ -114,7 +114,7 @@ def test_parts_show_the_derivation():
     text parsing back, LaTeX with dots, and a missing part named."""
     import sympy as sp
 
-    from lagcli.spec_printer import parse_output
+    from lagcli.render.spec_printer import parse_output
 
     system = lagcli.load(SPECS / "double_pendulum.yaml")
     m1, m2, l1, l2, th1, th2 = (system.model.symbol(n) for n in ("m1", "m2", "l1", "l2", "theta1", "theta2"))
@@ -152,8 +152,8 @@ def test_the_c_backend_of_the_api_agrees_with_the_python_backend():
 def test_the_cached_driver_carries_the_layout(tmp_path):
     """meta.json of the compiled driver is the system's Layout (its own JSON), which the
     warm path reads back without sympy."""
-    from lagcli.layout import Layout
-    from lagcli.simulate import c_backend
+    from lagcli.interface import Layout
+    from lagcli.run import c_backend
 
     system = lagcli.load(PENDULUM_TEXT)
     system.simulate(t_end=0.1, backend="c")

@@ -33,7 +33,7 @@ from click.testing import CliRunner
 from scipy.optimize import brentq
 
 from lagcli.cli import cli
-from lagcli.simulate.trajectory import parse_csv
+from lagcli.run.rows import parse_csv
 
 from conftest import spec_path
 

@@ -1,7 +1,7 @@
 """lagcli's C runtime (lagcli/runtime/c/) used on its own, as someone embedding a
 generated model would: a C++ program that includes a generated header, a C program
 that drives the shipped integrator on a generated right-hand side, and the numbers
-the driver shares with lagcli/numerics.py.
+the driver shares with lagcli/interface.py.
 """
 from __future__ import annotations
 
@@ -133,15 +133,16 @@ def test_c_program_uses_the_shipped_integrator_on_the_generated_rhs(tmp_path, mo
 
 
 def test_driver_numbers_are_those_of_numerics():
-    from lagcli import numerics
+    from lagcli import interface
+    from lagcli.runtime import run_rules
 
     text = (RUNTIME / "lagcli_driver.c").read_text()
     value = {name: float(v) for name, v in re.findall(r"#define LAGCLI_(\w+) ([0-9.e+-]+)\b", text)}
-    assert value["OUTPUT_SLACK"] == numerics.OUTPUT_SLACK
-    assert value["END_TOLERANCE"] == numerics.END_TOLERANCE
-    assert value["CONSTRAINT_TOLERANCE"] == numerics.CONSTRAINT_TOLERANCE
-    assert (value["BAUMGARTE"], value["BAUMGARTE"]) == numerics.DEFAULT_BAUMGARTE
-    assert re.search(r'#define LAGCLI_METHODS "(.*)"', text).group(1) == "|".join(numerics.C_METHODS)
+    assert value["OUTPUT_SLACK"] == run_rules.OUTPUT_SLACK
+    assert value["END_TOLERANCE"] == run_rules.END_TOLERANCE
+    assert value["CONSTRAINT_TOLERANCE"] == interface.CONSTRAINT_TOLERANCE
+    assert (value["BAUMGARTE"], value["BAUMGARTE"]) == interface.DEFAULT_BAUMGARTE
+    assert re.search(r'#define LAGCLI_METHODS "(.*)"', text).group(1) == "|".join(interface.C_METHODS)
 
 
 def test_spec_named_like_a_runtime_file_is_refused(tmp_path):

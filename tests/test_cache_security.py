@@ -23,8 +23,8 @@ import pytest
 from click.testing import CliRunner
 
 from lagcli.cli import cli
-from lagcli.simulate import c_backend, cache
-from lagcli.simulate.trajectory import parse_csv
+from lagcli.run import c_backend, cache
+from lagcli.run.rows import parse_csv
 
 from conftest import ROOT
 

@@ -90,7 +90,7 @@ constraints:
 
 
 def test_integrable_velocity_constraint_is_reported(tmp_path):
-    from lagcli.api import load_model
+    from lagcli.derive.pipeline import load_model
     from lagcli.derive import derive
 
     path = tmp_path / "rolling_line.yaml"
@@ -102,7 +102,7 @@ def test_integrable_velocity_constraint_is_reported(tmp_path):
 
 
 def test_nonlinear_velocity_constraint_is_an_error(tmp_path):
-    from lagcli.api import load_model
+    from lagcli.derive.pipeline import load_model
     from lagcli.derive import derive
     from lagcli.errors import LagcliError
 

@@ -21,7 +21,7 @@ import pytest
 from click.testing import CliRunner
 
 from lagcli.cli import cli
-from lagcli.emit import LANGUAGES
+from lagcli.targets import LANGUAGES
 from lagcli.spec.files import MAX_BYTES
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -52,14 +52,37 @@ def test_spec_from_stdin_gives_the_same_report_as_the_file():
     assert json.loads(from_stdin.stdout) == json.loads(from_file.stdout)
 
 
-def test_every_command_taking_a_spec_reads_stdin(tmp_path):
-    text = Path(CART_POLE).read_text()
-    for args in (["check", "-"], ["generate", "-", "--lang", "python"], ["hamiltonian", "-"],
-                 ["simulate", "-", "--backend", "python", "--t-end", "0.05"],
-                 ["linearize", "-"], ["equilibria", "-"]):
-        done = invoke(args, input=text)
-        assert done.exit_code == 0, f"{args}: {done.stderr}"
-        assert done.stdout, args
+STDIN_RUNS = {       # a command that takes a SPEC -> (spec, options, what it writes)
+    "check": (CART_POLE, [], None),
+    "derive": (CART_POLE, ["--json"], None),
+    "generate": (CART_POLE, ["--lang", "python"], None),
+    "simulate": (CART_POLE, ["--backend", "python", "--t-end", "0.05"], None),
+    "sweep": (CART_POLE, ["--grid", "m=0.1:0.2:2", "--t-end", "0.05", "-o", "sweep.csv"], "sweep.csv"),
+    "animate": (CART_POLE, ["--t-end", "0.1", "--frame", "0.05", "-o", "frame.png"], "frame.png"),
+    "linearize": (CART_POLE, [], None),
+    "equilibria": (CART_POLE, [], None),
+    "routh": (str(SPECS / "spherical_pendulum.yaml"), [], None),
+    "hamiltonian": (CART_POLE, [], None),
+}
+
+
+def test_the_stdin_runs_cover_every_command_taking_a_spec():
+    taking = {name for path, command in leaf_commands() for name in [" ".join(path)]
+              if any(p.name in ("spec", "specs") for p in command.params)}
+    assert taking == set(STDIN_RUNS)
+
+
+@pytest.mark.parametrize("command", sorted(STDIN_RUNS))
+def test_every_command_taking_a_spec_reads_stdin(command, tmp_path, monkeypatch):
+    import shutil
+
+    if command == "sweep" and not shutil.which("cc"):
+        pytest.skip("no cc: sweeps run the compiled driver")
+    monkeypatch.chdir(tmp_path)
+    spec, options, written = STDIN_RUNS[command]
+    done = invoke([command, "-", *options], input=Path(spec).read_text())
+    assert done.exit_code == 0, f"{command}: {done.stderr}"
+    assert (tmp_path / written).stat().st_size > 0 if written else done.stdout
 
 
 def test_stdin_errors_name_stdin_with_line_and_column():
@@ -113,6 +136,12 @@ def test_check_json_records_locate_every_problem(tmp_path):
     assert problem == {"file": str(bad), "line": 3, "column": 34, "path": "particles.P.colour",
                        "severity": "error", "message": "unknown key 'colour'",
                        "hint": "allowed keys are: mass, position"}
+
+
+def test_check_json_names_stdin_like_its_messages():
+    done = invoke(["check", "--json", "-"], input="coordinates: [x]\nkinetic: x_dot**2/2 +\n")
+    (record,) = json.loads(done.stdout)
+    assert record["file"] == record["problems"][0]["file"] == "<stdin>"
 
 
 def test_check_json_of_valid_files_exits_0():
@@ -220,7 +249,7 @@ def test_unknown_set_name_gets_a_did_you_mean(args, tmp_path, monkeypatch):
 
 
 def test_did_you_mean_ignores_letter_case():
-    from lagcli.simulate.options import closest_name
+    from lagcli.run.options import closest_name
 
     assert closest_name("K", ["k", "m"]) == "k"
     assert closest_name("MC", ["mc", "m", "l"]) == "mc"

@@ -11,11 +11,11 @@ import sympy as sp
 from click.testing import CliRunner
 
 from lagcli import __version__
-from lagcli.api import load_model
-from lagcli.calculus import numerically_zero
+from lagcli.derive.pipeline import load_model
+from lagcli.model.calculus import numerically_zero
 from lagcli.cli import cli
 from lagcli.derive import derive
-from lagcli.spec_printer import parse_output
+from lagcli.render.spec_printer import parse_output
 
 SPECS = sorted((Path(__file__).parent.parent / "specs").glob("*.yaml"))
 ALL_FUNCTIONS = Path(__file__).parent / "data" / "all_functions.yaml"  # every function of the contract
@@ -34,7 +34,7 @@ def run(*args):
 
 # Every spec's report parses back, the bicycles' too: their printed T and equations
 # (65 000 to 270 000 characters, sums of hundreds of terms) are far over a spec's
-# limits; parse_output reads lagcli's own output with lagcli.expr.OUTPUT_LIMITS.
+# limits; parse_output reads lagcli's own output with lagcli.model.expr.OUTPUT_LIMITS.
 ROUND_TRIP_SPECS = SPECS
 
 
@@ -131,7 +131,7 @@ def test_a_report_expression_beyond_the_spec_limits_parses_back():
     """A bicycle-sized report prints expressions far over a spec's 20 000 characters;
     `parse_output` reads them back, a spec may not contain them."""
     from lagcli.errors import Loc, SpecError
-    from lagcli.expr import Scope, parse
+    from lagcli.model.expr import Scope, parse
 
     model = load_model(Path(__file__).parent.parent / "specs" / "double_pendulum.yaml")
     text = " + ".join(f"{k}*sin(theta1)**2*theta2_dot" for k in range(1, 3001))   # ~80 000 characters

@@ -1,12 +1,12 @@
-"""The recipe for a new code target in lagcli/emit/__init__.py names real override
+"""The recipe for a new code target in lagcli/targets/__init__.py names real override
 points: a printer whose arrays start at 1 and are subscripted with parentheses
 prints every symbol of a system that way."""
 from __future__ import annotations
 
-from lagcli.emit.c import CPrinter
-from lagcli.emit.cse import eliminate
-from lagcli.emit.outputs import collect
-from lagcli.emit.slots import slots
+from lagcli.targets.c import CPrinter
+from lagcli.targets.cse import eliminate
+from lagcli.targets.expressions import collect
+from lagcli.targets.slots import slots
 
 
 class OneBasedPrinter(CPrinter):

@@ -1,4 +1,4 @@
-"""The linear-time rewritings of code generation (lagcli/emit/tidy.py, code half) against
+"""The linear-time rewritings of code generation (lagcli/render/tidy.py, code half) against
 sympy itself: `factored` is sympy's factor_terms on the sums a mechanical system has,
 and gives an equal expression on anything else; `collected` is an equal expression
 with one term per velocity monomial. Seeded random expressions of the shapes the
@@ -12,7 +12,7 @@ import pytest
 import sympy as sp
 from sympy.simplify.cse_opts import sub_pre
 
-from lagcli.emit.tidy import collected, factored
+from lagcli.render.tidy import collected, factored
 
 x, y, z, m1, m2, l1, l2 = sp.symbols("x y z m1 m2 l1 l2", real=True)
 u1, u2 = sp.symbols("u1 u2", real=True)      # velocities
@@ -92,7 +92,7 @@ def test_collected_of_a_number_or_symbol_is_itself(velocities):
 def test_signs_normalised_is_sympys_sub_pre():
     """cse.signs_normalised (one memo over many expressions, no sort) gives exactly the
     expressions of sympy's own sub_pre, sums of sums and shared sums included."""
-    from lagcli.emit.cse import signs_normalised
+    from lagcli.targets.cse import signs_normalised
 
     rng = random.Random(5)
     normalise = signs_normalised({})

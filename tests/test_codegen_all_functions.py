@@ -66,7 +66,7 @@ def generated(tmp_path_factory):
 
 @pytest.fixture(scope="module")
 def derivation():
-    from lagcli.api import load_model
+    from lagcli.derive.pipeline import load_model
     from lagcli.derive import derive
 
     return derive(load_model(str(SPEC)))
@@ -162,7 +162,7 @@ def independent_trajectory(d, times, rtol, atol) -> np.ndarray:
     CC is None, reason="no C compiler (cc)"))])
 def test_cold_simulate_finishes_and_follows_the_equations(backend, derivation, tmp_path, monkeypatch):
     from lagcli.cli import cli
-    from lagcli.simulate.trajectory import parse_csv
+    from lagcli.run.rows import parse_csv
 
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))       # cold: nothing cached
     result = CliRunner().invoke(cli, ["simulate", str(SPEC), "--backend", backend,

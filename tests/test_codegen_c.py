@@ -148,7 +148,7 @@ def test_c_agrees_with_engine(spec, built, derived, rng):
 
 @pytest.mark.parametrize("spec", SPEC_FILES, ids=spec_id)
 def test_driver_without_arguments_prints_the_csv(spec, built, derived):
-    from lagcli.numerics import output_times
+    from lagcli.runtime.run_rules import output_times
 
     d = derived(spec.name)
     c = built(spec)
@@ -268,7 +268,7 @@ def test_printed_functions_evaluate_in_c_like_math(tmp_path):
 
     import sympy as sp
 
-    from lagcli.emit.c import CPrinter
+    from lagcli.targets.c import CPrinter
 
     x, y = sp.symbols("x y", real=True)
     printer = CPrinter({x: "y[0]", y: "y[1]"})

@@ -46,7 +46,7 @@ pytestmark = pytest.mark.skipif(
 
 
 def system_of(derived, name: str):
-    from lagcli.layout import layout_of
+    from lagcli.interface import layout_of
     from lagcli.system import System
 
     d = derived(name)
@@ -146,10 +146,10 @@ def test_inputs_and_units_reach_the_model_description(derived, tmp_path):
     UnitDefinitions), given to the layout by hand: FMPy validates the description."""
     from dataclasses import replace
 
-    from lagcli.emit import c as c_target
-    from lagcli.emit.fmu import fmu_context
-    from lagcli.emit.templates import render
-    from lagcli.layout import Input
+    from lagcli.targets import c as c_target
+    from lagcli.targets.fmu import fmu_context
+    from lagcli.render.templates import render
+    from lagcli.interface import Input
 
     system = system_of(derived, "cart_pole")
     layout = system.layout
@@ -171,8 +171,8 @@ def test_inputs_and_units_reach_the_model_description(derived, tmp_path):
 # -- golden files and bytes ------------------------------------------------------------
 
 def fmu_text_files(name: str) -> dict[str, str]:
-    from lagcli.emit.fmu import fmu_sources
-    from lagcli.simulate.initial import spec_initial_state
+    from lagcli.targets.fmu import fmu_sources
+    from lagcli.analysis.initial_state import spec_initial_state
     from lagcli.system import load
 
     system = load(ROOT / "specs" / f"{name}.yaml")
@@ -241,7 +241,7 @@ def test_cli_needs_an_output_file():
 
 
 def test_no_compiler_exit_1_and_nothing_written(tmp_path, monkeypatch):
-    from lagcli.simulate import c_backend
+    from lagcli.run import c_backend
 
     monkeypatch.setattr(c_backend, "find_compiler", lambda: None)
     out = tmp_path / "x.fmu"

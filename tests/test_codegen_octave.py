@@ -166,7 +166,7 @@ def test_keyword_names_and_escaped_text(results):
 def test_octave_string_escaping(tmp_path):
     """octave_string's literals evaluate to the text itself, quotes, controls and non-ASCII
     included (Octave's char holds UTF-8 bytes)."""
-    from lagcli.emit.escape import octave_string
+    from lagcli.render.escape import octave_string
 
     texts = ["plain", "it's", "", "a'b''c", "caf\u00e9 \u03b8\n%{", "'"]
     script = "".join(f"fprintf('%d ', double({octave_string(t)})); fprintf('|\\n');\n" for t in texts)

@@ -248,8 +248,8 @@ def test_generate_python_cli_writes_stdout_or_file(tmp_path):
 
 def test_symbol_without_slot_is_refused():
     """The printer refuses a symbol that is not t, a coordinate, velocity or parameter."""
-    from lagcli.emit import codegen
-    from lagcli.emit.python import PythonPrinter
+    from lagcli.targets import codegen
+    from lagcli.targets.python import PythonPrinter
     from lagcli.errors import EmitError
 
     x, stray = sp.symbols("x stray")

@@ -7,7 +7,7 @@
   states to 1e-12 relative (the reference of test_codegen_python.py);
 - the example binary's CSV agrees with `lagcli simulate` to 1e-7, header included;
 - the shipped integrator (lagcli/runtime/rust/ode.rs) takes scipy's steps: the same nfev
-  as solve_ivp on a test problem; its driver's numbers are lagcli/numerics.py's;
+  as solve_ivp on a test problem; its driver's numbers are lagcli/interface.py's;
 - names that are Rust keywords (`type`, `fn`, `self`, `mod`) build; spec text in comments
   and strings is escaped.
 
@@ -248,14 +248,15 @@ fn main() {
 
 
 def test_driver_numbers_are_lagclis():
-    from lagcli import numerics
+    from lagcli import interface
+    from lagcli.runtime import run_rules
 
     text = (ROOT / "lagcli" / "runtime" / "rust" / "driver.rs").read_text()
-    for name, value in (("OUTPUT_SLACK", numerics.OUTPUT_SLACK), ("END_TOLERANCE", numerics.END_TOLERANCE),
-                        ("CONSTRAINT_TOLERANCE", numerics.CONSTRAINT_TOLERANCE)):
+    for name, value in (("OUTPUT_SLACK", run_rules.OUTPUT_SLACK), ("END_TOLERANCE", run_rules.END_TOLERANCE),
+                        ("CONSTRAINT_TOLERANCE", interface.CONSTRAINT_TOLERANCE)):
         assert float(re.search(rf"const {name}: f64 = ([0-9.e-]+);", text).group(1)) == value
     lib = (ROOT / "templates" / "rust" / "lib.rs.jinja").read_text()
-    assert "BAUMGARTE" in lib      # the gains come from the interface (numerics.DEFAULT_BAUMGARTE)
+    assert "BAUMGARTE" in lib      # the gains come from the interface (interface.DEFAULT_BAUMGARTE)
 
 
 @pytest.mark.slow

@@ -1,4 +1,4 @@
-"""Spec text never becomes live code or live LaTeX (lagcli/emit/escape.py, docs/security.md).
+"""Spec text never becomes live code or live LaTeX (lagcli/render/escape.py, docs/security.md).
 
 Each escaping function is checked against the grammar it defends, with random
 hostile text (hypothesis): Python with its own `tokenize`/`ast`, C with a small
@@ -24,7 +24,7 @@ from click.testing import CliRunner
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from lagcli.emit import escape
+from lagcli.render import escape
 from lagcli.spec.latex_subset import ONE_ARGUMENT, SYMBOLS, latex_problem
 
 from conftest import ROOT
@@ -366,6 +366,21 @@ def test_hostile_spec_python(tmp_path, run):
     module_spec.loader.exec_module(module)
     assert module.SPEC_FILE == spec.name
     assert run("simulate", spec, "--backend", "python").exit_code == 0
+    assert _pwned(tmp_path) == []
+
+
+@pytest.mark.parametrize("lang", ["casadi", "jax"])
+def test_hostile_spec_casadi_jax(tmp_path, run, lang):
+    """The CasADi and JAX modules use the Python escapes: the module imports, its
+    constants hold the text as given, and nothing in the text runs."""
+    pytest.importorskip(lang, reason=f"{lang} is not installed (pip install 'lagcli[{lang}]')")
+    spec = hostile_spec(tmp_path)
+    result = run("generate", spec, "--lang", lang, "-o", tmp_path / f"hostile_{lang}.py")
+    assert result.exit_code == 0, result.output
+    module_spec = importlib.util.spec_from_file_location(f"hostile_{lang}", tmp_path / f"hostile_{lang}.py")
+    module = importlib.util.module_from_spec(module_spec)
+    module_spec.loader.exec_module(module)
+    assert module.SPEC_FILE == spec.name and module.STATE == ["theta", "theta_dot"]
     assert _pwned(tmp_path) == []
 
 

@@ -1,4 +1,4 @@
-"""The MATLAB/Octave and Rust escapes of lagcli/emit/escape.py against their grammars,
+"""The MATLAB/Octave and Rust escapes of lagcli/render/escape.py against their grammars,
 with the random hostile text of test_escaping.py (the literals are also evaluated by
 octave-cli in test_codegen_octave.py and by rustc in test_codegen_rust.py)."""
 from __future__ import annotations
@@ -7,7 +7,7 @@ import re
 
 from hypothesis import given
 
-from lagcli.emit import escape
+from lagcli.render import escape
 
 from test_escaping import EXAMPLES, hostile_text
 

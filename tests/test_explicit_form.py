@@ -11,8 +11,8 @@ from pathlib import Path
 import pytest
 import sympy as sp
 
-from lagcli.api import load_model
-from lagcli.calculus import numerically_zero
+from lagcli.derive.pipeline import load_model
+from lagcli.model.calculus import numerically_zero
 from lagcli.derive import derive
 
 SPECS = sorted((Path(__file__).parent.parent / "specs").glob("*.yaml"))
@@ -74,7 +74,7 @@ def test_augmented_system_reproduces_equations_and_constraints(derivation):
 
 
 def _total_derivative(m, expr):
-    # written out here (not lagcli.calculus.TimeDerivative) to stay independent of the engine
+    # written out here (not lagcli.model.calculus.TimeDerivative) to stay independent of the engine
     result = expr.diff(m.t)
     for q, v, a in zip(m.q, m.qd, m.qdd):
         result += expr.diff(q) * v + expr.diff(v) * a

@@ -11,8 +11,8 @@ import random
 import pytest
 import sympy as sp
 
-from lagcli.calculus import derivative
-from lagcli.emit.tidy import common_factor, is_expanded
+from lagcli.model.calculus import derivative
+from lagcli.render.tidy import common_factor, is_expanded
 
 x, y, z, m1, m2, l1, l2 = sp.symbols("x y z m1 m2 l1 l2", real=True)
 t = sp.Symbol("t", real=True)

@@ -175,7 +175,7 @@ def test_sphere_on_an_incline_rolls_down_at_five_sevenths_of_g_sin_alpha(tmp_pat
     accelerates down the slope at (5/7) g sin(alpha) (closed form), the normal row's
     multiplier is the normal force m g cos(alpha) and the friction is (2/7) m g sin(alpha)
     up the slope."""
-    from lagcli.api import load_model
+    from lagcli.derive.pipeline import load_model
     from lagcli.derive import derive
 
     path = tmp_path / "incline.yaml"

@@ -1,4 +1,5 @@
-"""Golden files of the generated Python, C, MATLAB/Octave and Rust, and their determinism.
+"""Golden files of the generated Python, C, MATLAB/Octave, Rust, CasADi and JAX, and their
+determinism.
 
 The generated text of one unconstrained (double_pendulum) and one constrained spec
 (ex6_9_two_wheels_axle) is compared byte for byte with tests/golden/<lang>/ (a file
@@ -26,13 +27,13 @@ import pytest
 ROOT = Path(__file__).resolve().parent.parent
 GOLDEN = Path(__file__).resolve().parent / "golden"
 SPECS = ["double_pendulum", "ex6_9_two_wheels_axle"]
-LANGS = ["python", "c", "octave", "rust"]
+LANGS = ["python", "c", "octave", "rust", "casadi", "jax"]
 UPDATE = os.environ.get("LAGCLI_UPDATE_GOLDEN") == "1"
 
 
 def generate(spec: str, lang: str) -> dict[str, str]:
-    from lagcli.api import derive_file
-    from lagcli.emit import generate as emit
+    from lagcli.derive.pipeline import derive_file
+    from lagcli.targets import generate as emit
 
     return emit(derive_file(ROOT / "specs" / f"{spec}.yaml"), lang)
 
@@ -53,11 +54,11 @@ def compare_or_update(path: Path, text: str) -> None:
 @pytest.mark.parametrize("lang", LANGS)
 @pytest.mark.parametrize("spec", SPECS)
 def test_golden(spec, lang):
-    from lagcli.emit.octave import FUNCTIONS
+    from lagcli.targets.octave import FUNCTIONS
     from lagcli.runtime import c_runtime_files, rust_runtime_files
 
     files = generate(spec, lang)
-    expected = {"python": [f"{spec}.py"], "c": [f"{spec}.h", f"{spec}.c", f"{spec}_main.c"],
+    expected = {"python": [f"{spec}.py"], "casadi": [f"{spec}.py"], "jax": [f"{spec}.py"], "c": [f"{spec}.h", f"{spec}.c", f"{spec}_main.c"],
                 "octave": [f"{spec}_{f}.m" for f in FUNCTIONS + ("run",)],
                 "rust": ["Cargo.toml", "src/lib.rs", "src/main.rs"]}[lang]
     runtime = {"c": c_runtime_files(),

@@ -73,7 +73,7 @@ def test_generated_hamiltonian_module_agrees_with_lagrange(derived, name, tmp_pa
     any emitter) to 1e-8, and its hamiltonian(t, x, p) equals the Jacobi integral."""
     import importlib.util
 
-    from lagcli.emit.hamilton import hamilton_module
+    from lagcli.targets.hamilton import hamilton_module
 
     d = derived(name)
     model = d.model

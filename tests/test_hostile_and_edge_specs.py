@@ -10,13 +10,13 @@ import time
 import pytest
 from click.testing import CliRunner
 
-from lagcli.api import load_model
-from lagcli.calculus import DependenceProbe, numerically_zero
+from lagcli.derive.pipeline import load_model
+from lagcli.model.calculus import DependenceProbe, numerically_zero
 from lagcli.cli import cli
 from lagcli.derive import derive
 from lagcli.errors import SpecError
 from lagcli.spec.files import read_spec_bytes
-from lagcli.spec_printer import parse_output
+from lagcli.render.spec_printer import parse_output
 
 import sympy as sp
 

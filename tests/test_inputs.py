@@ -19,7 +19,7 @@ import pytest
 from click.testing import CliRunner
 
 from lagcli.cli import cli
-from lagcli.layout import Input, Layout, layout_of
+from lagcli.interface import Input, Layout, layout_of
 
 from conftest import spec_path
 

@@ -25,10 +25,10 @@ import sympy as sp
 from click.testing import CliRunner
 from sympy.parsing.sympy_parser import implicit_multiplication, parse_expr, standard_transformations
 
-from lagcli.emit.latex import latex_document, latex_fragment, latex_printer
-from lagcli.emit.escape import latex_text
-from lagcli.emit.latex_printer import LatexPrinter
-from lagcli.spec_printer import spec_str
+from lagcli.report.latex import latex_document, latex_fragment, latex_printer
+from lagcli.render.escape import latex_text
+from lagcli.report.latex_printer import LatexPrinter
+from lagcli.render.spec_printer import spec_str
 
 ROOT = Path(__file__).resolve().parent.parent
 GOLDEN = ROOT / "tests" / "golden" / "latex"
@@ -107,7 +107,7 @@ constraints:
 
 @pytest.fixture(scope="module")
 def odd_spec(tmp_path_factory):
-    from lagcli.api import load_model
+    from lagcli.derive.pipeline import load_model
     from lagcli.derive import derive
 
     path = tmp_path_factory.mktemp("latex") / "odd_names_1.yaml"
@@ -156,7 +156,7 @@ def _chain_spec(n: int) -> str:
 
 @needs_pdflatex
 def test_many_coordinates(tmp_path):
-    from lagcli.api import load_model
+    from lagcli.derive.pipeline import load_model
     from lagcli.derive import derive
 
     path = tmp_path / "chain12.yaml"

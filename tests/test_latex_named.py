@@ -1,4 +1,4 @@
-"""Big systems in the reports: named intermediate quantities (lagcli/emit/naming.py).
+"""Big systems in the reports: named intermediate quantities (lagcli/report/naming.py).
 
 A big report writes its recurring sums once, as X_1, X_2, ... in a last section, and
 the expressions with the names. Checked here:
@@ -20,10 +20,10 @@ import pytest
 import sympy as sp
 from sympy.parsing.sympy_parser import parse_expr, standard_transformations
 
-import lagcli.emit.naming as naming
-from lagcli.emit.latex import latex_document
-from lagcli.emit.naming import Namer
-from lagcli.emit.report import report_content, spec_printer
+import lagcli.report.naming as naming
+from lagcli.report.latex import latex_document
+from lagcli.report.naming import Namer
+from lagcli.report.content import report_content, spec_printer
 from test_latex import compile_pdf, needs_pdflatex, overfull
 
 OVERFULL_TOLERANCE_PT = 5.0

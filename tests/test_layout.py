@@ -1,10 +1,10 @@
-"""The typed layout of a system (lagcli/layout.py) against the output format of the
+"""The typed layout of a system (lagcli/interface.py) against the output format of the
 project's docs (docs/design.md, "CSV columns"), written out by hand here."""
 from __future__ import annotations
 
 import pytest
 
-from lagcli.layout import Layout, Settings, layout_of
+from lagcli.interface import Layout, Settings, layout_of
 
 
 def test_unconstrained_layout_order_and_kinds(derived):

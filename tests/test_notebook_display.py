@@ -58,7 +58,7 @@ def test_no_untidy_forms_on_notebook_surfaces(systems, name):
     assert system.parts.mass_matrix.text == "M = [" + ", ".join(
         "[" + ", ".join(row) + "]" for row in entries) + "]"
     if len(entries) <= 6:              # an independent look: trigsimp finds nothing to shrink
-        from lagcli.spec_printer import parse_output
+        from lagcli.render.spec_printer import parse_output
 
         for text in [e for row in entries for e in row if "sin" in e or "cos" in e][:12]:
             value = parse_output(text, system.model)

@@ -32,7 +32,7 @@ def chain_spec(n):
 
 @pytest.fixture(scope="module")
 def setup(tmp_path_factory):
-    from lagcli.api import load_model
+    from lagcli.derive.pipeline import load_model
     from lagcli.derive import derive
     path = tmp_path_factory.mktemp("chain") / f"chain{N_LINKS}.yaml"
     path.write_text(chain_spec(N_LINKS))

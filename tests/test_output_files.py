@@ -1,4 +1,4 @@
-"""Where `-o` writes (lagcli/output.py): regular files replaced atomically with their
+"""Where `-o` writes (lagcli/render/output.py): regular files replaced atomically with their
 mode kept, FIFOs and devices written as streams, symlinks followed, and bad targets
 refused (exit status 2) before any work starts; the bounded copy `--plot` keeps.
 
@@ -14,8 +14,8 @@ import pytest
 from click.testing import CliRunner
 
 from lagcli.cli import cli
-from lagcli.output import TEMP_SUFFIX, write_output
-from lagcli.simulate.trajectory import Decimated, parse_csv
+from lagcli.render.output import TEMP_SUFFIX, write_output
+from lagcli.run.rows import Decimated, parse_csv
 
 from conftest import spec_path
 
@@ -101,12 +101,12 @@ def test_an_existing_file_keeps_its_mode_and_a_new_one_follows_the_umask(tmp_pat
 def _no_work(monkeypatch):
     """Make any derivation or integration fail the test: bad targets are refused first."""
     import lagcli.commands
-    import lagcli.simulate.run
+    import lagcli.run.simulate
 
     def forbidden(*args, **kwargs):
         raise AssertionError("work started before the output was checked")
 
-    monkeypatch.setattr(lagcli.simulate.run, "_simulate", forbidden)
+    monkeypatch.setattr(lagcli.run.simulate, "_simulate", forbidden)
     monkeypatch.setattr(lagcli.commands, "_derive", forbidden)
 
 
@@ -186,7 +186,7 @@ def test_dev_stdout_onto_a_file_appends_where_stdout_is(tmp_path):
 
     from conftest import ROOT
 
-    code = ("from lagcli.output import write_output\nprint('before', flush=True)\n"
+    code = ("from lagcli.render.output import write_output\nprint('before', flush=True)\n"
             "write_output('/dev/stdout', 'rows\\n')\nprint('after')\n")
     target = tmp_path / "log.txt"
     with open(target, "w") as stdout:
@@ -199,7 +199,7 @@ def test_a_signal_inside_an_uninterruptible_block_waits_for_its_end():
     """SIGTERM while a block of rows is written: raised once the block is whole."""
     import signal
 
-    from lagcli.interrupts import interrupt_on_termination, uninterruptible
+    from lagcli.render.interrupts import interrupt_on_termination, uninterruptible
 
     done = []
     with interrupt_on_termination():
@@ -216,7 +216,7 @@ def test_a_signal_inside_an_uninterruptible_block_waits_for_its_end():
 def test_an_ignored_hangup_stays_ignored():
     import signal
 
-    from lagcli.interrupts import interrupt_on_termination
+    from lagcli.render.interrupts import interrupt_on_termination
 
     previous = signal.signal(signal.SIGHUP, signal.SIG_IGN)        # as under nohup
     try:

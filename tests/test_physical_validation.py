@@ -1,4 +1,4 @@
-"""Physical validation (lagcli/validation.py): the warnings corpus and the checks' edges.
+"""Physical validation (lagcli/model/validation.py): the warnings corpus and the checks' edges.
 
 The errors (negative masses, impossible inertias, a coordinate without inertia, the
 common slips) are cases of the bad-spec corpus, tests/data/bad/ (test_bad_specs.py).

@@ -21,11 +21,11 @@ import pytest
 import sympy as sp
 from click.testing import CliRunner
 
-from lagcli.api import load_model
-from lagcli.calculus import numerically_zero
+from lagcli.derive.pipeline import load_model
+from lagcli.model.calculus import numerically_zero
 from lagcli.cli import cli
 from lagcli.derive import derive
-from lagcli.spec_printer import parse_output
+from lagcli.render.spec_printer import parse_output
 
 SPECS = Path(__file__).resolve().parent.parent / "specs"
 ALL = sorted(SPECS.glob("*.yaml"))

@@ -1,5 +1,5 @@
 """The rules of a run are written once per language: in Python, lagcli/runtime/run_rules.py
-is what lagcli runs (lagcli.numerics) and what the generated module carries, verbatim."""
+is what lagcli runs (lagcli.interface) and what the generated module carries, verbatim."""
 from __future__ import annotations
 
 import ast
@@ -11,7 +11,7 @@ import sys
 import pytest
 
 import lagcli
-from lagcli import numerics
+from lagcli.runtime import run_rules as numerics
 from lagcli.runtime import python_run_rules
 
 from conftest import SPECS

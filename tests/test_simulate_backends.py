@@ -21,7 +21,7 @@ import pytest
 from click.testing import CliRunner
 
 from lagcli.cli import cli
-from lagcli.simulate.trajectory import parse_csv
+from lagcli.run.rows import parse_csv
 
 from conftest import ROOT, SPECS
 
@@ -44,8 +44,8 @@ def test_python_and_c_backends_agree(spec):
     """Over the spec's own `simulate:` block (t_end, dt, method, tolerances): with the
     Baumgarte step cap (docs/simulate.md) even the constrained runs agree to ~1e-11;
     without it disc_on_incline differed by 3e-6 (residual 1.5e-6)."""
-    from lagcli.api import load_model
-    from lagcli.numerics import output_times
+    from lagcli.derive.pipeline import load_model
+    from lagcli.runtime.run_rules import output_times
 
     settings = load_model(str(spec)).settings
     results = {b: invoke(spec, "--backend", b) for b in ("python", "c")}

@@ -22,8 +22,8 @@ import pytest
 from click.testing import CliRunner
 
 from lagcli.cli import cli
-from lagcli.numerics import output_times
-from lagcli.simulate.trajectory import parse_csv
+from lagcli.runtime.run_rules import output_times
+from lagcli.run.rows import parse_csv
 
 from conftest import ROOT, spec_path
 
@@ -192,8 +192,8 @@ def test_missing_spec_exits_2(tmp_path):
 
 
 def test_python_backend_supports_implicit_methods(derived):
-    from lagcli.simulate.options import RunSettings
-    from lagcli.simulate.python_backend import integrate_module, load_module
+    from lagcli.run.options import RunSettings
+    from lagcli.run.python_backend import integrate_module, load_module
 
     d = derived("double_pendulum")
     module = load_module(d)
@@ -241,7 +241,7 @@ def test_plot_without_matplotlib_exits_1_after_the_csv(tmp_path, monkeypatch):
 
 
 def test_drift_panel_shows_only_conserved_columns():
-    from lagcli.simulate.plot import drift_series
+    from lagcli.viz.plot import drift_series
 
     header = ["t", "q1", "q1_dot", "energy", "jacobi", "p_phi", "constraint_residual"]
     assert drift_series(header, energy_conserved=True) == [
@@ -250,8 +250,8 @@ def test_drift_panel_shows_only_conserved_columns():
 
 
 def test_plot_figure_has_two_labelled_panels_and_a_log_scale(tmp_path):
-    from lagcli.simulate.plot import build_figure
-    from lagcli.simulate.trajectory import Trajectory
+    from lagcli.viz.plot import build_figure
+    from lagcli.run.rows import Trajectory
 
     result = invoke(spec_path("cartesian_pendulum"), "--t-end", "1", "--dt", "0.1")
     assert result.exit_code == 0, result.stderr
@@ -304,7 +304,7 @@ def test_interrupt_while_deriving_exits_1(monkeypatch):
 
 @pytest.mark.skipif(shutil.which("cc") is None, reason="no C compiler (cc)")
 def test_interrupt_while_compiling_exits_1_and_leaves_no_cache_entry(tmp_path, monkeypatch):
-    from lagcli.simulate import c_backend
+    from lagcli.run import c_backend
 
     def interrupted(*args):
         raise KeyboardInterrupt
@@ -366,7 +366,7 @@ def test_ctrl_c_keeps_the_rows_and_exits_1(tmp_path, backend):
 
 
 # Streaming: rows reach the output as they are computed, memory stays flat, and
-# SIGTERM/SIGHUP end a run like Ctrl-C (lagcli/output.py, lagcli/simulate/trajectory.py).
+# SIGTERM/SIGHUP end a run like Ctrl-C (lagcli/render/output.py, lagcli/run/rows.py).
 
 BACKENDS = ["python", pytest.param("c", marks=pytest.mark.skipif(shutil.which("cc") is None,
                                                                  reason="no C compiler (cc)"))]
@@ -471,9 +471,9 @@ def test_output_time_windows_do_not_change_the_python_backend_rows(derived, monk
     runs on across windows (no restart)."""
     import functools
 
-    from lagcli.numerics import output_time_windows
-    from lagcli.simulate import python_backend
-    from lagcli.simulate.options import RunSettings
+    from lagcli.runtime.run_rules import output_time_windows
+    from lagcli.run import python_backend
+    from lagcli.run.options import RunSettings
 
     d = derived("double_pendulum")
     module = python_backend.load_module(d)

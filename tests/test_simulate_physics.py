@@ -27,7 +27,7 @@ import pytest
 from click.testing import CliRunner
 
 from lagcli.cli import cli
-from lagcli.simulate.trajectory import parse_csv
+from lagcli.run.rows import parse_csv
 
 from conftest import spec_path
 

@@ -8,7 +8,7 @@ import pickle
 import sympy as sp
 
 import lagcli
-from lagcli.spec_printer import parse_output, spec_str
+from lagcli.render.spec_printer import parse_output, spec_str
 
 from conftest import SPECS
 

@@ -119,7 +119,7 @@ def test_p_phi_column_is_constant_along_a_simulation(tmp_path, monkeypatch):
 
     from conftest import spec_path
     from lagcli.cli import cli
-    from lagcli.simulate.trajectory import parse_csv
+    from lagcli.run.rows import parse_csv
 
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
     v, heading = 1.0, 0.4

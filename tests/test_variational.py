@@ -115,7 +115,7 @@ def load(source):
 
 def bench(system, *args) -> dict[str, float]:
     """The compiled driver's --bench-integration line (steps, iterations or nfev)."""
-    from lagcli.simulate import c_backend
+    from lagcli.run import c_backend
 
     driver = c_backend.driver(system, shutil.which("cc"))
     done = subprocess.run([driver.binary, *args, "--bench-integration", "1"], capture_output=True, text=True)

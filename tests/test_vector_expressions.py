@@ -8,7 +8,7 @@ import pytest
 import sympy as sp
 import sympy.physics.vector as spv
 
-from lagcli.api import load_model
+from lagcli.derive.pipeline import load_model
 from lagcli.derive import derive
 from lagcli.errors import SpecError
 

@@ -137,7 +137,7 @@ def equilibria(d, parameters: dict, guesses: list[dict], independent=()) -> list
 
 def _require_autonomous(d) -> None:
     """Equilibria need F(q, 0, t) without t (a cancelling W t, as on the spinning hoop, is fine)."""
-    from lagcli.calculus import numerically_zero
+    from lagcli.model.calculus import numerically_zero
     from lagcli.errors import UsageError
 
     model = d.model

@@ -22,7 +22,7 @@ from __future__ import annotations
 import numpy as np
 import sympy as sp
 
-from lagcli.calculus import almost_everywhere
+from lagcli.model.calculus import almost_everywhere
 
 
 class CompiledJacobians:

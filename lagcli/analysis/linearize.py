@@ -124,7 +124,7 @@ def input_symbols(model, parameters=()) -> tuple[sp.Symbol, ...]:
     declared = {u.name for u in model.input_symbols}
     unknown = [name for name in parameters if name not in params and name not in declared]
     if unknown:
-        from lagcli.simulate.options import _hint
+        from lagcli.run.options import _hint
         raise UsageError(f"--input {unknown[0]!r}: not an input or a parameter"
                          + _hint(unknown[0], [*declared, *params], "inputs and parameters"))
     extra = [params[name] for name in dict.fromkeys(parameters) if name not in declared]

@@ -34,7 +34,7 @@ class Assignments:
 
 def parse_assignments(d, items, sweep_name: str | None = None) -> Assignments:
     """`("theta=0", "phi_dot=Omega")` -> Assignments; names checked against the model."""
-    from lagcli.simulate.options import parse_assignments as assignments
+    from lagcli.run.options import parse_assignments as assignments
 
     model = d.model
     allowed = [s.name for s in (*model.q, *model.qd, *model.parameter_symbols, *model.input_symbols)] + ["t"]
@@ -50,7 +50,7 @@ def parse_assignments(d, items, sweep_name: str | None = None) -> Assignments:
 
 def _parse(text: str, names: dict, where: str) -> sp.Expr:
     from lagcli.errors import LagcliError
-    from lagcli.expr import Scope, parse
+    from lagcli.model.expr import Scope, parse
 
     try:
         return parse(text.strip(), Scope(names, sp.Symbol("t")), Loc("<command line>"))
@@ -128,7 +128,7 @@ def choose_partition(d, constraints, point: Point, independent=()) -> Partition:
     names_qd = [s.name for s in model.qd]
     for name in independent:
         if name not in names_q + names_qd:
-            from lagcli.simulate.options import _hint
+            from lagcli.run.options import _hint
             raise UsageError(f"--independent {name!r}: not a coordinate or velocity"
                              + _hint(name, names_q + names_qd, "coordinates and velocities"))
     given_q = [names_q.index(x) for x in independent if x in names_q]

@@ -31,7 +31,7 @@ class SweepRange:
 
 def parse_sweep(text: str) -> SweepRange:
     """`v=0:10:101` -> 101 values from 0 to 10 (both ends included)."""
-    from lagcli.simulate.options import parse_range
+    from lagcli.run.options import parse_range
 
     name, start, stop, count = parse_range(text, "--sweep", 2, 100_000, example="v=0:10:101")
     return SweepRange(name, np.linspace(start, stop, count))

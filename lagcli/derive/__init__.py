@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import sympy as sp
 
-from lagcli.calculus import TimeDerivative, almost_everywhere, depends_on, derivative, numerically_zero
+from lagcli.model.calculus import TimeDerivative, almost_everywhere, depends_on, derivative, numerically_zero
 from lagcli.derive.constraints import constraint_bias, constraint_matrix, constraint_rows
 from lagcli.derive.dissipation import damper_forces_on
 from lagcli.derive.energy import energies
@@ -17,7 +17,8 @@ from lagcli.derive.forces import applied_generalized_forces
 from lagcli.derive.invariants import (LagrangianProbe, conserved_quantities, ignorable_coordinates,
                                       jacobi_integral, jacobi_obstacle, momenta)
 from lagcli.derive.result import Derivation, Equation
-from lagcli.model_types import Model
+from lagcli.hybrid.event_functions import event_functions
+from lagcli.model.model_types import Model
 
 __all__ = ["derive", "Derivation"]
 
@@ -64,6 +65,7 @@ def derive(model: Model) -> Derivation:
                                        energy_is_jacobi),
         jacobi_integral=h, energy_is_jacobi=energy_is_jacobi, no_jacobi_reason=no_jacobi,
         scleronomic=_is_scleronomic(model),
+        events=event_functions(model),
     )
 
 

@@ -13,11 +13,11 @@ import itertools
 
 import sympy as sp
 
-from lagcli.calculus import TimeDerivative, almost_everywhere, derivative, numerically_zero
+from lagcli.model.calculus import TimeDerivative, almost_everywhere, derivative, numerically_zero
 from lagcli.derive.result import ConstraintRow
 from lagcli.errors import Loc, Problem, SpecError
-from lagcli.layout import multiplier_name
-from lagcli.model_types import ConstraintSpec, Model
+from lagcli.interface import multiplier_name
+from lagcli.model.model_types import ConstraintSpec, Model
 
 
 def constraint_rows(model: Model) -> tuple[ConstraintRow, ...]:

@@ -12,8 +12,8 @@ from __future__ import annotations
 
 import sympy as sp
 
-from lagcli.calculus import TimeDerivative
-from lagcli.model_types import LinearDamper, Model
+from lagcli.model.calculus import TimeDerivative
+from lagcli.model.model_types import LinearDamper, Model
 
 
 def damper_length_rate(damper: LinearDamper, D: TimeDerivative) -> sp.Expr:

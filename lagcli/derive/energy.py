@@ -16,8 +16,8 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from lagcli.calculus import TimeDerivative, almost_everywhere, derivative, jacobian
-from lagcli.model_types import Model, RigidBody, elementary_rotation
+from lagcli.model.calculus import TimeDerivative, almost_everywhere, derivative, jacobian
+from lagcli.model.model_types import Model, RigidBody, elementary_rotation
 
 AXES = {"x": 0, "y": 1, "z": 2}
 

@@ -14,8 +14,8 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from lagcli.calculus import almost_everywhere
-from lagcli.model_types import Model
+from lagcli.model.calculus import almost_everywhere
+from lagcli.model.model_types import Model
 
 
 @dataclass(frozen=True)

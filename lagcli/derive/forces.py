@@ -9,10 +9,10 @@ from __future__ import annotations
 import sympy as sp
 
 
-from lagcli.calculus import TimeDerivative, depends_on, numerically_zero
+from lagcli.model.calculus import TimeDerivative, depends_on, numerically_zero
 from lagcli.derive.dissipation import dissipative_forces
 from lagcli.derive.energy import body_angular_velocity
-from lagcli.model_types import Model
+from lagcli.model.model_types import Model
 
 MAX_OPS_FOR_POTENTIAL = 400  # beyond this, searching for a closed-form potential is not worth it
 

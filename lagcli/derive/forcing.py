@@ -18,9 +18,9 @@ from __future__ import annotations
 
 import sympy as sp
 
-from lagcli.calculus import TimeDerivative, derivative, jacobian
+from lagcli.model.calculus import TimeDerivative, derivative, jacobian
 from lagcli.derive.energy import body_angular_velocity
-from lagcli.model_types import Model
+from lagcli.model.model_types import Model
 
 
 def forcing(model: Model, D: TimeDerivative, Q_applied: sp.ImmutableMatrix, V: sp.Expr) -> sp.ImmutableMatrix:

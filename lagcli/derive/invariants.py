@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import sympy as sp
 
-from lagcli.calculus import DependenceProbe, depends_on, numerically_zero
+from lagcli.model.calculus import DependenceProbe, depends_on, numerically_zero
 from lagcli.derive.result import Conserved
 
 

@@ -8,8 +8,8 @@ model (docs/codegen.md, docs/c-integrator.md).
 headers, unchanged, under the licence in fmi2/LICENSE.txt (the Modelica Association's
 2-clause BSD licence).
 
-Python: `run_rules.py` is a module lagcli itself runs (`lagcli.numerics` re-exports
-it) whose code the generated Python module carries verbatim (`python_run_rules`), so
+Python: `run_rules.py` is a module lagcli itself runs (the run layer and
+the code targets import it) whose code the generated Python module carries verbatim (`python_run_rules`), so
 that module stays one self-contained file."""
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""lagcli's rules of a run, in Python, written once: `lagcli.numerics` imports them and
+"""lagcli's rules of a run, in Python, written once: the run layer and targets import them;
 the generated Python module carries this file's code, verbatim, after its imports
 (`lagcli.runtime.python_run_rules`). Standard library only, no `from __future__`
 (the text is pasted into another module): the generated module stays self-contained.

@@ -14,8 +14,8 @@ import re
 from typing import Any, Callable
 
 from lagcli.errors import Problem
-from lagcli.layout import column_clash
-from lagcli.layout import reserved_reason as generated_name_reason
+from lagcli.interface import column_clash
+from lagcli.interface import reserved_reason as generated_name_reason
 from lagcli.spec.format import Table
 from lagcli.spec.reader import KeyPath, RawDoc
 from lagcli.spec.types import Src, Vector, VectorSrc
@@ -39,7 +39,7 @@ def reserved_reason(name: str, coordinates: set[str]) -> str:
     C keywords are fine: generated code refers to every symbol by its array slot
     (y[i], p[j]); spec names appear in C only behind a prefix (`<NAME>_Q_<q>`,
     `<NAME>_P_<p>` index macros), never as identifiers of their own. The names lagcli
-    generates (velocities, multipliers, output columns) are `lagcli.layout`'s rules.
+    generates (velocities, multipliers, output columns) are `lagcli.interface`'s rules.
     """
     if name in ("t", "pi"):
         return "'t' is time" if name == "t" else "'pi' is the constant pi"
@@ -138,7 +138,7 @@ class Checker:
 
     def vector(self, path: KeyPath, value: Any) -> Vector | None:
         """A list of 2 or 3 expressions; its length counts towards the spec's dimension.
-        A string is one vector expression (3-D, lagcli/vectors.py)."""
+        A string is one vector expression (3-D, lagcli/model/vectors.py)."""
         if isinstance(value, str):
             src = self.expr(path, value)
             self.note_dim(3, path)

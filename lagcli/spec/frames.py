@@ -2,7 +2,7 @@
 
 A mixin of `schema._SpecChecker`: `frames:` (names, parents, no cycles, unit vector
 names A_x, A_y, A_z declared), a body's `frame:` and `rolling:` entries. Their
-expressions travel on as `Src`, parsed by lagcli/vectors.py at the model stage.
+expressions travel on as `Src`, parsed by lagcli/model/vectors.py at the model stage.
 """
 from __future__ import annotations
 
@@ -18,7 +18,7 @@ AXES = fmt.AXES
 
 
 def rolling_row_prefix(body: str) -> str:
-    """Constraint rows of a rolling body are `rolling_<body>_<axis>` (lagcli/rolling.py)."""
+    """Constraint rows of a rolling body are `rolling_<body>_<axis>` (lagcli/model/rolling.py)."""
     return f"rolling_{body}_"
 
 

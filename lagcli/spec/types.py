@@ -1,6 +1,6 @@
 """The validated spec: plain strings and numbers, each item with its `Loc`.
 
-`Src` is the source text of one expression (never evaluated here: `model.py`
+`Src` is the source text of one expression (never evaluated here: `lagcli/model/build.py`
 parses it with the safe expression parser). Numbers written in the file arrive as
 their `repr` text, so every expression field is a `Src`.
 """
@@ -21,7 +21,7 @@ class Src:
 
 @dataclass(frozen=True)
 class VectorSrc(Src):
-    """A vector written as one expression, e.g. `r*A_z + [x, y, 0]` (3-D; lagcli/vectors.py)."""
+    """A vector written as one expression, e.g. `r*A_z + [x, y, 0]` (3-D; lagcli/model/vectors.py)."""
 
 
 Vector = tuple[Src, ...]  # 2 or 3 components (one dimension per spec), or one VectorSrc
@@ -32,7 +32,7 @@ class Coordinate:
     name: str
     latex: str | None
     loc: Loc
-    unit: str | None = None    # a unit expression (lagcli/units.py); None: dimensionless
+    unit: str | None = None    # a unit expression (lagcli/model/units.py); None: dimensionless
 
 
 @dataclass(frozen=True)
@@ -42,7 +42,7 @@ class Parameter:
     latex: str | None
     description: str | None
     loc: Loc
-    unit: str | None = None    # a unit expression (lagcli/units.py); None: dimensionless
+    unit: str | None = None    # a unit expression (lagcli/model/units.py); None: dimensionless
 
 
 @dataclass(frozen=True)
@@ -55,6 +55,7 @@ class Input:
     latex: str | None
     description: str | None
     loc: Loc
+    unit: str | None = None    # a unit expression (lagcli/units.py); None: dimensionless
 
 
 @dataclass(frozen=True)
@@ -172,6 +173,21 @@ class SimulateSettings:
     method: str | None = None
     rtol: Src | None = None
     atol: Src | None = None
+    inputs: tuple[Named, ...] = ()           # input laws: input name -> expression of t, q, q'
+
+
+@dataclass(frozen=True)
+class Event:
+    """An item of `events:` (docs/spec.md, "events"): where `when` crosses zero in
+    `direction`, `action` happens (impact with `restitution`, reset of states, stop)."""
+
+    name: str
+    when: Src
+    direction: str                           # "falling" | "rising" | "either"
+    action: str                              # "impact" | "reset" | "stop"
+    restitution: Src | None                  # impact only
+    reset: tuple[Named, ...]                 # reset only: state name -> new value
+    loc: Loc
 
 
 @dataclass(frozen=True)
@@ -200,3 +216,4 @@ class Spec:
     rolling: tuple[Rolling, ...] = ()
     dampers: tuple[Damper, ...] = ()
     dissipation: Src | None = None           # a Rayleigh dissipation function R(q, q', t)
+    events: tuple[Event, ...] = ()

@@ -75,7 +75,7 @@ def run_on_worker(binary: bytes, arguments: list[str], lines: list[str], index: 
 
 def worker_program(binary: bytes) -> str:
     """The path to execute `binary` from, stored once per process in the lagcli cache."""
-    from lagcli.simulate import cache
+    from lagcli.run import cache
 
     key = hashlib.sha256(b"lagcli sweep driver\0" + binary).hexdigest()[:32]
     with _programs_lock:

@@ -9,7 +9,7 @@
     --runs table.csv                  one run per row; the header names the columns
 
 Run ids are 0, 1, 2, ... in this order. Values are numbers or constant expressions
-(`pi/2`), read by `lagcli.simulate.options.parse_value` (never eval). Which names
+(`pi/2`), read by `lagcli.run.options.parse_value` (never eval). Which names
 may be varied (parameters, inputs, initial values) is checked by the caller against
 the system's layout.
 """
@@ -21,7 +21,7 @@ import re
 from dataclasses import dataclass
 
 from lagcli.errors import UsageError
-from lagcli.simulate.options import parse_range, parse_value
+from lagcli.run.options import parse_range, parse_value
 
 DISTRIBUTIONS = {"uniform": ("A", "B"), "normal": ("MU", "SIGMA")}
 _CALL = re.compile(r"\s*([a-z]+)\s*\((.*)\)\s*")

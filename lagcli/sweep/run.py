@@ -3,7 +3,7 @@
 1. The compiled driver is built once (the C backend's cache, as `lagcli simulate`).
 2. Each run's values are split by the layout into parameters, initial values and
    inputs; its initial state is made consistent here, in Python, as `simulate` does
-   (`lagcli.simulate.initial`: dependent coordinates and velocities solved for) — a
+   (`lagcli.analysis.initial_state`: dependent coordinates and velocities solved for) — a
    run whose state cannot be made consistent is recorded as failed with the reason.
    The driver then gets the whole state and every changed parameter of every run.
 3. The runs not yet in the journal go in chunks to local driver processes or to a
@@ -21,9 +21,9 @@ from dataclasses import dataclass, field
 
 from lagcli import __version__
 from lagcli.errors import LagcliError, SimulationError, UsageError
-from lagcli.numerics import EXPLICIT_METHODS
-from lagcli.output import check_directory_output, resolve_target, write_output
-from lagcli.simulate.options import Request, RunSettings, resolve_settings
+from lagcli.runtime.run_rules import EXPLICIT_METHODS
+from lagcli.render.output import check_directory_output, resolve_target, write_output
+from lagcli.run.options import Request, RunSettings, resolve_settings
 from lagcli.sweep import driver, executors, summary
 from lagcli.sweep.plan import Plan
 
@@ -140,7 +140,7 @@ def _settings(system, options: SweepOptions) -> RunSettings:
 
 def _kinds(layout, plan: Plan, options: SweepOptions) -> dict[str, str]:
     """'parameter', 'state' or 'input' for every varied or fixed name (else a UsageError)."""
-    from lagcli.simulate.options import _hint
+    from lagcli.run.options import _hint
 
     kinds = {**{p: "parameter" for p in layout.parameter_names}, **{s: "state" for s in layout.state_names},
              **{i.name: "input" for i in getattr(layout, "inputs", ())}}
@@ -154,7 +154,7 @@ def _kinds(layout, plan: Plan, options: SweepOptions) -> dict[str, str]:
 
 def _driver(system) -> tuple[str, bytes]:
     """The compiled driver (built into the cache if needed): (path to run, its bytes)."""
-    from lagcli.simulate import c_backend
+    from lagcli.run import c_backend
 
     compiler = c_backend.find_compiler()
     if compiler is None:
@@ -173,7 +173,7 @@ def _exceed(layout, exceed: dict) -> dict[str, float]:
 
 
 def _arguments(settings: RunSettings, exceed: dict, rows: bool) -> list[str]:
-    from lagcli.simulate.c_backend import driver_arguments
+    from lagcli.run.c_backend import driver_arguments
 
     return driver_arguments(settings, {}, {}) + driver.batch_options(rows, exceed)
 
@@ -189,7 +189,7 @@ def _metric_names(layout, exceed: dict) -> list[str]:
 
 def _run_lines(system, plan: Plan, options: SweepOptions, kinds) -> tuple[dict[int, str], dict[int, str]]:
     """{run id: the driver's input line} and {run id: why its initial state failed}."""
-    from lagcli.simulate.initial import Sources, initial_state
+    from lagcli.analysis.initial_state import Sources, initial_state
 
     model, layout = system.model, system.layout
     defaults = layout.parameter_defaults
@@ -223,9 +223,7 @@ def _failed(run_id: int, reason: str, metrics) -> driver.RunResult:
 def _journal(system, options: SweepOptions, arguments, lines, failed, header) -> summary.Journal | None:
     if options.output is None:
         return None
-    digest = hashlib.sha256()
-    with open(system.model.source, "rb") as spec:
-        digest.update(spec.read())
+    digest = hashlib.sha256(system.spec_bytes)      # as read: a file, standard input or text
     for part in (__version__, *arguments, str(bool(options.trajectories)), *header,
                  *lines.values(), *(f"{k}:{v}" for k, v in sorted(failed.items()))):
         digest.update(part.encode() + b"\0")

@@ -21,7 +21,7 @@ import io
 import os
 
 from lagcli.errors import UsageError
-from lagcli.output import write_output
+from lagcli.render.output import write_output
 from lagcli.sweep.driver import COUNTS, RunResult, number
 
 JOURNAL_SUFFIX = ".partial"

@@ -22,7 +22,7 @@
  * the exact equations (alpha = beta = 0). A model without the variational functions
  * (nonholonomic constraints) refuses it with exit status 2.
  *
- * The numbers below are the C side of lagcli/numerics.py (tests/test_c_runtime.py
+ * The numbers below are the C side of lagcli/interface.py (tests/test_c_runtime.py
  * checks that both say the same).
  */
 #include <math.h>
@@ -43,6 +43,10 @@
 #define LAGCLI_METHODS "RK45|DOP853|variational"   /* lagcli_ode's explicit methods, lagcli_variational */
 #define LAGCLI_WINDOW 65536               /* output times per integration (see the top) */
 #define LAGCLI_MAX_EXCEED 16              /* --exceed options of a batch */
+#define LAGCLI_STEP_BUDGET_BASE 20000     /* default --max-steps: this many steps ... */
+#define LAGCLI_STEP_BUDGET_PER_OUTPUT 1000 /* ... plus this many per output interval (t_end/dt) */
+#define STEP_BUDGET_TEXT "the integration reached its bound of %ld steps before t_end " \
+    "(a stiff or blowing-up solution?); raise the bound with --max-steps N"
 
 typedef struct {
     const lagcli_model *model;
@@ -57,6 +61,7 @@ typedef struct {
 typedef struct {
     double t_end, dt, rtol, atol;
     const char *method;
+    double max_steps; /* --max-steps: accepted steps a run may take (0: the default rule) */
     long bench;    /* --bench-integration N: time N silent integrations instead of printing */
     long steps_per_row;   /* --steps-per-row K (variational) */
     int batch;     /* --batch: many runs read from stdin (batch_main); 2 with --batch-rows */
@@ -129,7 +134,7 @@ static int usage(const char *program, const char *problem)
     fprintf(problem != NULL ? stderr : stdout,
             "usage: %s [--t-end T] [--dt DT] [--method " LAGCLI_METHODS "] [--rtol R] [--atol A]\n"
             "       [--set NAME=VALUE]... [--init NAME=VALUE]... [--baumgarte ALPHA BETA]\n"
-            "       [--steps-per-row K]   (--method variational: K fixed steps between rows)\n",
+            "       [--max-steps N] [--steps-per-row K]   (variational: K fixed steps between rows)\n",
             program);
     return problem != NULL ? 2 : 0;
 }
@@ -222,6 +227,10 @@ static int parse(int argc, char **argv, run_settings *s, run_state *run, double 
         } else if ((v = option(argc, argv, &i, "--init", &missing)) != NULL) {
             if (!assign("--init", v, run->model->state_names, "coordinate or velocity", y0, message))
                 return usage(argv[0], message);
+        } else if ((v = option(argc, argv, &i, "--max-steps", &missing)) != NULL) {
+            if (!number(v, &s->max_steps) || s->max_steps < 1 || s->max_steps > 1e15
+                || s->max_steps != floor(s->max_steps))
+                return usage(argv[0], "--max-steps: expected a whole number of steps from 1 to 1e15");
         } else if ((v = option(argc, argv, &i, "--bench-integration", &missing)) != NULL) {
             double count;
             if (!number(v, &count) || count < 1 || count > 1e6 || count != floor(count))
@@ -305,6 +314,15 @@ static double time_at(const output_times *times, size_t k)
     return k < times->regular ? (double)k * times->dt : times->t_end;
 }
 
+/* The steps a run may take: --max-steps, else LAGCLI_STEP_BUDGET_BASE plus
+ * LAGCLI_STEP_BUDGET_PER_OUTPUT per output interval (lagcli.interface.default_max_steps). */
+static long step_budget(const run_settings *s)
+{
+    if (s->max_steps > 0)
+        return (long)s->max_steps;
+    return LAGCLI_STEP_BUDGET_BASE + LAGCLI_STEP_BUDGET_PER_OUTPUT * (long)ceil(s->t_end / s->dt - LAGCLI_OUTPUT_SLACK);
+}
+
 /* Integrate from y0 at t = 0, calling `out` at every output time after 0: LAGCLI_WINDOW
  * output times per integration, each continuing from the last row's state. */
 static int integrate_windows(const run_settings *s, run_state *run, const double *y0,
@@ -314,6 +332,7 @@ static int integrate_windows(const run_settings *s, run_state *run, const double
     output_times times = times_of(s->t_end, s->dt);
     double t0 = 0.0, t_stop;
     size_t next = 1, n, i;
+    long used = 0, budget = step_budget(s);
     int rc = LAGCLI_ODE_OK;
     memset(stats, 0, sizeof *stats);
     memcpy(run->last, y0, (size_t)run->model->nstate * sizeof *y0);
@@ -324,9 +343,10 @@ static int integrate_windows(const run_settings *s, run_state *run, const double
         t_stop = window[n - 1];
         if (next + n == times.count && t_stop < s->t_end)
             t_stop = s->t_end;                 /* the last window: integrate to t_end */
-        rc = lagcli_ode_integrate(s->method, rhs, out, run, run->model->nstate, t0, run->last, t_stop,
-                                  window, n, s->rtol, s->atol,
-                                  max_step(run->model, run->alpha, run->beta), stats);
+        rc = lagcli_ode_integrate_bounded(s->method, rhs, out, run, run->model->nstate, t0, run->last, t_stop,
+                                          window, n, s->rtol, s->atol,
+                                          max_step(run->model, run->alpha, run->beta), budget - used, stats);
+        used += stats->n_accepted;
         t0 = window[n - 1];
         next += n;
     }
@@ -385,6 +405,8 @@ static int integrate(const run_settings *s, run_state *run, const double *y0)
     else if (rc == LAGCLI_ODE_ERR_NONFINITE)
         fprintf(stderr, "error: at t = %.10g: the state is no longer finite (inf/nan): the solution blows up\n",
                 stats.t);
+    else if (rc == LAGCLI_ODE_ERR_MAX_STEPS)
+        fprintf(stderr, "error: at t = %.10g: " STEP_BUDGET_TEXT "\n", stats.t, step_budget(s));
     else
         fprintf(stderr, "error: at t = %.10g: the %s integrator failed: %s\n", stats.t, s->method, stats.message);
     return 1;
@@ -421,6 +443,7 @@ int lagcli_driver_main(const lagcli_model *model, int argc, char **argv)
     s.method = model->method;
     s.rtol = model->rtol;
     s.atol = model->atol;
+    s.max_steps = 0;
     s.bench = 0;
     s.steps_per_row = 1;
     s.batch = 0;
@@ -579,6 +602,8 @@ static void failure_text(int rc, const run_settings *s, const run_state *run, co
         sprintf(text, "at t = %.10g: %s", run->when, reason(run->code));
     else if (rc == LAGCLI_ODE_ERR_NONFINITE)
         sprintf(text, "at t = %.10g: the state is no longer finite (inf/nan): the solution blows up", st->t);
+    else if (rc == LAGCLI_ODE_ERR_MAX_STEPS)
+        sprintf(text, "at t = %.10g: " STEP_BUDGET_TEXT, st->t, step_budget(s));
     else
         sprintf(text, "at t = %.10g: the %s integrator failed: %s", st->t, s->method, st->message);
 }
@@ -723,6 +748,11 @@ static int variational_run(const run_settings *s, run_state *run, const double *
     int rc = lagcli_variational_start(&v, run->model, run->p, y0);
     for (k = 1; rc == LAGCLI_VARIATIONAL_OK && k < times.count; ++k) {
         double t_next = time_at(&times, k), h = (t_next - t_row) / (double)s->steps_per_row;
+        if ((double)k * (double)s->steps_per_row > (double)step_budget(s)) {
+            lagcli_variational_free(&v);
+            fprintf(stderr, "error: at t = %.10g: " STEP_BUDGET_TEXT "\n", t_row, step_budget(s));
+            return 1;
+        }
         for (j = 0; rc == LAGCLI_VARIATIONAL_OK && j < s->steps_per_row; ++j)
             rc = lagcli_variational_step(&v, t_row + (double)j * h, h);
         t_row = t_next;

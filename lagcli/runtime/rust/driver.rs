@@ -18,7 +18,7 @@
 //! at 1/|lambda| of its constraint-error mode, and an initial state violating the
 //! constraints by more than CONSTRAINT_TOLERANCE is integrated as given, with a warning.
 //! On failure: "error: at t = ...: reason" on stderr, exit status 1, the rows so far
-//! kept; bad options: exit status 2. The numbers below are lagcli/numerics.py's
+//! kept; bad options: exit status 2. The numbers below are lagcli/interface.py's
 //! (tests/test_codegen_rust.py checks that both say the same).
 
 use std::io::{BufRead, BufWriter, Write};

@@ -1,0 +1,294 @@
+"""Consistent initial states of constrained systems.
+
+The state starts as the spec's `initial:` values overridden by `--init`
+(anything not given is 0).  For constrained systems it must satisfy, at t0,
+
+    phi_j(q, t0) = 0                 (holonomic rows)
+    sum_k a_jk q'_k + d_j = 0        (every row; holonomic ones differentiated)
+
+to 1e-8.  When it does not, the quantities the user did *not* give are solved for:
+
+- dependent coordinates: scipy's trust-region least squares (`least_squares`,
+  method "trf": any number of unknowns) on the holonomic rows, first from the
+  given values (0 for missing ones), then
+  from deterministic nearby starts (the unknowns shifted down, then up, by
+  0.1 (1 + |q|), then a few seeded random shifts) — so a Cartesian pendulum with
+  only x given hangs down (y < 0) rather than standing up;
+- dependent velocities: the least-norm correction that makes A q' + d = 0, over
+  the velocities not given (which start from 0).
+
+When every coordinate (velocity) has a value, the ones in `soft` — the spec's
+`initial:` values that `--init` did not override — are solved for instead,
+starting from their given values: `--init x=0.5` on a Cartesian pendulum moves y
+back onto the rod and projects the spec's (x', y') onto the rod's tangent (the
+smallest change to the given velocities, not a reset to 0); and after `--set l=2`,
+which leaves every value of the spec's state given, its `initial:` values are
+moved onto the new constraints the same way.
+
+What was solved, from which given values and with which changed parameters, is
+reported in `notes` (shown on stderr).  When nothing may be solved for, or the
+solve fails, a `UsageError` (exit status 2) names each violated constraint and its
+residual, and its hint names what the user gave (`Sources`).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import sympy as sp
+
+from lagcli.render.spec_printer import spec_str
+from lagcli.errors import UsageError
+from lagcli.interface import CONSTRAINT_TOLERANCE as TOLERANCE
+
+_SOLVE_TOL = 1e-11      # what the least-squares solves aim for
+_RCOND = 1e-8           # singular values of the free velocities' columns below this (relative) are not used
+_LARGEST_CHANGE = 1e3   # a repair may change velocities by at most this times the spec's scale
+
+
+@dataclass(frozen=True)
+class InitialState:
+    values: tuple[float, ...]          # [q..., q'...]
+    notes: tuple[str, ...] = ()        # "solved for dependent coordinates: y = -0.8 ..."
+
+
+@dataclass(frozen=True)
+class Sources:
+    """How the caller names the origins of values, for notes and hints (the command
+    line's by default; the Python API passes its own argument names)."""
+
+    override: str = "--init"           # values given for this run
+    spec: str = "initial:"             # the spec's `initial:` values
+    parameter: str = "--set"           # parameter values changed for this run
+
+
+def initial_state(d, given: dict[str, float], params: dict[str, float], t0: float = 0.0,
+                  soft=(), sources: Sources = Sources()) -> InitialState:
+    """The state [q, q'] from `given` (name -> value), made consistent with the constraints.
+
+    `d` is the Derivation, `params` every parameter's value by name, `soft` the given
+    names that may still be solved for when nothing else can be (the spec's `initial:`
+    values the caller did not override).
+    """
+    model = d.model
+    q = np.array([given.get(s.name, 0.0) for s in model.q], dtype=float)
+    qd = np.array([given.get(s.name, 0.0) for s in model.qd], dtype=float)
+    if not d.constraints:
+        return InitialState(tuple(q) + tuple(qd))
+    f = _ConstraintFunctions(d, params, t0)
+    origin = _Origin(d, given, params, soft, sources)
+    notes = []
+    holonomic = [j for j, row in enumerate(d.constraints) if row.kind == "holonomic"]
+    if holonomic and _worst(f.phi(q)) > TOLERANCE:
+        q, free = _first_solution(lambda free: _solve_positions(f, q, free, d, origin),
+                                  _free(model.q, given, soft))
+        notes.append(origin.note("coordinates", model.q, free, q))
+    residual = f.velocity_residual(q, qd)
+    if _worst(residual) > TOLERANCE:
+        qd, free = _first_solution(lambda free: _solve_velocities(f, q, qd, free, d, origin),
+                                   _free(model.qd, given, soft))
+        notes.append(origin.note("velocities", model.qd, free, qd))
+    return InitialState(tuple(float(v) for v in (*q, *qd)), tuple(notes))
+
+
+class _Origin:
+    """Where each value came from: `sources.override` (given, not soft), `sources.spec`
+    (soft) and the parameters that differ from the spec's (`sources.parameter`)."""
+
+    def __init__(self, d, given, params, soft, sources: Sources):
+        self.sources = sources
+        self.given, self.soft = set(given), set(soft)
+        self.changed = [(p.symbol.name, params[p.symbol.name]) for p in d.model.parameters
+                        if params[p.symbol.name] != p.value]
+
+    def source(self, name: str) -> str:
+        return self.sources.spec if name in self.soft else self.sources.override
+
+    def note(self, what: str, symbols, free, values) -> str:
+        """'initial state: solved for dependent coordinates: y = -1.9 from x (initial:)
+        with l = 2 (--set)'."""
+        solved = ", ".join(f"{symbols[k]} = {values[k]:.12g}" for k in free)
+        held = [s.name for k, s in enumerate(symbols) if k not in free and s.name in self.given]
+        text = f"initial state: solved for dependent {what}: {solved}"
+        if held:
+            text += " from " + ", ".join(f"{n} ({self.source(n)})" for n in held)
+        if any(symbols[k].name in self.soft for k in free):
+            text += f", changing the spec's {self.sources.spec} values as little as possible"
+        return text + self._with()
+
+    def _with(self) -> str:
+        if not self.changed:
+            return ""
+        values = ", ".join(f"{name} = {value:.12g}" for name, value in self.changed)
+        return f", with {values} ({self.sources.parameter})"
+
+    def hint(self) -> str:
+        """Name what the user gave, and what to give instead."""
+        overrides = sorted(self.given - self.soft)
+        said = []
+        if overrides:
+            said.append(f"{self.sources.override} gave {', '.join(overrides)}")
+        if self.changed:
+            said.append(f"{self.sources.parameter} gave {', '.join(n for n, _ in self.changed)}")
+        said = "; ".join(said) + "; " if said else ""
+        return (f"  hint: {said}give fewer coordinates/velocities with {self.sources.override} "
+                "(the others are solved for), or a consistent state")
+
+
+def spec_initial_state(d) -> tuple[InitialState, bool]:
+    """The spec's own `initial:` state (missing values 0, default parameters) made
+    consistent as `simulate` does, and True; when that is impossible, the state as
+    given with a note saying so, and False. What generated code embeds as its
+    default initial state (`lagcli.targets.about.interface`)."""
+    model = d.model
+    given = dict(model.initial)
+    own = Sources(override=Sources.spec)   # every value given is the spec's: "(initial:)", never "(--init)"
+    try:
+        return initial_state(d, given, {p.symbol.name: p.value for p in model.parameters}, sources=own), True
+    except UsageError:
+        values = tuple(float(given.get(s.name, 0.0)) for s in model.q + model.qd)
+        return InitialState(values, ("initial state: inconsistent with the constraints; used as given",)), False
+
+
+def _free(symbols, given, soft) -> list[list[int]]:
+    """The unknowns to solve for, in the order to try them: the values not given, then
+    those together with the spec's own (`soft`) values, when that adds any."""
+    missing = [k for k, s in enumerate(symbols) if s.name not in given]
+    widened = [k for k, s in enumerate(symbols) if s.name not in given or s.name in soft]
+    return [missing, widened] if missing and widened != missing else [widened]
+
+
+def _first_solution(solve, choices):
+    """solve(free) for each choice of unknowns until one succeeds: (values, free). The
+    last choice's failure (a UsageError naming what was given) is the one raised."""
+    for free in choices[:-1]:
+        try:
+            return solve(free), free
+        except UsageError:
+            continue
+    return solve(choices[-1]), choices[-1]
+
+
+class _ConstraintFunctions:
+    """phi(q), its Jacobian, and A(q) q' + d(q) at t0, as numpy functions."""
+
+    def __init__(self, d, params: dict[str, float], t0: float):
+        model = d.model
+        subs = {p.symbol: sp.Float(params[p.symbol.name]) for p in model.parameters}
+        subs[model.t] = sp.Float(t0)
+        q = list(model.q)
+        self.rows = [j for j, row in enumerate(d.constraints) if row.kind == "holonomic"]
+        phi = sp.Matrix([d.constraints[j].expr for j in self.rows]).xreplace(subs)
+        A = sp.Matrix(d.constraint_matrix).xreplace(subs)
+        bias = sp.Matrix([row.d for row in d.constraints]).xreplace(subs)
+        self._phi = sp.lambdify([q], phi, "numpy")
+        self._jac = sp.lambdify([q], phi.jacobian(q) if self.rows else phi, "numpy")
+        self._A = sp.lambdify([q], A, "numpy")
+        self._d = sp.lambdify([q], bias, "numpy")
+        self.n, self.m = len(q), len(d.constraints)
+
+    def phi(self, q) -> np.ndarray:
+        return np.asarray(self._phi(q), dtype=float).reshape(len(self.rows))
+
+    def jacobian(self, q) -> np.ndarray:
+        return np.asarray(self._jac(q), dtype=float).reshape(len(self.rows), self.n)
+
+    def A(self, q) -> np.ndarray:
+        return np.asarray(self._A(q), dtype=float).reshape(self.m, self.n)
+
+    def d(self, q) -> np.ndarray:
+        return np.asarray(self._d(q), dtype=float).reshape(self.m)
+
+    def velocity_residual(self, q, qd) -> np.ndarray:
+        return self.A(q) @ qd + self.d(q)
+
+
+def _solve_positions(f: _ConstraintFunctions, q, free, d, origin) -> np.ndarray:
+    if not free:
+        _fail(d, [(d.constraints[j], r) for j, r in zip(f.rows, f.phi(q))],
+              "every coordinate is given, so none can be solved for", origin)
+    for start in _starts(q, free):
+        found = _least_squares(f, start, free)
+        if found is not None:
+            return found
+    names = ", ".join(str(d.model.q[k]) for k in free)
+    _fail(d, [(d.constraints[j], r) for j, r in zip(f.rows, f.phi(q))],
+          f"solving for the coordinates {names} did not converge", origin)
+
+
+def _starts(q, free):
+    yield q.copy()
+    rng = np.random.default_rng(0)
+    shifts = [-0.1, 0.1] + [None] * 6
+    for shift in shifts:
+        start = q.copy()
+        scale = 1.0 + np.abs(q[free])
+        start[free] += scale * (shift if shift is not None else rng.normal(0.0, 0.5, len(free)))
+        yield start
+
+
+def _least_squares(f: _ConstraintFunctions, q, free):
+    """phi(q) = 0 over the coordinates `free`, from `q`, by scipy's trust-region least
+    squares ("trf" accepts more unknowns than rows); None when it does not get there."""
+    from scipy.optimize import least_squares
+
+    def residual(x):
+        trial = q.copy()
+        trial[free] = x
+        return f.phi(trial)
+
+    def jacobian(x):
+        trial = q.copy()
+        trial[free] = x
+        return f.jacobian(trial)[:, free]
+
+    if not np.all(np.isfinite(residual(q[free]))):
+        return None
+    found = least_squares(residual, q[free], jac=jacobian, method="trf",
+                          xtol=1e-15, ftol=1e-15, gtol=1e-15, max_nfev=200)
+    result = q.copy()
+    result[free] = found.x
+    ok = np.all(np.isfinite(found.x)) and _worst(f.phi(result)) <= 10 * _SOLVE_TOL
+    return result if ok else None
+
+
+def _solve_velocities(f: _ConstraintFunctions, q, qd, free, d, origin) -> np.ndarray:
+    residual = f.velocity_residual(q, qd)
+    if not free:
+        _fail(d, list(zip(d.constraints, residual)), "every velocity is given, so none can be solved for",
+              origin, level="velocity")
+    A = f.A(q)
+    scale = max(1.0, _worst(qd), _worst(residual))   # the spec's own scale of velocities
+    qd = qd.copy()       # unknowns not given are 0 here; soft ones keep their given values
+    # least-norm change; directions the free velocities move only by a hair (singular values
+    # below RCOND of the largest) are not used: they would "fix" a row with a huge velocity
+    change = np.linalg.lstsq(A[:, free], -(A @ qd + f.d(q)), rcond=_RCOND)[0]
+    qd[free] += change
+    after = f.velocity_residual(q, qd)
+    names = ", ".join(str(d.model.qd[k]) for k in free)
+    if not np.all(np.isfinite(after)) or _worst(after) > TOLERANCE * 1e-2:
+        unsatisfied = [(row, value) for row, value, now in zip(d.constraints, residual, after)
+                       if not abs(now) <= TOLERANCE * 1e-2]
+        _fail(d, unsatisfied, f"the velocities solved for ({names}) cannot satisfy these rows", origin,
+              level="velocity")
+    if _worst(change) > _LARGEST_CHANGE * scale:
+        _fail(d, list(zip(d.constraints, residual)),
+              f"the velocities solved for ({names}) would change by up to {_worst(change):.3g}, far beyond "
+              f"the given velocities' scale ({scale:.3g})", origin, level="velocity")
+    return qd
+
+
+def _worst(values) -> float:
+    values = np.asarray(values, dtype=float)
+    return float(np.max(np.abs(values))) if values.size else 0.0
+
+
+def _fail(d, rows_and_residuals, reason: str, origin: _Origin, level: str = "position") -> None:
+    lines = [f"{d.model.source}: the initial state violates the constraints ({reason}):"]
+    for row, value in rows_and_residuals:
+        if abs(value) > TOLERANCE or not np.isfinite(value):
+            label = f"{row.label!r}" if row.label else row.multiplier.name
+            lines.append(f"  constraint {label}: {spec_str(row.expr)} = 0 "
+                         f"({row.kind}; {level} residual {value:.3g})")
+    lines.append(origin.hint())
+    raise UsageError("\n".join(lines))

@@ -1,0 +1,217 @@
+"""Small calculus tools shared by the model and the derivation.
+
+Derivations use plain symbols for q, q' and q'' and an explicit total time
+derivative, which is much faster than sympy's `Function`/`Derivative` objects:
+
+    D f(t, q, q') = df/dt + sum_k (df/dq_k q'_k + df/dq'_k q''_k)
+"""
+from __future__ import annotations
+
+import random
+from collections.abc import Iterable, Sequence
+from functools import reduce
+
+import sympy as sp
+from sympy.core.function import ArgumentIndexError
+
+from lagcli.model.constants import ConstantError, value_at
+
+
+class TimeDerivative:
+    """The total time derivative along the coordinates' motion."""
+
+    def __init__(self, t: sp.Symbol, q: Sequence[sp.Symbol], qd: Sequence[sp.Symbol],
+                 qdd: Sequence[sp.Symbol]):
+        self.t = t
+        self.chain = list(zip(q, qd)) + list(zip(qd, qdd))
+        self.position_chain = self.chain[:len(q)]
+        self.accelerations = frozenset(qdd)
+        self.free: dict = {}      # free symbols of every subexpression seen (see `derivative`)
+
+    def __call__(self, expr: sp.Expr, accelerations: bool = True) -> sp.Expr:
+        """D expr; with `accelerations=False`, D expr at q'' = 0 (the q'' terms are never
+        formed, which is much cheaper than substituting 0 for them afterwards)."""
+        expr = sp.sympify(expr)
+        free = free_symbols(expr, self.free)
+        if free & self.accelerations:
+            raise ValueError("cannot differentiate an expression containing accelerations")
+        result = derivative(expr, self.t, self.free) if self.t in free else sp.S.Zero
+        for var, rate in self.chain if accelerations else self.position_chain:
+            if var in free:
+                result += derivative(expr, var, self.free) * rate
+        return result
+
+    def matrix(self, m: sp.MatrixBase, accelerations: bool = True) -> sp.ImmutableMatrix:
+        return sp.ImmutableMatrix(m.shape[0], m.shape[1], [self(e, accelerations) for e in m])
+
+
+def free_symbols(expr: sp.Basic, memo: dict) -> frozenset:
+    """expr.free_symbols, remembered in `memo` for every subexpression (sympy recomputes
+    them from the leaves at every call, which made differentiating big trees quadratic)."""
+    found = memo.get(expr)
+    if found is None:
+        if expr.is_Symbol:
+            found = frozenset((expr,))
+        elif not expr.args or not isinstance(expr, sp.Expr):
+            found = frozenset(expr.free_symbols)
+        else:
+            found = frozenset().union(*(free_symbols(a, memo) for a in expr.args))
+        memo[expr] = found
+    return found
+
+
+def derivative(expr: sp.Expr, var: sp.Symbol, memo: dict | None = None) -> sp.Expr:
+    """d expr / d var, the same expression as sympy's `expr.diff(var)`, much faster on big
+    trees: subtrees free of `var` are skipped without visiting them (`free_symbols`), and
+    sums, products, constant powers and smooth functions are differentiated here with
+    sympy's own rules (Add, Mul and Pow `_eval_derivative`, Function's chain rule) rather
+    than through a `Derivative` object per node. Anything else (Abs, sign, Piecewise, a
+    power with a varying exponent...) is left to sympy."""
+    memo = {} if memo is None else memo
+    if not isinstance(expr, sp.Basic) or var not in free_symbols(expr, memo):   # a plain 0 or number
+        return sp.S.Zero
+    if expr is var or expr == var:
+        return sp.S.One
+    if expr.is_Add:
+        return expr.func(*(derivative(a, var, memo) for a in expr.args))
+    if expr.is_Mul:
+        args, terms = list(expr.args), []
+        for i, a in enumerate(args):
+            d = derivative(a, var, memo)
+            if d:
+                terms.append(reduce(lambda x, y: x * y, args[:i] + [d] + args[i + 1:], sp.S.One))
+        return sp.Add.fromiter(terms)
+    if expr.is_Pow and var not in free_symbols(expr.exp, memo):
+        base, exponent = expr.args
+        return expr * (derivative(base, var, memo) * exponent / base)
+    if isinstance(expr, sp.Function) and type(expr)._eval_derivative is sp.Function._eval_derivative:
+        terms = []
+        for i, a in enumerate(expr.args, start=1):
+            d = derivative(a, var, memo)
+            if not d.is_zero:
+                try:
+                    terms.append(expr.fdiff(i) * d)
+                except ArgumentIndexError:
+                    return expr.diff(var)
+        return sp.Add(*terms)
+    return expr.diff(var)
+
+
+def jacobian(exprs, variables, memo: dict | None = None) -> sp.ImmutableMatrix:
+    """d exprs_i / d variables_j (a column of expressions), by `derivative`."""
+    memo = {} if memo is None else memo
+    exprs = list(exprs)
+    return sp.ImmutableMatrix(len(exprs), len(variables),
+                              [derivative(e, v, memo) for e in exprs for v in variables])
+
+
+def depends_on(expr: sp.Expr, symbols: Iterable[sp.Symbol]) -> bool:
+    """Structural dependence (cheap; may say True for a dependence that cancels)."""
+    return bool(sp.sympify(expr).free_symbols & set(symbols))
+
+
+def numerically_zero(exprs: Iterable[sp.Expr], trials: int = 3, seed: int = 20261121) -> bool:
+    """True when every expression vanishes at `trials` random points.
+
+    Used to decide identities such as "L has no explicit t" robustly when a
+    dependence cancels only after trigonometric simplification (a bead on a
+    spinning hoop has cos(W t)**2 + sin(W t)**2 in its T). Random values lie in
+    [0.3, 1.3] so square roots and logs of parameters stay real. A point where an
+    expression is not finite or not real is skipped (another is drawn).
+    """
+    exprs = [sp.sympify(e) for e in exprs]
+    exprs = [e for e in exprs if e != 0]
+    if not exprs:
+        return True
+    names = set().union(*(e.free_symbols for e in exprs))
+    rng = random.Random(seed)
+    done = attempts = 0
+    while done < trials and attempts < 10 * trials:
+        attempts += 1
+        point = {s: rng.uniform(0.3, 1.3) for s in sorted(names, key=str)}
+        memo: dict = {}      # subexpressions shared between the expressions are evaluated once
+        values = [_evaluate(e, point, memo) for e in exprs]
+        if any(v is None for v in values):
+            continue
+        done += 1
+        if any(abs(value) > 1e-9 * (1 + scale) for value, scale in values):
+            return False
+    return done > 0  # no point could be evaluated: undecided, so not "zero"
+
+
+def _evaluate(expr: sp.Expr, point: dict, memo: dict) -> tuple[float, float] | None:
+    """(value, scale) of expr at point, scale = sum of |terms| for a relative tolerance.
+
+    Evaluated in double precision node by node (`constants.value_at`), never by
+    substituting Floats and `evalf`: sympy would evaluate sin(exp(exp(exp(exp(x)))))
+    at a point with mpmath to millions of digits."""
+    terms = expr.args if expr.is_Add else (expr,)
+    total, scale = 0.0, 0.0
+    for term in terms:
+        try:
+            number = value_at(term, point, memo)
+        except ConstantError:
+            return None
+        total += number
+        scale += abs(number)
+    return total, scale
+
+
+class DependenceProbe:
+    """Decides numerically whether expressions depend on a symbol.
+
+    The expressions are compiled once (sympy's lambdify of sympy-built objects;
+    never spec text) and evaluated at random points, then again with only the
+    symbol in question changed. Any change beyond rounding means dependence.
+    Used where structural dependence is misleading: cos(W t)**2 + sin(W t)**2.
+    """
+
+    def __init__(self, exprs: Sequence[sp.Expr], seed: int = 20261121):
+        self.exprs = [sp.sympify(e) for e in exprs]
+        self.symbols = sorted(set().union(*(e.free_symbols for e in self.exprs)), key=str)
+        self.rng = random.Random(seed)
+        self._compiled = None
+
+    def _evaluate(self, point: dict) -> list[float] | None:
+        if self._compiled is None:
+            self._compiled = sp.lambdify(self.symbols, self.exprs, modules=["math", "mpmath"])
+        try:
+            values = [complex(v) for v in self._compiled(*(point[s] for s in self.symbols))]
+        except (ValueError, ZeroDivisionError, OverflowError, TypeError, ArithmeticError, NameError):
+            return None  # NameError: a function math lacks (re, im of a complex argument)
+        if any(abs(v.imag) > 1e-12 * (1 + abs(v.real)) or v.real != v.real for v in values):
+            return None
+        return [v.real for v in values]
+
+    def depends_on(self, symbol: sp.Symbol, trials: int = 3) -> bool:
+        if symbol not in self.symbols:
+            return False
+        done = attempts = 0
+        while done < trials and attempts < 10 * trials:
+            attempts += 1
+            base = {s: self.rng.uniform(0.3, 1.3) for s in self.symbols}
+            moved = {**base, symbol: base[symbol] + self.rng.uniform(0.5, 1.5)}
+            first, second = self._evaluate(base), self._evaluate(moved)
+            if first is None or second is None:
+                continue
+            done += 1
+            scale = 1 + max(abs(v) for v in first + second)
+            if any(abs(a - b) > 1e-9 * scale for a, b in zip(first, second)):
+                return True
+        return done == 0  # no point could be evaluated: undecided, so assume dependence
+
+
+def almost_everywhere(value):
+    """Derivatives of abs/sign/min/max taken almost everywhere: DiracDelta -> 0, d sign -> 0 and
+    Heaviside(x) -> (1 + sign(x))/2, so every result prints in the spec language and in C."""
+    if isinstance(value, sp.MatrixBase):
+        return sp.ImmutableMatrix(value.shape[0], value.shape[1], [almost_everywhere(e) for e in value])
+    value = sp.sympify(value)
+    if not value.has(sp.DiracDelta, sp.Heaviside, sp.Derivative):
+        return value
+    # sympy leaves d/dx sign(u) unevaluated when it cannot prove u real (u = 1/x): it is 0 too
+    value = value.replace(lambda e: isinstance(e, sp.Derivative) and isinstance(e.expr, sp.sign),
+                          lambda e: sp.S.Zero)
+    value = value.replace(sp.DiracDelta, lambda *args: sp.S.Zero)
+    return value.replace(sp.Heaviside, lambda x, *rest: (1 + sp.sign(x)) / 2)
+

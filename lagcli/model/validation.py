@@ -1,0 +1,253 @@
+"""Physical validation of a model and its derivation: what a spec may not mean.
+
+A spec can be well formed and still describe no real machine. Checked at the
+parameters' default values (every command reads the spec, so every command checks):
+
+- masses are positive (negative: an error; zero: a warning);
+- a spatial inertia tensor is symmetric and positive semi-definite (errors: the
+  report, the code and the physics would disagree), and its principal moments obey
+  the triangle inequality I1 <= I2 + I3 (a warning: the equations are still
+  consistent); a planar moment is >= 0;
+- the mass matrix, restricted to the motions the constraints allow, is regular:
+  singular everywhere (a coordinate that carries no inertia) is an error naming the
+  coordinate; singular only at the initial state (a gimbal lock, a pole) is a warning;
+- the spec's expressions are finite at the initial state (a warning: derive and
+  generate are still right, only a simulation from there would fail).
+
+Warnings go through `lagcli.errors.warn_spec`, errors are collected into one `SpecError`.
+"""
+from __future__ import annotations
+
+import random
+
+import mpmath
+import sympy as sp
+
+from lagcli.model.constants import ConstantError, value_at
+from lagcli.errors import Loc, Problem, SpecError, warn_spec
+from lagcli.model.model_types import Model
+
+TOLERANCE = 1e-9          # relative: an eigenvalue or a moment this far below zero is still zero
+SINGULAR = 1e-10          # smallest / largest singular value below this: singular
+RANDOM_STATES = 3         # seeded states that decide "singular everywhere"
+SEED = 20240611
+
+
+def check_model(model: Model) -> None:
+    """Raise `SpecError` for impossible masses and inertias; warn about suspicious ones
+    and about expressions that are not finite at the initial state."""
+    errors: list[Problem] = []
+    values = parameter_values(model)
+    for item in (*model.particles, *model.bodies):
+        errors += _mass_problems(item, values)
+    for body in model.bodies:
+        errors += _inertia_problems(body, values, model.dimension)
+    if errors:
+        raise SpecError(errors)
+    for problem in _not_finite_at_start(model, values):
+        warn_spec(problem)
+
+
+def check_mass_matrix(derivation) -> None:
+    """Raise `SpecError` when the mass matrix (on the constraints' null space) is singular
+    at every state tried; warn when it is singular at the initial state only."""
+    model = derivation.model
+    start = {**parameter_values(model), **initial_values(model)}
+    singular = _singular_directions(derivation, start)
+    if not singular:
+        return
+    rng = random.Random(SEED)
+    everywhere = all(_singular_directions(derivation, _random_state(model, rng)) for _ in range(RANDOM_STATES))
+    names = ", ".join(f"'{name}'" for name in singular)
+    where = model.loc(f"coordinates[{[q.name for q in model.q].index(singular[0])}]")
+    if everywhere:
+        raise SpecError(Problem(where, f"the mass matrix is singular: {names} carries no inertia "
+                                "(nothing with mass or a moment of inertia moves when it changes)",
+                                "give the moving particle a mass or the body a moment of inertia about "
+                                "that axis, or remove the coordinate"))
+    warn_spec(Problem(where, f"the mass matrix is singular at the initial state (along {names}); "
+                      "a simulation cannot start there", "start from another state (initial: or --init)"))
+
+
+# --- values -----------------------------------------------------------------------------
+
+def parameter_values(model: Model) -> dict:
+    """The parameters' and inputs' default values (inputs are held there by `simulate`)."""
+    return {p.symbol: float(p.value) for p in (*model.parameters, *model.inputs)}
+
+
+def initial_values(model: Model) -> dict:
+    """t = 0 and the spec's `initial:` state (a value not given is 0)."""
+    values = {model.t: 0.0}
+    for symbol in (*model.q, *model.qd):
+        values[symbol] = float(model.initial.get(symbol.name, 0.0))
+    values.update({a: 0.0 for a in model.qdd})
+    return values
+
+
+def _random_state(model: Model, rng: random.Random) -> dict:
+    values = parameter_values(model)
+    for symbol in (model.t, *model.q, *model.qd):
+        values[symbol] = rng.uniform(-1.0, 1.0)
+    return values
+
+
+def _real(expr: sp.Expr, values: dict) -> float | None:
+    """`expr` at `values` as a finite real; None when it is not one there. Evaluated in
+    double precision node by node (`constants.value_at`): a tower like exp(exp(exp(x)))
+    overflows instead of sending mpmath after millions of digits."""
+    try:
+        return value_at(sp.sympify(expr), values, {})
+    except ConstantError:
+        return None
+
+
+def _matrix(matrix, values: dict) -> np.ndarray | None:
+    import numpy as np    # here, not at the top: most derives never need it (`_clearly_regular`)
+
+    entries = [_real(e, values) for e in matrix]
+    if any(e is None for e in entries):
+        return None
+    return np.array(entries, dtype=float).reshape(matrix.shape)
+
+
+# --- masses and inertias ----------------------------------------------------------------
+
+def _mass_problems(item, values: dict) -> list[Problem]:
+    where = item.loc.child("mass") if item.loc else Loc("", path="mass")
+    mass = _real(item.mass, values)
+    if mass is None:
+        return [Problem(where, f"the mass of '{item.name}' is not a finite real number at the "
+                        "parameters' values", "check the parameters it uses")]
+    if mass < 0:
+        return [Problem(where, f"the mass of '{item.name}' is negative ({mass:g})", "a mass is positive")]
+    if mass == 0:
+        warn_spec(Problem(where, f"the mass of '{item.name}' is zero: it adds nothing to T or V",
+                          "give it a positive mass, or leave it out"))
+    return []
+
+
+def _inertia_problems(body, values: dict, dimension: int) -> list[Problem]:
+    where = body.loc.child("inertia") if body.loc else Loc("", path="inertia")
+    tensor = _matrix(body.inertia, values)
+    if tensor is None:
+        return [Problem(where, f"the inertia of '{body.name}' is not finite and real at the "
+                        "parameters' values", "check the parameters it uses")]
+    if dimension == 2:
+        moment = tensor[2, 2]
+        return [] if moment >= 0 else [Problem(where, f"the moment of inertia of '{body.name}' is "
+                                               f"negative ({moment:g})", "a moment of inertia is >= 0")]
+    return _tensor_problems(body.name, tensor, where)
+
+
+def _tensor_problems(name: str, tensor: np.ndarray, where: Loc) -> list[Problem]:
+    import numpy as np
+
+    scale = max(1.0, float(np.abs(tensor).max()))
+    asymmetric = [(i, j) for i in range(3) for j in range(i + 1, 3)
+                  if abs(tensor[i, j] - tensor[j, i]) > TOLERANCE * scale]
+    if asymmetric:
+        i, j = asymmetric[0]
+        axes = "xyz"
+        return [Problem(where, f"the inertia tensor of '{name}' is not symmetric: I{axes[i]}{axes[j]} = "
+                        f"{tensor[i, j]:g} but I{axes[j]}{axes[i]} = {tensor[j, i]:g}",
+                        "an inertia tensor is symmetric: give 3 principal moments, the 6 values "
+                        "[Ixx, Iyy, Izz, Ixy, Iyz, Izx], or a symmetric 3x3 list")]
+    moments = np.linalg.eigvalsh(tensor)
+    if moments[0] < -TOLERANCE * scale:
+        return [Problem(where, f"the inertia tensor of '{name}' is not positive semi-definite "
+                        f"(principal moments {_listing(moments)})",
+                        "every principal moment of inertia of a real body is >= 0")]
+    largest, others = moments[2], moments[0] + moments[1]
+    if largest > others + TOLERANCE * scale:   # the equations stay consistent: a warning
+        warn_spec(Problem(where, f"the inertia tensor of '{name}' is not that of a real body: the principal "
+                          f"moments {_listing(moments)} break the triangle inequality "
+                          f"({largest:g} > {moments[0]:g} + {moments[1]:g})",
+                          "for a real body each principal moment is at most the sum of the other two"))
+    return []
+
+
+def _listing(values) -> str:
+    return ", ".join(f"{v:.6g}" for v in values)
+
+
+# --- the initial state ------------------------------------------------------------------
+
+def _not_finite_at_start(model: Model, values: dict) -> list[Problem]:
+    """The spec items with an expression that is not finite at the initial state."""
+    state = {**values, **initial_values(model)}
+    source = model.source
+    items = [(f"position of '{p.name}'", p.position, p.loc) for p in model.particles]
+    items += [(f"position of '{b.name}'", b.position, b.loc) for b in model.bodies]
+    items += [(f"orientation of '{b.name}'", [a for _, a in b.rotations], b.loc) for b in model.bodies]
+    items += [("force", [*(f.force if f.force is not None else []), *(f.torque if f.torque is not None else [])],
+               f.loc) for f in model.forces]
+    items += [("constraint", [c.expr], c.loc) for c in model.constraints]
+    items += [("potential", [model.potential], model.loc("potential")),
+              ("kinetic", [model.kinetic], model.loc("kinetic")),
+              ("dissipation", [model.dissipation], model.loc("dissipation"))]
+    items += [(f"generalized force on '{q.name}'", [Q], model.loc(f"generalized_forces.{q.name}"))
+              for q, Q in zip(model.q, model.generalized_forces)]
+    problems = []
+    for what, exprs, loc in items:
+        if any(_real(e, state) is None for e in exprs):
+            problems.append(Problem(loc or Loc(source), f"the {what} cannot be evaluated at the initial "
+                                    "state (not a finite number there)",
+                                    "a simulation cannot start there: choose another initial: state, "
+                                    "or check for a division by zero or a log/sqrt of a negative number"))
+    return problems
+
+
+# --- the mass matrix --------------------------------------------------------------------
+
+def _singular_directions(derivation, values: dict) -> list[str]:
+    """The coordinates along which the mass matrix, restricted to the velocities the
+    constraints allow, has no inertia at `values`; [] when it is regular there (or
+    cannot be evaluated: that is reported elsewhere)."""
+    if not derivation.constraints and _clearly_regular(derivation.mass_matrix, values):
+        return []
+    import numpy as np
+
+    M = _matrix(derivation.mass_matrix, values)
+    A = _matrix(derivation.constraint_matrix, values) if derivation.constraints else np.zeros((0, len(M)))
+    if M is None or A is None:
+        return []
+    allowed = _null_space(A) if A.size else np.eye(len(M))
+    if allowed.shape[1] == 0:
+        return []
+    reduced = allowed.T @ M @ allowed
+    s, vectors = np.linalg.eigh((reduced + reduced.T) / 2)
+    scale = max(float(np.abs(M).max()), 1e-300)
+    if s[0] > SINGULAR * scale:
+        return []
+    direction = allowed @ vectors[:, 0]
+    big = np.abs(direction) > 0.1 * np.abs(direction).max()
+    return [q.name for q, b in zip(derivation.model.q, big) if b]
+
+
+def _clearly_regular(matrix, values: dict) -> bool:
+    """True when the symmetric `matrix` at `values` is positive definite with its smallest
+    eigenvalue above SINGULAR times its largest entry: M - SINGULAR*scale*I has a Cholesky
+    factor (mpmath, which sympy has loaded already: numpy's import was a tenth of a small
+    `derive`). False also when it cannot tell (then numpy's eigenvalues decide)."""
+    entries = [_real(e, values) for e in matrix]
+    if any(e is None for e in entries):
+        return False
+    n = matrix.shape[0]
+    scale = max((abs(e) for e in entries), default=0.0)
+    shifted = mpmath.fp.matrix(n, n)
+    for k, entry in enumerate(entries):
+        shifted[k // n, k % n] = entry - (SINGULAR * scale if k // n == k % n else 0.0)
+    try:
+        mpmath.fp.cholesky(shifted)
+    except (ValueError, ZeroDivisionError):
+        return False
+    return scale > 0
+
+
+def _null_space(A: np.ndarray) -> np.ndarray:
+    import numpy as np
+
+    _, s, vt = np.linalg.svd(A)
+    rank = int((s > SINGULAR * max(1.0, s.max(initial=0.0))).sum())
+    return vt[rank:].T

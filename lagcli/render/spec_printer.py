@@ -1,0 +1,64 @@
+"""Print sympy expressions back in the spec's own expression language.
+
+Every expression lagcli reports (text and JSON) parses back with
+`lagcli.model.expr.parse`: velocities are `q_dot`, accelerations `q_ddot`, and the
+function names are the contract's (`abs`, `min`, `max`, `exp(1)` for e).
+"""
+from __future__ import annotations
+
+import sympy as sp
+from sympy.printing.str import StrPrinter
+
+from lagcli.errors import EmitError
+
+
+class SpecPrinter(StrPrinter):
+    _default_settings = {**StrPrinter._default_settings, "order": "none"}
+
+    def _print_Abs(self, expr):
+        return f"abs({self._print(expr.args[0])})"
+
+    def _print_Min(self, expr):
+        return f"min({', '.join(self._print(a) for a in expr.args)})"
+
+    def _print_Max(self, expr):
+        return f"max({', '.join(self._print(a) for a in expr.args)})"
+
+    def _print_Exp1(self, expr):
+        return "exp(1)"
+
+    def _print_exp(self, expr):
+        return f"exp({self._print(expr.args[0])})"
+
+    def _print_Float(self, expr):
+        return repr(float(expr))
+
+    def _print_ImaginaryUnit(self, expr):
+        raise EmitError("an expression became complex; it cannot be written in the spec language")
+
+    def _print_Infinity(self, expr):
+        raise EmitError("an expression became infinite")
+
+    _print_NegativeInfinity = _print_ComplexInfinity = _print_NaN = _print_Infinity
+
+
+_PRINTER = SpecPrinter()
+
+
+def spec_str(expr) -> str:
+    return _PRINTER.doprint(sp.sympify(expr))
+
+
+def output_names(model, multipliers=()) -> dict:
+    """Names an output expression may use: inputs plus q_ddot and the multipliers."""
+    names = {s.name: s for s in (*model.q, *model.qd, *model.qdd, *model.parameter_symbols,
+                                 *model.input_symbols, *multipliers)}
+    return {"pi": sp.pi, **names}
+
+
+def parse_output(text: str, model, multipliers=()) -> sp.Expr:
+    """Parse an expression lagcli printed (JSON/text) back into sympy, with lagcli's own parser."""
+    from lagcli.errors import Loc
+    from lagcli.model.expr import OUTPUT_LIMITS, Scope, parse
+
+    return parse(text, Scope(output_names(model, multipliers), model.t), Loc("<output>"), limits=OUTPUT_LIMITS)

@@ -1,0 +1,278 @@
+"""The report's expressions, assembled from small parts tidied once (`Display`).
+
+Simplifying a large expression is slow and misses identities hidden in products, so
+nothing large is ever simplified here. The small parts are tidied once
+(`lagcli.render.tidy.display_form`): the entries of the mass matrix M, the
+coefficients a of T1 = a . q', T0, V, Q' and the constraint rows. Everything else is
+assembled from them, exactly (the tests parse the JSON back and compare with the
+derivation at random states):
+
+    T2 = 1/2 sum_i M_ii q'_i^2 + sum_{i<j} M_ij q'_i q'_j        T = T2 + T1 + T0
+    L = T - V,  E = T + V,  h = T2 - T0 + V,  p_s = (M q' + a)_s
+    equation i:  sum_j M_ij q''_j  + velocity terms  + the rest  =  sum_j lambda_j a_ji
+
+An expression is a list of terms in the order the lecture notes write them (q''
+terms first, then velocity terms by degree, then terms free of q'); the printers
+join them with signs pulled out (`signed_sum`). The velocity terms of equation i
+are grouped by monomial q'_j q'_l, with coefficients from the derivatives of the
+tidied M (the Christoffel symbols of the notes' explicit form):
+
+    c_i = sum_{j<=l} C_ijl q'_j q'_l,  C_ijl = d_l M_ij + d_j M_il - d_i M_jl  (j < l)
+                                        C_ijj = d_j M_ij - 1/2 d_i M_jj
+"""
+from __future__ import annotations
+
+import functools
+from collections.abc import Callable, Sequence
+
+import sympy as sp
+
+from lagcli.model import calculus
+from lagcli.model.calculus import almost_everywhere
+from lagcli.derive.result import Derivation
+from lagcli.render.tidy import DISPLAY_MAX_NODES, display_form, pull_signs, small
+
+TREE_MAX_NODES = 5000     # tidy the parts of expressions up to this size (tree nodes)
+
+Terms = list   # of sympy expressions, none of them a sum
+
+
+def signed_sum(terms: Sequence[sp.Expr], print_expr: Callable[[sp.Expr], str]) -> str:
+    """`a + b - c`: the terms in order, each printed by `print_expr` with its sign pulled out."""
+    if not terms:
+        return print_expr(sp.S.Zero)
+    out = []
+    for i, term in enumerate(terms):
+        negative = term.could_extract_minus_sign()
+        body = print_expr(-term if negative else term)
+        if (-term if negative else term).is_Add:
+            body = f"({body})"
+        if i == 0:
+            out.append(f"-{body}" if negative else body)
+        else:
+            out.append(f" - {body}" if negative else f" + {body}")
+    return "".join(out)
+
+
+def split(expr: sp.Expr) -> Terms:
+    """The terms of a sum (none for 0)."""
+    return [] if expr == 0 else list(sp.Add.make_args(expr))
+
+
+class Display:
+    """Tidied parts of one derivation and the report's expressions built from them."""
+
+    def __init__(self, d: Derivation, simplify: bool = True):
+        self.d = d
+        m = d.model
+        self.q, self.qd, self.qdd, self.t = m.q, m.qd, m.qdd, m.t
+        self.n = len(m.q)
+        self._cache: dict = {}
+        self._parts: dict = {}
+        self._signs: dict = {}
+        self._free_symbols: dict = {}   # of every subexpression differentiated (calculus.free_symbols)
+        self._tidy_on = simplify
+        n = self.n
+        upper = {(i, j): self.tidy(d.mass_matrix[i, j]) for i in range(n) for j in range(i, n)}
+        self.M = [[upper[min(i, j), max(i, j)] for j in range(n)] for i in range(n)]
+        self._free = {key: entry.free_symbols for key, entry in upper.items()}
+        self._derivatives: dict = {}
+        self.a = [self.tidy(e) for e in d.t1_coefficients]
+        self.T0 = self.tidy(d.T0)
+        self.V = self.tidy(d.V)
+        self.Qp = [self.tidy(e) for e in d.nonconservative_forces]
+        self.A = [[self.tidy(e) for e in row.a] for row in d.constraints]
+
+    def differentiate(self, expr: sp.Expr, var) -> sp.Expr:
+        """d expr / d var (`derivative`)."""
+        return derivative(expr, var, self._free_symbols)
+
+    def tidy(self, expr, sized: bool = False) -> sp.Expr:
+        """expr tidied (`_tidy_tree`); `sized`: expr is known to be within TREE_MAX_NODES."""
+        expr = sp.sympify(expr)
+        if not self._tidy_on:
+            return expr
+        if expr not in self._cache:
+            self._cache[expr] = self._tidy_tree(expr, sized)
+        return self._cache[expr]
+
+    def signs(self, expr) -> sp.Expr:
+        """`pull_signs`, remembering every subexpression's result for this report."""
+        return pull_signs(expr, self._signs)
+
+    def tidy_assembled(self, expr) -> sp.Expr:
+        """An expression assembled from tidied parts (a derivative, a sum of them): tidied
+        again only when it is small (DISPLAY_MAX_NODES); a big one keeps the form of its
+        parts, signs pulled out (re-tidying it was most of a big system's report)."""
+        expr = sp.sympify(expr)
+        return self.tidy(expr) if small(expr, DISPLAY_MAX_NODES) else self.signs(expr)
+
+    def _tidy_tree(self, expr: sp.Expr, sized: bool) -> sp.Expr:
+        """Children first (each distinct one once: the same dot product appears in every
+        mass's term), then the sums that combine them. The size is checked once, at the top
+        (the children of a small expression are small)."""
+        if expr.is_Atom or not (expr.is_Add or expr.is_Mul) or not (sized or small(expr, TREE_MAX_NODES)):
+            return expr      # a huge expression is shown with named quantities instead
+        rebuilt = expr.func(*(self.tidy(a, sized=True) for a in expr.args))
+        return display_form(rebuilt) if rebuilt.is_Add else rebuilt
+
+    # -- energies and integrals ---------------------------------------------------------
+
+    @functools.cached_property
+    def T2(self) -> Terms:
+        n, qd, M = self.n, self.qd, self.M
+        terms = [M[i][i] * qd[i] ** 2 / 2 for i in range(n)]
+        terms += [M[i][j] * qd[i] * qd[j] for i in range(n) for j in range(i + 1, n)]
+        return [self.signs(term) for term in terms if term != 0]
+
+    @functools.cached_property
+    def T1(self) -> Terms:
+        return [self.signs(a * v) for a, v in zip(self.a, self.qd) if a != 0]
+
+    @property
+    def T(self) -> Terms:
+        return self.T2 + self.T1 + split(self.T0)
+
+    @property
+    def T_is_T2(self) -> bool:
+        return not self.T1 and self.T0 == 0
+
+    @property
+    def lagrangian(self) -> Terms:
+        return self.T + [-v for v in split(self.V)]
+
+    @property
+    def energy(self) -> Terms:
+        return self.T + split(self.V)
+
+    @property
+    def jacobi(self) -> Terms:
+        return self.T2 + [-e for e in split(self.T0)] + split(self.V)
+
+    def momentum(self, s: int) -> Terms:
+        terms = [self.signs(M_sj * v) for M_sj, v in zip(self.M[s], self.qd) if M_sj != 0]
+        return terms + split(self.a[s])
+
+    def conserved(self, kind: str, name: str) -> Terms:
+        if kind == "momentum":
+            return self.momentum([f"p_{q.name}" for q in self.q].index(name))
+        return self.jacobi if kind == "jacobi" else self.energy
+
+    # -- forces ----------------------------------------------------------------------------
+
+    def generalized_force(self, i: int) -> sp.Expr:
+        """Q_i = Q'_i - dV/dq_i."""
+        return self.tidy_assembled(self.Qp[i] - self.differentiate(self.V, self.q[i]))
+
+    @functools.cached_property
+    def gyroscopic(self) -> list[list[sp.Expr]]:
+        """gamma_ij = da_i/dq_j - da_j/dq_i."""
+        q, a, n, d = self.q, self.a, self.n, self.differentiate
+        return [[self.tidy_assembled(d(a[i], q[j]) - d(a[j], q[i])) if i != j else sp.S.Zero
+                 for j in range(n)] for i in range(n)]
+
+    def constraint_force(self, i: int) -> Terms:
+        """C_i = sum_j lambda_j a_ji."""
+        return [self.signs(lam * row[i]) for lam, row in zip(self.d.multipliers, self.A) if row[i] != 0]
+
+    # -- equations of motion ---------------------------------------------------------------
+
+    def _dM(self, i: int, j: int, var) -> sp.Expr:
+        """dM_ij/d var, each computed once (the velocity terms ask for most of them n times)."""
+        key = (min(i, j), max(i, j), var)
+        if key not in self._derivatives:
+            if var not in self._free[key[:2]]:
+                return sp.S.Zero
+            self._derivatives[key] = self.differentiate(self.M[i][j], var)
+        return self._derivatives[key]
+
+    def velocity_buckets(self, i: int) -> dict:
+        """c_i grouped by monomial: {q'_j q'_l: C_ijl} (see the module docstring)."""
+        q, qd, n = self.q, self.qd, self.n
+        out = {}
+        for j in range(n):
+            for l in range(j, n):
+                if j == l:
+                    coefficient = self._dM(i, j, q[j]) - self._dM(j, j, q[i]) / 2
+                else:
+                    coefficient = self._dM(i, j, q[l]) + self._dM(i, l, q[j]) - self._dM(j, l, q[i])
+                if coefficient != 0:
+                    out[qd[j] * qd[l]] = coefficient
+        return out
+
+    def parts(self, i: int) -> dict[str, dict]:
+        if i not in self._parts:
+            self._parts[i] = self._compute_parts(i)
+        return self._parts[i]
+
+    def _compute_parts(self, i: int) -> dict[str, dict]:
+        """The explicit form's terms of equation i, each {velocity monomial (1 for none): coefficient}:
+        c, M_t q', gamma q', a_t, dV/dq - dT0/dq and -Q'."""
+        qd, t, q = self.qd, self.t, self.q
+        mass_rate = {v: self._dM(i, j, t) for j, v in enumerate(qd)}
+        gyroscopic = {v: g for v, g in zip(qd, self.gyroscopic[i])}
+        a_t = self.differentiate(self.a[i], t)
+        position = self.differentiate(self.V, q[i]) - self.differentiate(self.T0, q[i])
+        forces: dict = {}
+        for term in split(self.Qp[i]):
+            coefficient, monomial = term.as_independent(*qd, as_Add=False)
+            _add(forces, monomial, -coefficient)
+        return {"velocity": self.velocity_buckets(i), "mass_rate": mass_rate, "gyroscopic": gyroscopic,
+                "t1_rate": {sp.S.One: a_t}, "position": {sp.S.One: position}, "forces": forces}
+
+    def part_terms(self, i: int, names: Sequence[str], sign: int = 1) -> Terms:
+        """The terms of the parts `names` of equation i, merged by monomial and ordered."""
+        buckets: dict = {}
+        for name in names:
+            for monomial, coefficient in self.parts(i)[name].items():
+                _add(buckets, monomial, coefficient)
+        return self._ordered(buckets, sign)
+
+    def acceleration_terms(self, i: int) -> Terms:
+        return [self.signs(M_ij * a) for M_ij, a in zip(self.M[i], self.qdd) if M_ij != 0]
+
+    def equation(self, i: int) -> Terms:
+        """sum_j M_ij q''_j + c_i + (M_t q')_i + (gamma q')_i + a_t,i + dV/dq_i - dT0/dq_i - Q'_i."""
+        return self.acceleration_terms(i) + self.part_terms(i, PARTS)
+
+    def forcing(self, i: int) -> Terms:
+        """F_i = Q'_i - c_i - ...: the equation's terms without q'', negated."""
+        return self.part_terms(i, PARTS, sign=-1)
+
+    def _ordered(self, buckets: dict, sign: int) -> Terms:
+        """Terms of degree 2 in q', then 1, then others depending on q', then free of q'."""
+        qd = self.qd
+
+        def key(monomial):
+            powers = monomial.as_powers_dict()
+            if all(base in qd and e.is_Integer for base, e in powers.items()) or monomial == 1:
+                degree = sum(int(e) for base, e in powers.items() if base in qd)
+                indices = tuple(sorted(qd.index(b) for b, e in powers.items() if b in qd for _ in range(int(e))))
+                return (0, -degree, indices, "")
+            return (1, 0, (), sp.default_sort_key(monomial))   # not a monomial in q': after them
+
+        out: Terms = []
+        for monomial in sorted(buckets, key=key):
+            coefficient = self.tidy_assembled(sign * buckets[monomial])
+            if coefficient == 0:
+                continue
+            if monomial == 1:
+                out.extend(self.signs(term) for term in split(coefficient))
+            else:
+                out.append(self.signs(coefficient * monomial))
+        free = [term for term in out if not term.free_symbols & set(qd)]
+        return [term for term in out if term.free_symbols & set(qd)] + free
+
+
+PARTS = ("velocity", "mass_rate", "gyroscopic", "t1_rate", "position", "forces")
+
+
+def derivative(expr: sp.Expr, var, memo: dict) -> sp.Expr:
+    """d expr/d var, taken almost everywhere as the derivation does (no Heaviside, DiracDelta);
+    `memo`: free symbols of the subexpressions seen (`lagcli.model.calculus.free_symbols`)."""
+    return almost_everywhere(calculus.derivative(expr, var, memo))
+
+
+def _add(buckets: dict, monomial, coefficient) -> None:
+    if coefficient != 0:
+        buckets[monomial] = buckets.get(monomial, sp.S.Zero) + coefficient

@@ -1,0 +1,92 @@
+"""`lagcli generate --lang c`: `<name>.h`, `<name>.c` (C99 + libm), the driver `<name>_main.c`
+and lagcli's C runtime beside them (`lagcli/runtime/c/`: the integrator `lagcli_ode.{h,c}`,
+the model table `lagcli_model.h` and the driver `lagcli_driver.{h,c}`, copied as they are).
+
+The interface is docs/design.md ("Generated C"). The right-hand side assembles the
+augmented system [[M, -A^T], [A, 0]] [q''; lambda] = [F; b - 2 alpha (A q' + d) -
+beta^2 phi] in fixed-size arrays on the stack and solves it by LU with partial
+pivoting in place: no allocation. Everything compiles with
+`cc -std=c99 -O2 -Wall -Wextra -Werror -pedantic ... -lm`.
+
+The printer never emits the non-C99 `M_PI`-style macros: constants print as
+21-digit literals, small integer powers as products. Everything but the printer
+is shared with the Python output (`codegen.generated_context`).
+"""
+from __future__ import annotations
+
+import math
+
+from sympy.printing.c import C99CodePrinter
+
+from lagcli.derive.result import Derivation
+from lagcli.targets import codegen
+from lagcli.targets.slots import SlotPrinter
+from lagcli.render.templates import render
+from lagcli.errors import Loc, Problem, SpecError
+from lagcli.interface import C_METHODS, layout_of
+from lagcli.runtime.run_rules import EXPLICIT_METHODS
+from lagcli.runtime import c_runtime_files
+
+
+class CPrinter(SlotPrinter, C99CodePrinter):
+    """C99 doubles: math.h functions, no math macros (M_PI is not C99)."""
+
+    power_format = "pow({base}, {exp})"
+
+    def __init__(self, table: dict):
+        super().__init__(table, {"math_macros": {}})
+
+    @staticmethod
+    def literal(value) -> str:
+        """A C double literal (C99 has no literal for inf or nan: HUGE_VAL and NAN from math.h)."""
+        value = float(value)
+        if math.isnan(value):
+            return "NAN"
+        if math.isinf(value):
+            return "HUGE_VAL" if value > 0 else "(-HUGE_VAL)"
+        text = repr(value)
+        return text if any(c in text for c in ".e") else text + ".0"
+
+    def _print_sign(self, expr):
+        """A double (sympy's `(x > 0) - (x < 0)` is an int: sign(x)/sign(y) would divide
+        integers); 0 for 0 and NaN, like copysign-free C99 code should."""
+        x = self._print(expr.args[0])
+        return f"(({x}) > 0 ? 1.0 : (({x}) < 0 ? -1.0 : 0.0))"
+
+
+
+def c_files(d: Derivation, initial=None, initial_notes=()) -> dict[str, str]:
+    """{file name: text} of `<name>.h`, `<name>.c`, `<name>_main.c` and the C runtime;
+    `initial` (the default state, made consistent by the caller) and `initial_notes`:
+    see `lagcli.targets.about.interface`."""
+    context = c_context(d, initial, initial_notes)
+    name = d.model.name
+    runtime = c_runtime_files()
+    if {f"{name}.h", f"{name}.c", f"{name}_main.c"} & set(runtime):
+        raise SpecError(Problem(Loc(d.model.source, path="name"),
+                                f"the name {name!r} gives a file name of lagcli's C runtime "
+                                f"({', '.join(runtime)})", "set another `name:` in the spec"))
+    return {**model_sources(context), f"{name}_main.c": render("c/main.c.jinja", **context), **runtime}
+
+
+def model_sources(context: dict) -> dict[str, str]:
+    """`<name>.h` and `<name>.c` from a `c_context` (also the model inside an FMU)."""
+    name = context["prefix"]
+    return {f"{name}.h": render("c/model.h.jinja", **context), f"{name}.c": render("c/model.c.jinja", **context)}
+
+
+def c_context(d: Derivation, initial=None, initial_notes=()) -> dict:
+    """Everything the C templates need, pre-printed."""
+    from lagcli.targets.discrete_code import variational_context
+
+    context = codegen.generated_context(d, CPrinter, initial, initial_notes)
+    context.update(variational_context(d, CPrinter))     # the variational integrator's functions
+    name = d.model.name
+    layout = layout_of(d)
+    settings = layout.settings
+    kinds = [c.kind for c in layout.invariants]
+    return dict(context, prefix=name, PREFIX=name.upper(), nsys=context["n"] + context["m"],
+                settings=settings,
+                driver_method=settings.method if settings.method in EXPLICIT_METHODS else EXPLICIT_METHODS[-1],
+                table_method=settings.method if settings.method in C_METHODS else EXPLICIT_METHODS[-1],
+                residual_column=kinds.index("residual") if "residual" in kinds else -1)

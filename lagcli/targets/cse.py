@@ -1,0 +1,108 @@
+"""ONE `sympy.cse` over every group of expressions (`eliminate`), so a temporary is
+shared by every function that needs it; each function then computes only the
+temporaries its outputs depend on (`Reduced.block`).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import sympy as sp
+from sympy.simplify.cse_opts import sub_post
+
+from lagcli.targets.expressions import Outputs
+from lagcli.render.tidy import factored
+
+
+def basic_optimizations() -> list:
+    """sympy.cse's 'basic' optimizations (signs normalised, common factors pulled out
+    first: fewer operations for N = 2 and 8 links, docs/codegen.md) with `tidy.factored`,
+    linear in the distinct subexpressions, in place of sympy's factor_terms, which took
+    30 s of CPU on a bicycle-sized system (1.5 s with factored)."""
+    memo: dict = {}          # shared by all expressions: they share subexpressions
+    return [(signs_normalised({}), sub_post), (lambda expr: factored(expr, memo), None)]
+
+
+def signs_normalised(memo: dict):
+    """sympy's `cse_opts.sub_pre` (y - x -> -(x - y) where a minus sign can be pulled
+    out), giving the same expressions, with its per-sum test remembered across
+    expressions in `memo` and without its sort of the sums (it only orders a dict,
+    which `xreplace` reads by key): the test and the sort were 80% of `generate` of
+    the 20-link chain (bench/README.md)."""
+    def extracts(add) -> bool:
+        if add not in memo:
+            memo[add] = add.could_extract_minus_sign()
+        return memo[add]
+
+    def normalise(expr):
+        reps, ignore = {}, set()
+        for add in expr.atoms(sp.Add):
+            if not extracts(add):
+                continue
+            negated = -add
+            if negated.is_Mul:
+                ignore.add(add)
+            else:
+                reps[add] = sp.Mul._from_args([sp.S.NegativeOne, negated])
+        expr = expr.xreplace(reps)
+        if not isinstance(expr, sp.Basic):
+            return expr
+        negs = {}
+        for add in expr.atoms(sp.Add):          # sums still there: mark them 1*-1*(x - y)
+            if add in ignore:
+                continue
+            if add in reps:
+                negs[add] = reps[add]
+            elif extracts(add):
+                negs[add] = sp.Mul._from_args([sp.S.One, sp.S.NegativeOne, -add])
+        return expr.xreplace(negs)
+
+    return normalise
+
+
+CSE_OPTIMIZATIONS = "basic"   # `basic_optimizations`; None: no preprocessing
+
+
+@dataclass(frozen=True)
+class Reduced:
+    """The result of one CSE over all groups: temporaries in dependency order and the
+    reduced expressions of every group."""
+
+    temporaries: tuple[tuple[sp.Symbol, sp.Expr], ...]
+    groups: dict
+
+    def block(self, names, exclude=frozenset()) -> tuple[tuple[sp.Symbol, sp.Expr], ...]:
+        """The temporaries (in order) that the groups `names` need, minus `exclude`."""
+        needed = set()
+        for name in names:
+            for expr in self.groups[name]:
+                needed |= expr.free_symbols
+        chosen = []
+        for symbol, value in reversed(self.temporaries):
+            if symbol in needed:
+                chosen.append((symbol, value))
+                needed |= value.free_symbols
+        return tuple(pair for pair in reversed(chosen) if pair[0] not in exclude)
+
+    def operation_count(self, names) -> int:
+        """Operations (sympy.count_ops) to evaluate the groups `names`, temporaries included."""
+        temps = self.block(names)
+        exprs = [value for _, value in temps] + [e for name in names for e in self.groups[name]]
+        return int(sum(sp.count_ops(e) for e in exprs))
+
+
+def eliminate(outputs: Outputs, optimizations=CSE_OPTIMIZATIONS) -> Reduced:
+    """ONE `sympy.cse` over every group of `outputs` (or of any object whose `groups()`
+    is {name: expressions}, e.g. the Hamiltonian module's, lagcli/targets/hamilton.py);
+    `optimizations`: "basic" (`basic_optimizations`), None or a list for sympy.cse."""
+    groups = outputs.groups()
+    flat = [sp.sympify(e) for name in groups for e in groups[name]]
+    if optimizations == "basic":
+        optimizations = basic_optimizations()
+    temporaries, reduced = sp.cse(flat, symbols=sp.numbered_symbols("x", cls=sp.Dummy),
+                                  optimizations=optimizations, order="canonical")
+    result, start = {}, 0
+    for name in groups:
+        size = len(groups[name])
+        result[name] = tuple(reduced[start:start + size])
+        start += size
+    return Reduced(tuple(temporaries), result)

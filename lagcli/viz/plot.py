@@ -1,0 +1,199 @@
+"""`--plot FILE.png`: the coordinates and the drift of what should stay constant.
+
+Top panel: every coordinate against t.  Bottom panel (log scale), only the
+columns that are *conserved* by the equations, so that any visible growth is
+integration error:
+
+- `jacobi` when the Jacobi integral exists (labelled `jacobi = energy` when it
+  equals T + V); otherwise `energy` is never drawn, since it is not conserved
+  (driven, rheonomic or damped systems), and showing it would look like error;
+- each ignorable momentum `p_<q>`;
+- these as the relative drift |x(t) - x(0)| / |x(0)|, or the absolute drift
+  |x(t) - x(0)| when |x(0)| < 1e-12 (a zero momentum), said in the legend;
+- `constraint_residual` as it is (already an absolute error).
+
+Drifts are drawn from the second row on (they are 0 at t = 0 by definition);
+values below 1e-17 are drawn at 1e-17 so that exact zeros stay on the log axis.
+When nothing is conserved the figure has the top panel only.
+
+The data: `lagcli simulate --plot` streams the CSV to its output and keeps a
+bounded copy for the figure (`trajectory.Decimated`: every k-th row and the last,
+at most 40 000 rows, k doubling as the run grows), rather than reading the CSV
+back, which a FIFO or stdout could not give.  Runs of up to 20 000 rows are drawn
+whole; longer ones evenly thinned, so a spike narrower than k rows may not show.
+
+Choosing what is drawn (`PlotOptions`, `lagcli simulate --columns/--phase`):
+
+- the coordinates are split into an "angle (rad)" and a "coordinates" (lengths) panel
+  when the caller knows which coordinates are angles (`angle_coordinates(model)`: a
+  body's rotation angle, or the argument of a sin/cos/tan in a position or energy);
+- `--columns a,b,...` draws exactly those columns, one panel per kind, in the order
+  angles, lengths, velocities, multipliers, invariants (their values; the drift panel
+  below stays);
+- `--phase q` adds a phase portrait, q_dot against q;
+- `units` (a column -> unit mapping; empty until specs give units) labels them "x [m]".
+
+matplotlib is optional (the `plot` extra); `build_figure` makes a pyplot-free
+`Figure` (drawn by the Agg renderer), `plot_png` writes it as a PNG (like `-o`).
+"""
+from __future__ import annotations
+
+import io
+from dataclasses import dataclass, field
+
+from lagcli.render.escape import plot_text
+from lagcli.errors import SimulationError, UsageError
+from lagcli.interface import (ENERGY, JACOBI, MOMENTUM_PREFIX, MULTIPLIER_PREFIX, RESIDUAL, TIME,
+                           velocity_name)
+from lagcli.render.output import write_output
+from lagcli.run.rows import Trajectory, parse_csv
+
+FLOOR = 1e-17
+ABSOLUTE_BELOW = 1e-12
+PANELS = (("angle", "angle (rad)"), ("length", "coordinates"), ("velocity", "velocities"),
+          ("multiplier", "multipliers"), ("invariant", "invariants"))
+
+
+@dataclass(frozen=True)
+class PlotOptions:
+    columns: tuple[str, ...] | None = None    # None: the coordinates
+    phase: tuple[str, ...] = ()               # coordinates to draw q_dot against q for
+    angles: frozenset = frozenset()           # coordinates that are angles (radians)
+    units: dict = field(default_factory=dict) # column -> unit, where known
+
+
+def column_kind(name: str, coordinates, angles) -> str | None:
+    """The panel of a CSV column (by the layout's naming rules), None for t."""
+    if name in coordinates:
+        return "angle" if name in angles else "length"
+    if name in {velocity_name(q) for q in coordinates}:
+        return "velocity"
+    if name.startswith(MULTIPLIER_PREFIX):
+        return "multiplier"
+    if name in (ENERGY, JACOBI, RESIDUAL) or name.startswith(MOMENTUM_PREFIX):
+        return "invariant"
+    return None
+
+
+def angle_coordinates(model) -> frozenset:
+    """The coordinates of `model` that are angles: a body's rotation angle, or found
+    inside a sin, cos or tan of a position, a spring end or an energy term."""
+    import sympy as sp
+
+    q = set(model.q)
+    found = set()
+    for body in model.bodies:
+        for _, angle in body.rotations:
+            found |= angle.free_symbols & q
+    exprs = [m.position for m in [*model.particles, *model.bodies]]
+    exprs += [e for s in model.springs for e in (s.end_a, s.end_b)] + [model.potential, model.kinetic]
+    for expr in exprs:
+        for call in sp.sympify(expr).atoms(sp.sin, sp.cos, sp.tan):
+            found |= call.free_symbols & q
+    return frozenset(s.name for s in found)
+
+
+def drift_series(header: list[str], energy_conserved: bool) -> list[tuple[str, str]]:
+    """(column, label) of the bottom panel, in CSV order."""
+    chosen = []
+    for name in header:
+        if name == "jacobi":
+            chosen.append((name, "jacobi = energy" if energy_conserved else "jacobi"))
+        elif name == "energy" and energy_conserved and "jacobi" not in header:
+            chosen.append((name, "energy"))
+        elif name.startswith("p_") or name == "constraint_residual":
+            chosen.append((name, name))
+    return chosen
+
+
+def plot_png(traj: Trajectory, coordinates, energy_conserved: bool, path: str, title: str,
+             options: PlotOptions = PlotOptions()) -> None:
+    """Write the figure of `build_figure` to `path` as a PNG (lagcli.render.output.write_output)."""
+    figure = build_figure(traj, coordinates, energy_conserved, title, options)
+    buffer = io.BytesIO()
+    figure.savefig(buffer, format="png", dpi=110)
+    write_output(path, buffer.getvalue())
+
+
+def build_figure(traj: Trajectory, coordinates, energy_conserved: bool, title: str,
+                 options: PlotOptions = PlotOptions()):
+    """The matplotlib Figure (not registered with pyplot, so nothing global to close):
+    the panels of `options` on top, the drift panel (`drift_series`) below when there
+    is one, the phase portraits last."""
+    try:
+        import numpy as np
+        from matplotlib.figure import Figure
+    except ImportError:
+        raise SimulationError("--plot needs matplotlib, which is not installed; install it with "
+                              "pip install 'lagcli[plot]' (the CSV was written)") from None
+    header, rows = parse_csv(traj.csv_text())
+    data = np.array(rows, dtype=float).reshape(len(rows), len(header))
+    column = {name: data[:, i] for i, name in enumerate(header)}
+    panels = _panels(header, coordinates, options)
+    series = drift_series(header, energy_conserved)
+    phase = _phase_names(options.phase, coordinates)
+    count = len(panels) + bool(series)
+    fig = Figure(figsize=(8, 1.5 + 2.5 * (count + len(phase))), constrained_layout=True)
+    grid = fig.add_gridspec(count + len(phase), 1)
+    first = fig.add_subplot(grid[0, 0])
+    axes = [first] + [fig.add_subplot(grid[k, 0], sharex=first) for k in range(1, count)]
+    for ax, (label, names) in zip(axes, panels):
+        for name in names:
+            ax.plot(column[TIME], column[name], label=_with_unit(name, options.units))
+        ax.set_ylabel(label)
+        ax.legend(loc="best", fontsize="small")
+        ax.grid(True, alpha=0.3)
+    first.set_title(plot_text(title), usetex=False)   # the spec's file name: never TeX
+    if series:
+        _drift_panel(axes[len(panels)], column, series, np)
+    axes[-1].set_xlabel("t")
+    for k, (q, qd) in enumerate(phase):
+        ax = fig.add_subplot(grid[count + k, 0])
+        ax.plot(column[q], column[qd], lw=1)
+        ax.set_xlabel(_with_unit(q, options.units))
+        ax.set_ylabel(_with_unit(qd, options.units))
+        ax.set_title(f"phase portrait of {q}", fontsize="small")
+        ax.grid(True, alpha=0.3)
+    return fig
+
+
+def _panels(header, coordinates, options: PlotOptions) -> list[tuple[str, list[str]]]:
+    """(y label, column names) per panel: the coordinates by default (one panel unless
+    angles are known), else the chosen columns grouped by kind."""
+    chosen = list(coordinates) if options.columns is None else list(options.columns)
+    unknown = [n for n in chosen if n not in header or n == TIME]
+    if unknown:
+        raise UsageError(f"--columns: no column {unknown[0]!r}; columns are: {', '.join(header[1:])}")
+    if options.columns is None and not options.angles:
+        return [("coordinates", chosen)] if chosen else []
+    kinds = {name: column_kind(name, coordinates, options.angles) for name in chosen}
+    return [(label, [n for n in chosen if kinds[n] == kind]) for kind, label in PANELS
+            if any(kinds[n] == kind for n in chosen)]
+
+
+def _phase_names(phase, coordinates) -> list[tuple[str, str]]:
+    for q in phase:
+        if q not in coordinates:
+            raise UsageError(f"--phase {q}: not a coordinate; coordinates are: {', '.join(coordinates)}")
+    return [(q, velocity_name(q)) for q in phase]
+
+
+def _with_unit(name: str, units: dict) -> str:
+    return f"{name} [{units[name]}]" if units.get(name) else name
+
+
+def _drift_panel(ax, column, series, np) -> None:
+    t = column["t"]
+    for name, label in series:
+        values = column[name]
+        if name == "constraint_residual":
+            shown, text = np.abs(values), f"{label} (absolute)"
+        elif abs(values[0]) < ABSOLUTE_BELOW:
+            shown, text = np.abs(values - values[0]), f"{label}: |x - x(0)|"
+        else:
+            shown, text = np.abs(values - values[0]) / abs(values[0]), f"{label}: relative drift"
+        skip = 0 if name == "constraint_residual" else 1      # a drift is 0 at t = 0 by definition
+        ax.semilogy(t[skip:], np.maximum(shown[skip:], FLOOR), label=text)
+    ax.set_ylabel("drift / residual")
+    ax.legend(loc="best", fontsize="small")
+    ax.grid(True, which="both", alpha=0.3)
