@@ -41,7 +41,8 @@ def driver(system) -> str:
 
 
 def bench(binary: str, runs: int, *args) -> dict[str, float]:
-    done = subprocess.run([binary, *args, "--bench-integration", str(runs)], capture_output=True, text=True,
+    done = subprocess.run([binary, *args, "--max-steps", "1000000000", "--bench-integration", str(runs)],
+                          capture_output=True, text=True,
                           check=True)
     return {k: float(v) for k, v in re.findall(r"(\w+) ([0-9.e+-]+)", done.stderr)}
 

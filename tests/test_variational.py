@@ -118,7 +118,8 @@ def bench(system, *args) -> dict[str, float]:
     from lagcli.run import c_backend
 
     driver = c_backend.driver(system, shutil.which("cc"))
-    done = subprocess.run([driver.binary, *args, "--bench-integration", "1"], capture_output=True, text=True)
+    done = subprocess.run([driver.binary, *args, "--max-steps", "1000000000", "--bench-integration", "1"],
+                          capture_output=True, text=True)
     assert done.returncode == 0, done.stderr
     return {k: float(v) for k, v in re.findall(r"(\w+) ([0-9.e+-]+)", done.stderr)}
 
@@ -334,3 +335,17 @@ def test_newton_constants_are_the_same_in_c_and_python():
     value = dict(re.findall(r"#define LAGCLI_(NEWTON_\w+) (\S+)", text))
     assert float(value["NEWTON_TOLERANCE"]) == variational.NEWTON_TOLERANCE
     assert int(value["NEWTON_MAX_ITERATIONS"]) == variational.NEWTON_MAX_ITERATIONS
+
+
+@pytest.mark.parametrize("backend", ["python", pytest.param("c", marks=needs_cc)])
+def test_the_step_budget_bounds_a_variational_run(backend):
+    result = invoke(SPECS / "double_pendulum.yaml", "--method", "variational", "--t-end", "1",
+                    "--steps-per-row", "10", "--max-steps", "25", "--backend", backend)
+    assert result.exit_code == 1
+    assert "integration failed at t = 0.02: the integration reached its bound of 25 steps" in result.stderr
+    assert result.stdout.count("\n") == 4                              # the header and rows 0, 0.01, 0.02
+
+
+def test_input_laws_are_refused():
+    result = invoke(SPECS / "cart_pole.yaml", "--method", "variational", "--input", "F=-x")
+    assert result.exit_code == 2 and "does not run events or input laws" in result.stderr

@@ -32,7 +32,6 @@ class Request:
     inits: tuple[str, ...] = ()         # raw "NAME=VALUE" items of --init
     backend: str | None = None          # "python" | "c" | None (c when `cc` exists)
     baumgarte: tuple[float, float] | None = None
-    steps_per_row: int | None = None    # --method variational: steps per output interval
     inputs: tuple[str, ...] = ()        # raw "NAME=EXPR" items of --input (input laws)
     max_steps: int | None = None        # the step budget (None: `default_max_steps`)
     steps_per_row: int | None = None    # --method variational: steps per output interval

@@ -434,8 +434,8 @@ def _simulate_variational(t_end, dt, p, y0, steps_per_row, u=None):
 def simulate(t_end=None, dt=None, method=None, rtol=None, atol=None, p=None, y0=None,
              baumgarte=BAUMGARTE, steps_per_row=1):
     """Integrate from t = 0 with scipy's solve_ivp, or with method="variational" with lagcli's
-    variational integrator (steps_per_row steps of dt / steps_per_row between rows); returns
-    (header, rows) like the CSV of `lagcli simulate` (rows: t, state, multipliers,
+    variational integrator (steps_per_row fixed steps of dt / steps_per_row between rows);
+    returns (header, rows) like the CSV of `lagcli simulate` (rows: t, state, multipliers,
     invariants). Raises RuntimeError on failure."""
     from scipy.integrate import solve_ivp
 
