@@ -119,10 +119,17 @@ def _complete(meta) -> bool:
     return isinstance(meta, dict) and all(isinstance(meta.get(k), t) for k, t in META_TYPES.items())
 
 
-def driver(system, compiler: str) -> Cached:
+def driver(system, compiler: str, laws: dict | None = None) -> Cached:
     """The compiled driver of `system` (a `lagcli.system.System`) from the cache,
-    generating and compiling it (with meta.json) when it is not there."""
-    key = cache_key(system.model.source, system.spec_bytes, compiler)
+    generating and compiling it (with meta.json) when it is not there. `laws` (input
+    name -> sympy law; None for none): the model is generated with them substituted
+    (`lagcli.hybrid.closed_loop`), so the law is C code of the driver, and part of its
+    cache key: a cached driver is never reused for another law. A spec with laws never
+    has a driver under the plain key, which the warm path looks up."""
+    spec_bytes = system.spec_bytes
+    if laws or system.model.laws:
+        spec_bytes += ("\0laws:" + ";".join(f"{k}={v!s}" for k, v in sorted(laws.items()))).encode()
+    key = cache_key(system.model.source, spec_bytes, compiler)
     cached = lookup(key)
     if cached is not None:
         return cached
@@ -130,6 +137,9 @@ def driver(system, compiler: str) -> Cached:
 
     start, consistent = system.spec_start()
     d = system.derivation
+    if laws:
+        from lagcli.hybrid.closed_loop import closed_loop
+        d = closed_loop(d, laws)
     meta = {
         "layout": system.layout.to_json(),
         "initial": dict(system.model.initial),

@@ -104,10 +104,21 @@ def _warm(request: Request, compiler: str, note, progress, sink: RowSink) -> Out
         traj = c_backend.run(cached, args, update, max_first_residual=limit, sink=watched)
     if traj is None:
         return None
-    for text in notes:
+    if sets and traj.failure and traj.rows <= 1:
+        _explain_failed_start(request, sets)        # --set m=0: physical validation, not "singular"
+    for text in _at_rest(meta["initial"], inits) + list(notes):
         note(text)
     _drift_note(drift, settings, note)
     return Outcome(traj, "c", layout.coordinates, meta["energy_conserved"], layout.state_names)
+
+
+def _explain_failed_start(request: Request, sets: dict) -> None:
+    """A warm run with --set that failed at its start: raise what physical validation says
+    of those values, if anything (the cold path says it before running; the warm path
+    does not import sympy unless a run fails this way)."""
+    from lagcli.system import load
+
+    load(Path(request.spec)).start(sets, {})
 
 
 def _cold(request: Request, compiler: str | None, note, progress, sink: RowSink) -> Outcome:
@@ -120,19 +131,28 @@ def _cold(request: Request, compiler: str | None, note, progress, sink: RowSink)
     sets, inits = _overrides(request, layout)
     laws = _laws(request, system)
     backend = request.backend or ("c" if compiler and settings.method in C_METHODS else "python")
-    hybrid = system.hybrid(sets, laws) is not None
-    if hybrid and request.backend is None:
+    python_only = system.hybrid(sets, laws) is not None and system.compiled_laws(sets, laws) is None
+    if python_only and request.backend is None:
         backend = "python"
         if compiler:
-            note("lagcli: events and input laws run on the Python backend (the C driver does not run them yet)")
+            note("lagcli: events run on the Python backend (the C driver does not run them yet)")
     start = system.start(sets, inits)
-    for text in start.notes:
+    for text in _at_rest(system.model.initial, inits) + list(start.notes):
         note(text)
     watched, drift = _watched(settings, layout, sink)
     traj = system.run(settings, sets, start, backend, watched, progress, laws=laws)
     _drift_note(drift, settings, note)
     return Outcome(traj, backend, layout.coordinates, system.energy_conserved, layout.state_names,
                    bool(system.model.events))
+
+
+AT_REST = ("initial state: the spec has no initial: values and no --init was given, so the run starts "
+           "at rest with every coordinate 0 (give initial: in the spec, or --init NAME=VALUE)")
+
+
+def _at_rest(initial: dict, inits: dict) -> list[str]:
+    """The note that a run starts from the all-zero state only because nothing was given."""
+    return [] if initial or inits else [AT_REST]
 
 
 def _laws(request: Request, system) -> dict:
