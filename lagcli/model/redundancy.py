@@ -14,6 +14,7 @@ names it; the first of a set of equal rows is kept.
 """
 from __future__ import annotations
 
+import math
 import random
 
 import sympy as sp
@@ -57,9 +58,10 @@ def _row(expr: sp.Expr, q, qd, t) -> list[sp.Expr]:
 
 def _numbers(row, state) -> list[float] | None:
     try:
-        return [value_at(entry, state, {}) for entry in row]
+        numbers = [value_at(entry, state, {}) for entry in row]
     except (ConstantError, TypeError, ValueError, ArithmeticError):
         return None
+    return numbers if all(math.isfinite(v) for v in numbers) else None
 
 
 def _adds_nothing(values, kept: list[int], j: int) -> bool:
