@@ -199,7 +199,7 @@ static int double_pendulum_discrete_momenta(double t, const double *y, const dou
     f[0] = -p[2]*(x1*x12 + x14*y[2]);
     f[1] = x11*(x13*p[2]*y[2]*y[3] - x4*p[4]);
 
-    return double_pendulum_all_finite(2, g) && double_pendulum_all_finite(2, f) ? 0 : 2;
+    return lagcli_all_finite(2, g) && lagcli_all_finite(2, f) ? 0 : 2;
 }
 
 /* dg/dq, dg/dq', df/dq, df/dq' (2 x 2, row-major): the Newton iteration's Jacobian. */
@@ -251,8 +251,8 @@ static int double_pendulum_discrete_jacobian(double t, const double *y, const do
     fv[2] = x15;
     fv[3] = x17;
 
-    return double_pendulum_all_finite(4, gq) && double_pendulum_all_finite(4, gv)
-        && double_pendulum_all_finite(4, fq) && double_pendulum_all_finite(4, fv) ? 0 : 2;
+    return lagcli_all_finite(4, gq) && lagcli_all_finite(4, gv)
+        && lagcli_all_finite(4, fq) && lagcli_all_finite(4, fv) ? 0 : 2;
 }
 
 const lagcli_model double_pendulum_model = {
