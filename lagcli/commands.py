@@ -37,6 +37,15 @@ def derive_latex(path: str, simplify: bool = True, standalone: bool = False,
     return load(Path(path)).report("latex-document" if standalone else "latex", simplify, parts)
 
 
+def page(path: str, output: str | None = None, pictures: bool = True, note=lambda text: None) -> None:
+    """`lagcli report`: the page to share (`System.page`), to `output` (stdout for None or '-')."""
+    from lagcli.render.output import write_output
+    from lagcli.system import load
+
+    write_output(output, load(Path(path)).page(pictures=pictures))
+    _wrote(output, note)
+
+
 def check_summary(path: str) -> str:
     """Validate the spec (through the derivation, which classifies constraints) and summarise."""
     from lagcli.report.content import check_content

@@ -29,8 +29,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from lagcli.errors import SimulationError, UsageError
-from lagcli.interface import Layout
-from lagcli.runtime.run_rules import EXPLICIT_METHODS
+from lagcli.interface import C_METHODS, VARIATIONAL, Layout
 from lagcli.run import cache
 from lagcli.run.options import RunSettings
 from lagcli.run.rows import RowSink, Trajectory
@@ -48,9 +47,9 @@ def find_compiler() -> str | None:
 
 def require_compiler(method: str) -> str:
     """The C compiler for a run with `method`, or the error saying why there is none."""
-    if method not in EXPLICIT_METHODS:
+    if method not in C_METHODS:
         raise UsageError(f"--method {method}: the C backend implements "
-                         f"{' and '.join(EXPLICIT_METHODS)} only; use --backend python for {method}")
+                         f"{', '.join(C_METHODS[:-1])} and {C_METHODS[-1]} only; use --backend python for {method}")
     compiler = find_compiler()
     if compiler is None:
         raise SimulationError("--backend c needs a C compiler, but 'cc' was not found on PATH "
@@ -200,6 +199,8 @@ def driver_arguments(s: RunSettings, sets: dict[str, float], state: dict[str, fl
     args = ["--t-end", _num(s.t_end), "--dt", _num(s.dt), "--method", s.method,
             "--rtol", _num(s.rtol), "--atol", _num(s.atol), "--baumgarte", _num(s.alpha), _num(s.beta),
             "--max-steps", str(s.step_budget)]
+    if s.method == VARIATIONAL:
+        args += ["--steps-per-row", str(s.steps_per_row)]
     for option, values in (("--set", sets), ("--init", state)):
         for name, value in values.items():
             args += [option, f"{name}={_num(value)}"]
