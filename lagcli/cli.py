@@ -151,6 +151,25 @@ def check(ctx, specs, as_json):
 
 @cli.command()
 @click.argument("spec", type=SPEC)
+@click.option("-o", "--output", default=None, help="The HTML file ('-' or none: stdout).")
+@click.option("--no-pictures", is_flag=True,
+              help="Leave out the simulation's plot and the animation (faster; no matplotlib needed).")
+@quiet_option
+@click.pass_context
+def report(ctx, spec, output, no_pictures):
+    """A page to share: SPEC's equations (MathML), linearization, plot and animation in
+    one self-contained HTML file (no network needed to view it; docs/page.md).
+
+    \b
+    Examples:
+      lagcli report specs/double_pendulum.yaml -o double_pendulum.html
+      lagcli report specs/benchmark_bicycle.yaml --no-pictures -o bicycle.html
+    """
+    _run(ctx, lambda: commands.page(spec, output, not no_pictures, note=note))
+
+
+@cli.command()
+@click.argument("spec", type=SPEC)
 @click.option("--lang", required=True, type=LanguageChoice(LANGUAGES),
               help="python: one module (numpy); c: <name>.h, <name>.c, <name>_main.c; "
                    "octave: MATLAB/Octave functions and an ode45 script; rust: a crate; "
@@ -187,7 +206,7 @@ def generate(ctx, spec, lang, output, form):
 @click.option("--t-end", type=float, help="End time (default: the spec's simulate.t_end, else 10).")
 @click.option("--dt", type=float, help="Output interval (default: simulate.dt, else 0.01).")
 @click.option("--method", type=click.Choice(list(METHODS)),
-              help="scipy's integrator name (default: simulate.method, else DOP853).")
+              help="scipy's integrator name, or variational (default: simulate.method, else DOP853).")
 @click.option("--rtol", type=float, help="Relative tolerance (default: simulate.rtol, else 1e-9).")
 @click.option("--atol", type=float, help="Absolute tolerance (default: simulate.atol, else 1e-12).")
 @click.option("--set", "sets", multiple=True, metavar="NAME=VALUE",
@@ -202,19 +221,23 @@ def generate(ctx, spec, lang, output, form):
                    "(and for runs with events or input laws).")
 @click.option("--baumgarte", nargs=2, type=float, metavar="ALPHA BETA",
               help="Constraint stabilisation gains (default 10 10).")
+@click.option("--max-steps", type=int, metavar="N",
+              help="Stop with an error after N integrator steps (default 20000 + 1000 per output interval).")
+@click.option("--steps-per-row", type=int, metavar="K",
+              help="--method variational: K fixed steps of DT/K between rows (default 1).")
 @click.option("-o", "--output", default=None, help="CSV file ('-' or none: stdout).")
 @click.option("--events", "events_path", default=None, metavar="FILE.csv",
               help="Write one row per event (t, event, action, state before and after, impulse).")
-@click.option("--plot", default=None, metavar="FILE.png",
-              help="Also plot coordinates and drift (needs matplotlib).")
+@click.option("--plot", default=None, metavar="FILE.png|svg|pdf",
+              help="Also plot coordinates and drift (needs matplotlib), in the format the extension names.")
 @click.option("--columns", default=None, metavar="NAME[,NAME...]",
               help="With --plot: draw these columns, one panel per kind (angles, lengths, velocities, ...).")
 @click.option("--phase", "phase", multiple=True, metavar="Q",
               help="With --plot: add the phase portrait (Q_dot against Q) of coordinate Q (repeatable).")
 @quiet_option
 @click.pass_context
-def simulate(ctx, spec, t_end, dt, method, rtol, atol, sets, inits, inputs, backend, baumgarte, output,
-             events_path, plot, columns, phase):
+def simulate(ctx, spec, t_end, dt, method, rtol, atol, sets, inits, inputs, backend, baumgarte, max_steps,
+             steps_per_row, output, events_path, plot, columns, phase):
     """Integrate the equations of motion of SPEC and write the trajectory as CSV.
 
     \b
@@ -222,13 +245,14 @@ def simulate(ctx, spec, t_end, dt, method, rtol, atol, sets, inits, inputs, back
       lagcli simulate specs/double_pendulum.yaml -o traj.csv --plot traj.png
       lagcli simulate specs/cart_pole.yaml --plot p.png --columns x,theta,x_dot --phase theta -o c.csv
       lagcli simulate specs/hybrid/bouncing_ball.yaml --events bounces.csv -o ball.csv
+      lagcli simulate specs/spherical_pendulum.yaml --method variational --dt 0.01 -o sp.csv
     """
     from lagcli.run.options import Request
 
     if (columns or phase) and not plot:
         raise click.UsageError("--columns and --phase choose what --plot draws: give --plot FILE.png")
     request = Request(spec, t_end, dt, method, rtol, atol, tuple(sets), tuple(inits), backend,
-                      tuple(baumgarte) if baumgarte else None, tuple(inputs))
+                      tuple(baumgarte) if baumgarte else None, tuple(inputs), max_steps, steps_per_row)
     chosen = tuple(c.strip() for c in columns.split(",")) if columns else None
     _run(ctx, lambda: commands.simulate(request, output, plot, note=note,
                                         progress=_progress_bar, columns=chosen, phase=tuple(phase),
@@ -301,8 +325,9 @@ def sweep(ctx, spec, grids, samples, count, seed, runs, sets, inits, inputs, exc
               help="Draw a rod between two points (particle/body names or 'origin'; repeatable).")
 @click.option("--trace", "traces", multiple=True, metavar="POINT", help="Draw the path of a point (repeatable).")
 @click.option("--fps", type=float, default=25.0, show_default=True, help="Frames per second of simulated time.")
-@click.option("--frame", type=float, metavar="T", help="Only the frame at time T, as a PNG.")
-@click.option("-o", "--output", required=True, help="motion.gif, motion.mp4 (ffmpeg) or frame.png (--frame).")
+@click.option("--frame", type=float, metavar="T", help="Only the frame at time T, as a PNG, SVG or PDF.")
+@click.option("-o", "--output", required=True,
+              help="motion.gif, motion.mp4 (ffmpeg) or frame.png, .svg, .pdf (--frame).")
 @quiet_option
 @click.pass_context
 def animate(ctx, spec, csv_path, t_end, dt, sets, inits, inputs, links, traces, fps, frame, output):

@@ -28,16 +28,31 @@ metadata (`Layout.to_json` / `Layout.from_json`) without importing either.
 from __future__ import annotations
 
 import json
+import math
 from dataclasses import asdict, dataclass, field, fields
+
+from lagcli.runtime.run_rules import EXPLICIT_METHODS
 
 # --- the numbers every stage shares ---------------------------------------------------
 # (the spec schema, the command line, the run layer and the code targets; the rules the
 # generated code carries too -- EXPLICIT_METHODS, output_times, max_step -- are code:
 # lagcli/runtime/run_rules.py)
 
-METHODS = ("RK45", "DOP853", "Radau", "BDF", "LSODA")    # scipy's integrators `simulate` accepts
+VARIATIONAL = "variational"       # lagcli's own fixed-step integrator (lagcli/derive/discrete.py)
+METHODS = ("RK45", "DOP853", "Radau", "BDF", "LSODA", VARIATIONAL)   # scipy's integrators, and lagcli's
+C_METHODS = (*EXPLICIT_METHODS, VARIATIONAL)                         # the ones the compiled driver implements
 DEFAULT_BAUMGARTE = (10.0, 10.0)                         # (alpha, beta) of the constraint stabilisation
 CONSTRAINT_TOLERANCE = 1e-8                              # largest |constraint| of a consistent initial state
+STEP_BUDGET_BASE = 20_000         # a run takes at most this many integrator steps, plus
+STEP_BUDGET_PER_OUTPUT = 1_000    # this many per output interval, unless --max-steps says otherwise
+STEP_BUDGET_TEXT = ("the integration reached its bound of {steps} steps before t_end (a stiff or "
+                    "blowing-up solution?); raise the bound with --max-steps N")
+
+
+def default_max_steps(t_end: float, dt: float) -> int:
+    """The step budget of a run (`--max-steps` default): deterministic, from the output grid
+    (the C driver's `step_budget` is the same rule)."""
+    return STEP_BUDGET_BASE + STEP_BUDGET_PER_OUTPUT * math.ceil(t_end / dt - 1e-9)
 
 # --- naming rules ---------------------------------------------------------------------
 

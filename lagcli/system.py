@@ -121,6 +121,18 @@ class System:
             write_output(path, text)
         return files
 
+    def page(self, path: str | Path | None = None, pictures: bool = True) -> str:
+        """The page to share (`lagcli report -o page.html`, docs/page.md): one self-contained
+        HTML file with the spec, its equations in MathML, the linearization at the initial
+        state, the simulation's plot (inline SVG) and the animation (`pictures`: the last
+        two, which need matplotlib). Written atomically to `path` when given."""
+        from lagcli.report.page import page_html
+
+        html = page_html(self, pictures)
+        if path is not None:
+            write_output(path, html)
+        return html
+
     # --- simulation ---------------------------------------------------------------------
 
     @property
@@ -149,6 +161,8 @@ class System:
             return spec_start                           # solved once per System
         defaults = self.layout.parameter_defaults
         params = {**defaults, **{k: v for k, v in parameters.items() if k in defaults}}   # not inputs
+        if params != defaults:
+            _refuse_impossible(self.derivation, params, (sources or Sources()).parameter)
         return initial_state(self.derivation, {**self.model.initial, **initial}, params,
                              soft=set(self.model.initial) - set(initial), sources=sources or Sources())
 
@@ -163,11 +177,13 @@ class System:
     def simulate(self, t_end: float | None = None, dt: float | None = None, method: str | None = None,
                  rtol: float | None = None, atol: float | None = None, parameters: dict | None = None,
                  initial: dict | None = None, baumgarte: tuple[float, float] | None = None,
-                 inputs: dict | None = None, backend: str = "python"):
+                 inputs: dict | None = None, backend: str = "python", steps_per_row: int | None = None):
         """Integrate as `lagcli simulate --backend BACKEND` does: "python" (scipy's
         `solve_ivp` methods on the generated module) or "c" (the compiled driver, built
-        once and cached, RK45 and DOP853). None takes the spec's `simulate:` value, else
-        lagcli's default. `inputs`: {name: value} of the spec's `inputs:`: a number (held
+        once and cached, RK45, DOP853 and variational). None takes the spec's `simulate:`
+        value, else lagcli's default. `method="variational"`: lagcli's variational
+        integrator (docs/simulate.md), `steps_per_row` fixed steps of dt / steps_per_row
+        between rows (default 1). `inputs`: {name: value} of the spec's `inputs:`: a number (held
         constant), an expression string (a law of t, q, q', parameters: "-k*x - c*x_dot")
         or a Python callable u(t, y) returning a number; missing ones follow the spec's
         law or sit at their default. Laws and the spec's `events:` run on the Python
@@ -177,21 +193,34 @@ class System:
         from lagcli.trajectory import from_rows
 
         settings = resolve_settings(Request(self.model.source, t_end, dt, method, rtol, atol,
-                                            baumgarte=baumgarte), self.layout.settings.as_dict())
+                                            baumgarte=baumgarte, steps_per_row=steps_per_row),
+                                    self.layout.settings.as_dict())
         start = self.initial_state(parameters, initial)
         constants, laws = self._inputs(inputs)
         rows = self.run(settings, {**self._parameters(parameters), **constants}, start, backend, laws=laws)
-        return from_rows(self.layout, rows, start.notes, self.energy_conserved)
+        return from_rows(self.layout, rows, start.notes, self.energy_conserved, self.angles)
+
+    @property
+    def angles(self) -> frozenset:
+        """The coordinates that are angles (`lagcli.viz.plot.angle_coordinates`): the
+        angle panel of a plot."""
+        from lagcli.viz.plot import angle_coordinates
+
+        return self._once("_angles", lambda: angle_coordinates(self.model))
+
+    def laws(self, values: dict[str, float], laws: dict | None = None) -> dict:
+        """The input laws of one run: the spec's, minus the inputs `values` holds constant
+        (`--set`), overridden by `laws` (input name -> a sympy law or a callable u(t, y))."""
+        spec_laws = {law.symbol.name: law.expr for law in self.model.laws if law.symbol.name not in values}
+        return {**spec_laws, **(laws or {})}
 
     def hybrid(self, values: dict[str, float], laws: dict | None = None):
         """The numeric laws and events of one run (`lagcli.hybrid.numeric.Hybrid`), or None
-        when the run has neither. `values`: parameters and constant inputs of the run
-        (a constant overrides the spec's law of that input); `laws`: input name -> a
-        sympy law or a callable u(t, y), overriding both."""
+        when the run has neither. `values`: parameters and constant inputs of the run;
+        `laws`: see `laws`."""
         from lagcli.hybrid.numeric import hybrid_run
 
-        spec_laws = {law.symbol.name: law.expr for law in self.model.laws if law.symbol.name not in values}
-        laws = {**spec_laws, **(laws or {})}
+        laws = self.laws(values, laws)
         if not self.model.events and not laws:
             return None
         params = {**self.layout.parameter_defaults, **{k: v for k, v in values.items()
@@ -199,6 +228,13 @@ class System:
         inputs = {**self.layout.input_defaults, **{k: v for k, v in values.items()
                                                    if k in self.layout.input_defaults}, **laws}
         return hybrid_run(self.derivation, params, inputs)
+
+    def compiled_laws(self, values: dict[str, float], laws: dict | None = None) -> dict | None:
+        """The laws of a run the compiled driver can take (expressions, no events), or None."""
+        laws = self.laws(values, laws)
+        if self.model.events or any(callable(v) and not hasattr(v, "free_symbols") for v in laws.values()):
+            return None
+        return laws
 
     def run(self, settings, values: dict[str, float], start, backend: str, sink=None, progress=None,
             laws: dict | None = None):
@@ -210,7 +246,9 @@ class System:
         `update(t)` (or None), entered once the code is ready and the integration starts;
         `laws`: see `hybrid`."""
         progress = progress or _no_progress
-        hybrid = self.hybrid(values, laws)
+        self._check_method(settings.method, values, laws)
+        compiled = self.compiled_laws(values, laws) if backend == "c" else None
+        hybrid = self.hybrid(values, laws) if compiled is None else None
         if hybrid is not None:
             return self._run_hybrid(settings, values, start, backend, sink, progress, hybrid)
         if backend == "python":
@@ -226,7 +264,7 @@ class System:
         if backend == "c":
             from lagcli.run import c_backend
 
-            cached = c_backend.driver(self, c_backend.require_compiler(settings.method))
+            cached = c_backend.driver(self, c_backend.require_compiler(settings.method), compiled)
             args = c_backend.driver_arguments(settings, values, dict(zip(self.layout.state_names,
                                                                            start.values)))
             with progress(settings.t_end) as update:
@@ -238,8 +276,9 @@ class System:
         from lagcli.hybrid.hybrid_run import integrate_hybrid
 
         if backend != "python":
-            raise UsageError(f"{self.model.source}: the {backend} backend does not run events or input laws "
-                             "yet\n  hint: use the Python backend (--backend python; the default for such a run)")
+            raise UsageError(f"{self.model.source}: the {backend} backend does not run events or callable "
+                             "input laws yet\n  hint: use the Python backend (--backend python; the default "
+                             "for such a run)")
         module = self._module()
         params = {**self.layout.parameter_defaults, **values}
         inputs = {**self.layout.input_defaults, **values}
@@ -282,6 +321,75 @@ class System:
         request = Request(tuple(tuple(link) for link in links), tuple(traces), fps, frame)
         return animate(self, trajectory.t, trajectory.states,
                        {**self.layout.parameter_defaults, **self._parameters(parameters)}, path, request)
+
+    def _check_method(self, method: str, values: dict, laws: dict | None) -> None:
+        """A usage error (before any work) when `method` cannot integrate this run."""
+        from lagcli.derive.discrete import METHOD, refusal
+
+        if method != METHOD:
+            return
+        reason = refusal(self.derivation)
+        if reason is None and self.hybrid(values, laws) is not None:
+            reason = (f"--method {METHOD} does not run events or input laws (yet)\n"
+                      "  hint: use --method DOP853 (or Radau) for this run")
+        if reason is not None:
+            raise UsageError(f"{self.model.source}: {reason}")
+    # --- analyses (docs/analysis.md; lagcli/analysis/methods.py) -------------------------
+
+    def linearize(self, at: dict | None = None, parameters: dict | None = None, inputs: dict | None = None,
+                  independent=(), extra_inputs=(), closed_loop: bool = False):
+        """The linear model about `at` (as `lagcli linearize --at`: {name: number or
+        expression text} of coordinates, velocities (`q_dot`), parameters, inputs, `t`;
+        what is not given is 0, parameters and inputs their spec value), with
+        `parameters` and `inputs` changed for this call. `independent`: the independent
+        coordinates and speeds of a constrained system; `extra_inputs`: parameters taken
+        as inputs too (`--input`); `closed_loop`: the spec's input laws substituted first
+        (`--closed-loop`). A `lagcli.analysis.results.Linearization`: A, B, M, C, K (numpy
+        arrays), eigenvalues, verdict, the point used."""
+        from lagcli.analysis import methods
+
+        return methods.linearize(self, at, parameters, inputs, independent, extra_inputs, closed_loop)
+
+    def linearize_sweep(self, variable: str, values, at: dict | None = None, parameters: dict | None = None,
+                        inputs: dict | None = None, independent=(), extra_inputs=(), find_critical: bool = False,
+                        closed_loop: bool = False):
+        """`linearize` at each of `values` of `variable` (a parameter, or a name the `at`
+        expressions use), as `lagcli linearize --sweep` (`--find-critical`: where the count
+        of unstable eigenvalues changes). A `lagcli.analysis.sweep.LinearizationSweep`."""
+        from lagcli.analysis import methods
+
+        return methods.linearize_sweep(self, variable, values, at, parameters, inputs, independent,
+                                       extra_inputs, find_critical, closed_loop)
+
+    def linearize_symbolic(self, at: dict | None = None, extra_inputs=(), closed_loop: bool = False):
+        """A and B as sympy matrices of the parameters (`lagcli linearize --symbolic`; small
+        unconstrained systems): a `lagcli.analysis.symbolic.SymbolicLinear`."""
+        from lagcli.analysis import methods
+
+        return methods.linearize_symbolic(self, at, extra_inputs, closed_loop)
+
+    def equilibria(self, parameters: dict | None = None, inputs: dict | None = None, guesses=None):
+        """The equilibria (q' = 0) with their stability, as `lagcli equilibria`; `guesses`:
+        starting points [{coordinate: value}] of the numeric search. A
+        `lagcli.analysis.results.Equilibria` (a sequence of `Equilibrium`)."""
+        from lagcli.analysis import methods
+
+        return methods.equilibria(self, parameters, inputs, guesses)
+
+    def hamiltonian(self):
+        """Momenta, H(q, p, t) and Hamilton's equations (`lagcli hamiltonian`): a
+        `lagcli.analysis.results.Hamiltonian` of sympy expressions."""
+        from lagcli.analysis import methods
+
+        return methods.hamiltonian(self)
+
+    def routh(self, momenta: dict | None = None, parameters: dict | None = None, inputs: dict | None = None,
+              guesses=None):
+        """The Routhian over the cyclic coordinates and, given every cyclic `momenta`
+        ({"p_phi": 0.5}), the steady motions (`lagcli routh`): a `lagcli.analysis.results.Routh`."""
+        from lagcli.analysis import methods
+
+        return methods.routh(self, momenta, parameters, inputs, guesses)
 
     def _module(self):
         """The generated Python module (its source cached on disk), made once per System."""
@@ -346,3 +454,16 @@ class System:
 @contextlib.contextmanager
 def _no_progress(t_end):
     yield None
+
+
+def _refuse_impossible(derivation, params: dict[str, float], option: str) -> None:
+    """Physical validation at the parameter values of a run (`--set m=0`): an impossible
+    mass or inertia, or a mass matrix singular at the start, is said as such before any run
+    (not as a singular matrix at t = 0)."""
+    from lagcli.model.validation import problems_at
+
+    problems = problems_at(derivation, params)
+    if problems:
+        spec = {p.symbol.name: p.value for p in derivation.model.parameters}
+        changed = ", ".join(f"{name}={value:g}" for name, value in params.items() if value != spec[name])
+        raise UsageError("\n".join(f"{option} {changed}: {p}" for p in problems))

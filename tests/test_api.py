@@ -51,8 +51,9 @@ def test_notebook_session(tmp_path):
     assert energy[0] == pytest.approx(0.5 * (xd[0] ** 2 + yd[0] ** 2) + y[0], abs=1e-12)
     frame = trajectory.to_pandas() if _has_pandas() else None
     if frame is not None:
-        assert list(frame.columns) == list(trajectory.names)
+        assert list(frame.columns) == list(trajectory.columns[1:]) and frame.index.name == "t"
         assert frame["x"].to_numpy() == pytest.approx(x)
+        assert frame.index.to_numpy() == pytest.approx(trajectory.t)
     latex = from_path._repr_latex_()
     assert latex.startswith("$$") and r"\lambda_{\mathrm{rod}}" in latex
     files = from_path.generate("c", tmp_path / "c")
@@ -144,7 +145,7 @@ def test_the_c_backend_of_the_api_agrees_with_the_python_backend():
     assert np.max(np.abs(compiled.data - scipy_run.data)) < 1e-7
     x, y = compiled["x"], compiled["y"]
     assert np.max(np.abs(x ** 2 + y ** 2 - 4.0)) < 1e-8 and compiled.failure is None
-    with pytest.raises(UsageError, match="RK45 and DOP853"):
+    with pytest.raises(UsageError, match="RK45, DOP853 and variational only"):
         system.simulate(method="Radau", backend="c")
 
 

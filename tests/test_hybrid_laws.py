@@ -130,3 +130,22 @@ def test_generated_module_takes_a_callable_law(tmp_path):
     system = lagcli.load(SPECS / "hybrid" / "cart_pole_lqr.yaml")
     traj = system.simulate(parameters={f"k{i}": v for i, v in enumerate(K, start=1)}, t_end=10.0)
     assert np.allclose(rows[:, 1:5], traj.states, atol=1e-7)
+
+
+def test_the_compiled_driver_runs_laws_in_c_and_never_reuses_a_driver_for_another_law(tmp_path, monkeypatch):
+    """The law is C code of the generated model (the closed loop), so C and Python agree,
+    and a second law (or a constant that replaces it) gets its own cached driver."""
+    import shutil
+
+    if shutil.which("cc") is None:
+        pytest.skip("no C compiler (cc)")
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    system = lagcli.load(SPECS / "hybrid" / "cart_pole_lqr.yaml")
+    for inputs in ({}, {"F": "-(k2*theta + k4*theta_dot)"}, {"F": 0.0}):
+        c = system.simulate(t_end=2.0, backend="c", inputs=inputs)
+        python = system.simulate(t_end=2.0, backend="python", inputs=inputs)
+        assert np.allclose(c.states, python.states, rtol=1e-8, atol=1e-8), inputs
+    entries = [p for p in (tmp_path / "cache" / "lagcli").iterdir() if (p / "meta.json").exists()]
+    assert len(entries) == 3                       # one driver per law set
+    with pytest.raises(LagcliError, match="callable"):
+        system.simulate(t_end=1.0, backend="c", inputs={"F": lambda t, y: 0.0})

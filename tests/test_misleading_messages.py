@@ -4,7 +4,10 @@ bad-spec corpus (tests/data/bad/); these tests check what the corpus cannot: tha
 wrong message is absent."""
 from __future__ import annotations
 
+import shutil
 from pathlib import Path
+
+import pytest
 
 from test_bad_specs import run_check
 
@@ -43,3 +46,58 @@ def test_toml_unit_hints_are_written_in_toml(monkeypatch):
         stderr = _stderr(case, monkeypatch)
         assert '{value = 1.0, unit = "kg"}' in stderr or 'unit = "' in stderr, stderr
         assert "unit: kg}" not in stderr and "lhs - rhs" not in stderr, stderr
+
+
+def test_the_repair_note_names_initial_when_no_init_was_given():
+    # x_dot is solved for from the spec's own y_dot: the note used to say "(--init)"
+    import lagcli
+
+    system = lagcli.load("coordinates: [x, y]\nparameters: {m: 1.0, l: 1.0, g: 9.81}\ngravity: [0, -g]\n"
+                         "particles: {P: {mass: m, position: [x, y]}}\nconstraints: [x**2 + y**2 - l**2]\n"
+                         "initial: {x: 0.6, y: -0.8, y_dot: 0.5}\n")
+    (note,) = system.spec_start()[0].notes
+    assert note.endswith("x_dot = 0.666666666667 from y_dot (initial:)"), note     # 0.8 * 0.5 / 0.6
+    assert "--init" not in note
+
+
+AT_REST_SPEC = "coordinates: [x]\nparameters: {m: 1.0, k: 2.0}\nkinetic: m*x_dot**2/2\npotential: k*x**2/2\n"
+
+
+def _simulate(tmp_path, *args):
+    from click.testing import CliRunner
+
+    from lagcli.cli import cli
+
+    spec = tmp_path / "spring.yaml"
+    spec.write_text(AT_REST_SPEC)
+    try:
+        runner = CliRunner(mix_stderr=False)
+    except TypeError:
+        runner = CliRunner()
+    return runner.invoke(cli, ["simulate", str(spec), "--t-end", "0.02", *args])
+
+
+BACKENDS = ["python", pytest.param("c", marks=pytest.mark.skipif(shutil.which("cc") is None,
+                                                                 reason="no C compiler (cc)"))]
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_a_spec_without_initial_says_it_starts_at_rest(tmp_path, backend, monkeypatch):
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    for _ in range(2):                                   # cold, then (C) warm
+        result = _simulate(tmp_path, "--backend", backend)
+        assert result.exit_code == 0, result.output
+        assert "starts at rest with every coordinate 0" in result.stderr
+    assert "at rest" not in _simulate(tmp_path, "--backend", backend, "--init", "x=0.1").stderr
+    assert _simulate(tmp_path, "--backend", backend, "-q").stderr == ""
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_set_mass_zero_is_refused_by_physical_validation(tmp_path, backend, monkeypatch):
+    # not a run-time "singular mass matrix" at t = 0: on the cold path and, with C, the warm one
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    assert _simulate(tmp_path, "--backend", backend, "--init", "x=0.1").exit_code == 0
+    result = _simulate(tmp_path, "--backend", backend, "--init", "x=0.1", "--set", "m=0")
+    assert result.exit_code == 2, result.output
+    assert "--set m=0: " in result.stderr and "the mass matrix is singular at the initial state" in result.stderr
+    assert "integration failed" not in result.stderr

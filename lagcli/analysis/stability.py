@@ -48,12 +48,14 @@ class Stability:
     negative_stiffness: bool
 
     @property
-    def modes(self) -> list[Mode]:
-        out = []
-        for s in self.eigenvalues:
-            size = abs(s)
-            out.append(Mode(complex(s), float(size), float(-s.real / size) if size > 0 else None))
-        return out
+    def modes(self) -> tuple[Mode, ...]:
+        return modes_of(self.eigenvalues)
+
+
+def modes_of(eigenvalues: np.ndarray) -> tuple[Mode, ...]:
+    """Each eigenvalue's natural frequency |s| and damping ratio -Re(s)/|s|."""
+    return tuple(Mode(complex(s), float(abs(s)), float(-s.real / abs(s)) if abs(s) > 0 else None)
+                 for s in eigenvalues)
 
 
 def essential(A: np.ndarray, states) -> tuple[np.ndarray, list[str], list[str]]:
@@ -119,6 +121,12 @@ def _energy_minimum(model: LinearModel, K: np.ndarray | None) -> bool:
     scale = max(np.max(np.abs(K)), np.max(np.abs(model.C), initial=0.0))
     symmetric = np.allclose(K, K.T, atol=MARGIN * scale) and np.allclose(model.damping, 0, atol=MARGIN * scale)
     return symmetric and np.min(np.linalg.eigvalsh((K + K.T) / 2)) > MARGIN * scale
+
+
+def on_imaginary_axis(values: np.ndarray) -> int:
+    """How many of `values` lie on the imaginary axis (|Re s| within the verdict's margin)."""
+    scale = max(1.0, np.max(np.abs(values), initial=0.0))
+    return int(np.sum(np.abs(values.real) <= MARGIN * scale))
 
 
 def unstable_count(values: np.ndarray) -> int:

@@ -15,11 +15,10 @@ from lagcli.errors import UsageError
 
 
 def closed_loop(d, laws: dict | None = None):
-    """`d` with each input that has a law (the spec's, overridden by `laws`: input name ->
-    sympy expression) replaced by it in the forcing F."""
+    """`d` with each input that has a law replaced by it in the forcing F: the spec's laws,
+    or `laws` (input name -> sympy expression) when given (then exactly those)."""
     model = d.model
-    given = {law.symbol.name: law.expr for law in model.laws}
-    given.update(laws or {})
+    given = {law.symbol.name: law.expr for law in model.laws} if laws is None else dict(laws)
     if not given:
         raise UsageError(f"{model.source}: --closed-loop needs input laws (simulate: inputs: in the spec); "
                          "this spec has none")

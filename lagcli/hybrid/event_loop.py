@@ -31,6 +31,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from lagcli.errors import SimulationError
+from lagcli.interface import STEP_BUDGET_TEXT
 from lagcli.hybrid.impact import approach_speed, impact
 from lagcli.hybrid.records import EventRecord
 
@@ -57,10 +58,11 @@ def run_events(solver_class, fun, row, y0, s, cap, hybrid, times, sink, progress
     state = _State(hybrid, records)
     t0, y, fired = 0.0, np.array(y0, dtype=float), None
     pending = next(times, None)
+    budget = _StepBudget(s.step_budget)
     try:
         while True:
             solver = solver_class(fun, t0, y, s.t_end, rtol=s.rtol, atol=s.atol, max_step=cap)
-            hit, pending = _segment(solver, hybrid, fired, pending, times, row, sink, progress, check)
+            hit, pending = _segment(solver, hybrid, fired, pending, times, row, sink, progress, check, budget)
             if hit is None:
                 return None
             t0, y, fired = state.act(*hit, residual)
@@ -69,7 +71,19 @@ def run_events(solver_class, fun, row, y0, s, cap, hybrid, times, sink, progress
         return end.note
 
 
-def _segment(solver, hybrid, fired, pending, times, row, sink, progress, check):
+class _StepBudget:
+    """The run's bound on integrator steps (`--max-steps`), over all its segments."""
+
+    def __init__(self, steps: int):
+        self.steps, self.left = steps, steps
+
+    def take(self, t: float) -> None:
+        if self.left == 0:
+            raise SimulationError(f"at t = {t:.10g}: " + STEP_BUDGET_TEXT.format(steps=self.steps))
+        self.left -= 1
+
+
+def _segment(solver, hybrid, fired, pending, times, row, sink, progress, check, budget):
     """Step until an event or t_end; rows for output times before it. Returns ((index, t*,
     y-), next output time) or (None, ...) at t_end."""
     events = hybrid.events
@@ -77,6 +91,7 @@ def _segment(solver, hybrid, fired, pending, times, row, sink, progress, check):
     first = True
     while solver.status == "running":
         t_old = solver.t
+        budget.take(t_old)
         message = solver.step()
         if solver.status == "failed":
             raise SimulationError(f"at t = {solver.t:.10g}: the {type(solver).__name__} integrator failed: {message}")

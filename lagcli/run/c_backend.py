@@ -29,8 +29,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from lagcli.errors import SimulationError, UsageError
-from lagcli.interface import Layout
-from lagcli.runtime.run_rules import EXPLICIT_METHODS
+from lagcli.interface import C_METHODS, VARIATIONAL, Layout
 from lagcli.run import cache
 from lagcli.run.options import RunSettings
 from lagcli.run.rows import RowSink, Trajectory
@@ -48,9 +47,9 @@ def find_compiler() -> str | None:
 
 def require_compiler(method: str) -> str:
     """The C compiler for a run with `method`, or the error saying why there is none."""
-    if method not in EXPLICIT_METHODS:
+    if method not in C_METHODS:
         raise UsageError(f"--method {method}: the C backend implements "
-                         f"{' and '.join(EXPLICIT_METHODS)} only; use --backend python for {method}")
+                         f"{', '.join(C_METHODS[:-1])} and {C_METHODS[-1]} only; use --backend python for {method}")
     compiler = find_compiler()
     if compiler is None:
         raise SimulationError("--backend c needs a C compiler, but 'cc' was not found on PATH "
@@ -120,10 +119,17 @@ def _complete(meta) -> bool:
     return isinstance(meta, dict) and all(isinstance(meta.get(k), t) for k, t in META_TYPES.items())
 
 
-def driver(system, compiler: str) -> Cached:
+def driver(system, compiler: str, laws: dict | None = None) -> Cached:
     """The compiled driver of `system` (a `lagcli.system.System`) from the cache,
-    generating and compiling it (with meta.json) when it is not there."""
-    key = cache_key(system.model.source, system.spec_bytes, compiler)
+    generating and compiling it (with meta.json) when it is not there. `laws` (input
+    name -> sympy law; None for none): the model is generated with them substituted
+    (`lagcli.hybrid.closed_loop`), so the law is C code of the driver, and part of its
+    cache key: a cached driver is never reused for another law. A spec with laws never
+    has a driver under the plain key, which the warm path looks up."""
+    spec_bytes = system.spec_bytes
+    if laws or system.model.laws:
+        spec_bytes += ("\0laws:" + ";".join(f"{k}={v!s}" for k, v in sorted(laws.items()))).encode()
+    key = cache_key(system.model.source, spec_bytes, compiler)
     cached = lookup(key)
     if cached is not None:
         return cached
@@ -131,6 +137,9 @@ def driver(system, compiler: str) -> Cached:
 
     start, consistent = system.spec_start()
     d = system.derivation
+    if laws:
+        from lagcli.hybrid.closed_loop import closed_loop
+        d = closed_loop(d, laws)
     meta = {
         "layout": system.layout.to_json(),
         "initial": dict(system.model.initial),
@@ -188,7 +197,10 @@ def _compile(compiler: str, work: Path, sources: list[str], output: str = BINARY
 
 def driver_arguments(s: RunSettings, sets: dict[str, float], state: dict[str, float]) -> list[str]:
     args = ["--t-end", _num(s.t_end), "--dt", _num(s.dt), "--method", s.method,
-            "--rtol", _num(s.rtol), "--atol", _num(s.atol), "--baumgarte", _num(s.alpha), _num(s.beta)]
+            "--rtol", _num(s.rtol), "--atol", _num(s.atol), "--baumgarte", _num(s.alpha), _num(s.beta),
+            "--max-steps", str(s.step_budget)]
+    if s.method == VARIATIONAL:
+        args += ["--steps-per-row", str(s.steps_per_row)]
     for option, values in (("--set", sets), ("--init", state)):
         for name, value in values.items():
             args += [option, f"{name}={_num(value)}"]

@@ -26,6 +26,7 @@ import types
 import numpy as np
 from scipy import integrate
 
+from lagcli.interface import STEP_BUDGET_TEXT, VARIATIONAL
 from lagcli.runtime.run_rules import max_step, output_time_windows
 from lagcli.run import cache
 from lagcli.run.options import RunSettings
@@ -98,6 +99,10 @@ def integrate_module(module, p: list[float], y0: list[float], s: RunSettings,
     in-memory `Trajectory` when None) and returning it; never raises for run-time
     failures (see lagcli.run.rows). `u`: the inputs, held constant (a module
     of a spec with `inputs:` only; None: their defaults)."""
+    if s.method == VARIATIONAL:
+        from lagcli.run.variational import integrate_variational
+
+        return integrate_variational(module, p, y0, s, progress, sink, u)
     n = len(module.COORDINATES)
     inputs = (u,) if u is not None else ()
 
@@ -130,22 +135,26 @@ def _run(fun, row, y, s, cap, sink: RowSink, progress) -> None:
         _check_finite(0.0, y)
         sink.add_row(row(0.0, y))
         _steps(SOLVERS[s.method](fun, 0.0, y, s.t_end, rtol=s.rtol, atol=s.atol, max_step=cap),
-               output_time_windows(s.t_end, s.dt), sink, row, progress)
+               output_time_windows(s.t_end, s.dt), sink, row, progress, s.step_budget)
     except _RhsFailure as exc:
         sink.failure = f"at t = {exc.t:.10g}: {exc.reason}"
     except KeyboardInterrupt:
         sink.interrupted = True
 
 
-def _steps(solver, windows, sink: RowSink, row, progress) -> None:
+def _steps(solver, windows, sink: RowSink, row, progress, budget: int) -> None:
     """solve_ivp's loop for increasing t_eval (the output times after t = 0, a window at
-    a time): step, then dense output at the times passed."""
+    a time): step, then dense output at the times passed; at most `budget` steps."""
     times, k = np.array(next(windows)), 1             # times[0] = 0: its row is written
+    steps = 0
     while True:
         while k == len(times):
             times, k = np.array(next(windows, [])), 0
             if not len(times):
                 return
+        if steps == budget:
+            raise _RhsFailure(solver.t, STEP_BUDGET_TEXT.format(steps=budget))
+        steps += 1
         message = solver.step()
         if solver.status == "failed":
             raise _RhsFailure(solver.t, f"the {type(solver).__name__} integrator failed: {message}")

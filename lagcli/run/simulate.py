@@ -27,10 +27,10 @@ from pathlib import Path
 
 from lagcli.errors import SimulationError
 from lagcli.run import c_backend
-from lagcli.interface import CONSTRAINT_TOLERANCE
+from lagcli.interface import C_METHODS, CONSTRAINT_TOLERANCE, VARIATIONAL
 from lagcli.runtime.run_rules import EXPLICIT_METHODS
 from lagcli.run.options import Request, parse_assignments, resolve_settings
-from lagcli.run.rows import RowSink, Trajectory
+from lagcli.run.rows import RowSink, Tee, Trajectory
 from lagcli.spec.files import read_spec_bytes
 
 
@@ -66,7 +66,7 @@ def _simulate(request: Request, note, progress, sink: RowSink) -> Outcome:
     compiler = c_backend.find_compiler()
     if request.backend == "c":
         c_backend.require_compiler(request.method or EXPLICIT_METHODS[0])   # before any work
-    if compiler and request.backend in (None, "c") and request.method in (None, *EXPLICIT_METHODS) \
+    if compiler and request.backend in (None, "c") and request.method in (None, *C_METHODS) \
             and not request.inputs:
         outcome = _warm(request, compiler, note, progress, sink)
         if outcome is not None:
@@ -86,8 +86,9 @@ def _warm(request: Request, compiler: str, note, progress, sink: RowSink) -> Out
         return None
     meta, layout = cached.meta, cached.layout
     settings = resolve_settings(request, layout.settings.as_dict())
-    if settings.method not in EXPLICIT_METHODS:
-        return None
+    if settings.method not in C_METHODS or (settings.method == VARIATIONAL and any(
+            m.kind != "holonomic" for m in layout.multipliers)):
+        return None                           # the cold path refuses it, naming the constraint
     sets, inits = _overrides(request, layout)
     if sets or inits:
         given = {**meta["initial"], **inits}
@@ -98,13 +99,26 @@ def _warm(request: Request, compiler: str, note, progress, sink: RowSink) -> Out
         return None                           # the spec's own state is inconsistent: cold path says so
     limit = CONSTRAINT_TOLERANCE if layout.constrained and (sets or inits) else None
     args = c_backend.driver_arguments(settings, sets, dict(zip(layout.state_names, state)))
+    watched, drift = _watched(settings, layout, sink)
     with progress(settings.t_end) as update:
-        traj = c_backend.run(cached, args, update, max_first_residual=limit, sink=sink)
+        traj = c_backend.run(cached, args, update, max_first_residual=limit, sink=watched)
     if traj is None:
         return None
-    for text in notes:
+    if sets and traj.failure and traj.rows <= 1:
+        _explain_failed_start(request, sets)        # --set m=0: physical validation, not "singular"
+    for text in _at_rest(meta["initial"], inits) + list(notes):
         note(text)
+    _drift_note(drift, settings, note)
     return Outcome(traj, "c", layout.coordinates, meta["energy_conserved"], layout.state_names)
+
+
+def _explain_failed_start(request: Request, sets: dict) -> None:
+    """A warm run with --set that failed at its start: raise what physical validation says
+    of those values, if anything (the cold path says it before running; the warm path
+    does not import sympy unless a run fails this way)."""
+    from lagcli.system import load
+
+    load(Path(request.spec)).start(sets, {})
 
 
 def _cold(request: Request, compiler: str | None, note, progress, sink: RowSink) -> Outcome:
@@ -116,18 +130,29 @@ def _cold(request: Request, compiler: str | None, note, progress, sink: RowSink)
     settings = resolve_settings(request, layout.settings.as_dict())
     sets, inits = _overrides(request, layout)
     laws = _laws(request, system)
-    backend = request.backend or ("c" if compiler and settings.method in EXPLICIT_METHODS else "python")
-    hybrid = system.hybrid(sets, laws) is not None
-    if hybrid and request.backend is None:
+    backend = request.backend or ("c" if compiler and settings.method in C_METHODS else "python")
+    python_only = system.hybrid(sets, laws) is not None and system.compiled_laws(sets, laws) is None
+    if python_only and request.backend is None:
         backend = "python"
         if compiler:
-            note("lagcli: events and input laws run on the Python backend (the C driver does not run them yet)")
+            note("lagcli: events run on the Python backend (the C driver does not run them yet)")
     start = system.start(sets, inits)
-    for text in start.notes:
+    for text in _at_rest(system.model.initial, inits) + list(start.notes):
         note(text)
-    traj = system.run(settings, sets, start, backend, sink, progress, laws=laws)
+    watched, drift = _watched(settings, layout, sink)
+    traj = system.run(settings, sets, start, backend, watched, progress, laws=laws)
+    _drift_note(drift, settings, note)
     return Outcome(traj, backend, layout.coordinates, system.energy_conserved, layout.state_names,
                    bool(system.model.events))
+
+
+AT_REST = ("initial state: the spec has no initial: values and no --init was given, so the run starts "
+           "at rest with every coordinate 0 (give initial: in the spec, or --init NAME=VALUE)")
+
+
+def _at_rest(initial: dict, inits: dict) -> list[str]:
+    """The note that a run starts from the all-zero state only because nothing was given."""
+    return [] if initial or inits else [AT_REST]
 
 
 def _laws(request: Request, system) -> dict:
@@ -141,6 +166,22 @@ def _laws(request: Request, system) -> dict:
                               parse)
     return {name: parse_law(system.model, name, text.strip(), f"--input {name}").expr
             for name, text in given.items()}
+
+
+def _watched(settings, layout, sink: RowSink):
+    """`sink`, and for --method variational also the drift of the integrals
+    (`lagcli.run.variational.IntegralDrift`, the end-of-run line)."""
+    if settings.method != VARIATIONAL:
+        return sink, None
+    from lagcli.run.variational import IntegralDrift
+
+    drift = IntegralDrift(layout)
+    return Tee(sink, drift), drift
+
+
+def _drift_note(drift, settings, note) -> None:
+    if drift is not None and drift.rows:
+        note(drift.summary(settings.dt, settings.steps_per_row))
 
 
 def _overrides(request: Request, layout) -> tuple[dict, dict]:

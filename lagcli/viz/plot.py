@@ -1,4 +1,4 @@
-"""`--plot FILE.png`: the coordinates and the drift of what should stay constant.
+"""`--plot FILE.png` (or .svg, .pdf): the coordinates and the drift of what should stay constant.
 
 Top panel: every coordinate against t.  Bottom panel (log scale), only the
 columns that are *conserved* by the equations, so that any visible growth is
@@ -34,11 +34,13 @@ Choosing what is drawn (`PlotOptions`, `lagcli simulate --columns/--phase`):
 - `units` (a column -> unit mapping; empty until specs give units) labels them "x [m]".
 
 matplotlib is optional (the `plot` extra); `build_figure` makes a pyplot-free
-`Figure` (drawn by the Agg renderer), `plot_png` writes it as a PNG (like `-o`).
+`Figure` (drawn by the Agg renderer), `plot_file` writes it as the PNG, SVG or PDF its file name's extension names
+(like `-o`).
 """
 from __future__ import annotations
 
 import io
+import os
 from dataclasses import dataclass, field
 
 from lagcli.render.escape import plot_text
@@ -50,6 +52,8 @@ from lagcli.run.rows import Trajectory, parse_csv
 
 FLOOR = 1e-17
 ABSOLUTE_BELOW = 1e-12
+FIGURE_FORMATS = {".png": "png", ".svg": "svg", ".pdf": "pdf"}
+_NO_DATE = {"svg": {"metadata": {"Date": None}}, "pdf": {"metadata": {"CreationDate": None}}}
 PANELS = (("angle", "angle (rad)"), ("length", "coordinates"), ("velocity", "velocities"),
           ("multiplier", "multipliers"), ("invariant", "invariants"))
 
@@ -106,13 +110,37 @@ def drift_series(header: list[str], energy_conserved: bool) -> list[tuple[str, s
     return chosen
 
 
-def plot_png(traj: Trajectory, coordinates, energy_conserved: bool, path: str, title: str,
-             options: PlotOptions = PlotOptions()) -> None:
-    """Write the figure of `build_figure` to `path` as a PNG (lagcli.render.output.write_output)."""
+def plot_file(traj: Trajectory, coordinates, energy_conserved: bool, path: str, title: str,
+              options: PlotOptions = PlotOptions()) -> None:
+    """Write the figure of `build_figure` to `path` in the format its extension names
+    (`figure_format`), through lagcli.render.output.write_output."""
     figure = build_figure(traj, coordinates, energy_conserved, title, options)
+    write_output(path, figure_bytes(figure, figure_format(path), dpi=110))
+
+
+def figure_format(path, option: str = "--plot") -> str:
+    """"png", "svg" or "pdf", as the extension of `path` names it ("-": PNG on stdout);
+    any other extension is refused with a hint, before any work is done."""
+    if str(path) == "-":
+        return "png"
+    stem, suffix = os.path.splitext(str(path))
+    if suffix.lower() not in FIGURE_FORMATS:
+        raise UsageError(f"{option} {path}: the file's extension names the picture's format: "
+                         f"{', '.join(FIGURE_FORMATS)}\n  hint: e.g. {option} {stem or 'plot'}.png or "
+                         f"{option} {stem or 'plot'}.svg")
+    return FIGURE_FORMATS[suffix.lower()]
+
+
+def figure_bytes(figure, format: str, dpi: float | None = None) -> bytes:
+    """The bytes of a matplotlib Figure in `format`, the same for the same figure: no date
+    in SVG or PDF, SVG element ids from a fixed salt (not a random one). `dpi`: None for
+    matplotlib's default."""
+    import matplotlib
+
     buffer = io.BytesIO()
-    figure.savefig(buffer, format="png", dpi=110)
-    write_output(path, buffer.getvalue())
+    with matplotlib.rc_context({"svg.hashsalt": "lagcli"}):
+        figure.savefig(buffer, format=format, dpi=dpi, **_NO_DATE.get(format, {}))
+    return buffer.getvalue()
 
 
 def build_figure(traj: Trajectory, coordinates, energy_conserved: bool, title: str,
@@ -129,7 +157,7 @@ def build_figure(traj: Trajectory, coordinates, energy_conserved: bool, title: s
     header, rows = parse_csv(traj.csv_text())
     data = np.array(rows, dtype=float).reshape(len(rows), len(header))
     column = {name: data[:, i] for i, name in enumerate(header)}
-    panels = _panels(header, coordinates, options)
+    panels = by_scale(_panels(header, coordinates, options), column)
     series = drift_series(header, energy_conserved)
     phase = _phase_names(options.phase, coordinates)
     count = len(panels) + bool(series)
@@ -169,6 +197,27 @@ def _panels(header, coordinates, options: PlotOptions) -> list[tuple[str, list[s
     kinds = {name: column_kind(name, coordinates, options.angles) for name in chosen}
     return [(label, [n for n in chosen if kinds[n] == kind]) for kind, label in PANELS
             if any(kinds[n] == kind for n in chosen)]
+
+
+SCALE_SPLIT = 20.0     # columns whose ranges differ by more than this share no panel
+
+
+def by_scale(panels, column) -> list[tuple[str, list[str]]]:
+    """Each panel split by scale: columns sorted by their range (max - min) start a new
+    panel (same label) when their range exceeds SCALE_SPLIT times the range of the
+    panel's smallest, so that a fast-spinning wheel's angle (hundreds of rad) does not
+    flatten the tilt (tenths) to a line. Spec order is kept within a panel."""
+    out = []
+    for label, names in panels:
+        spans = {n: float(column[n].max() - column[n].min()) if len(column[n]) else 0.0 for n in names}
+        groups: list[list[str]] = []
+        for name in sorted(names, key=lambda n: spans[n]):
+            if groups and spans[name] <= SCALE_SPLIT * max(spans[groups[-1][0]], 1e-300):
+                groups[-1].append(name)
+            else:
+                groups.append([name])
+        out += [(label, [n for n in names if n in group]) for group in groups]
+    return out
 
 
 def _phase_names(phase, coordinates) -> list[tuple[str, str]]:
