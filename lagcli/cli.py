@@ -51,21 +51,21 @@ def _run(ctx: click.Context, action) -> None:
 @contextlib.contextmanager
 def _spec_warnings_on_stderr():
     """Show each `SpecWarning` raised while running a command once, on stderr (even when
-    the command then fails); other warnings go their usual way."""
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always", SpecWarning)
-        try:
+    the command then fails); other warnings go their usual way, once the recording has
+    ended (shown while recording, each would be recorded again: a loop without end)."""
+    caught: list = []
+    try:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", SpecWarning)
             yield
-        finally:
-            shown = set()
-            for item in caught:
-                if quiet() and isinstance(item.message, SpecWarning):
-                    continue
-                if not isinstance(item.message, SpecWarning):
-                    warnings.showwarning(item.message, item.category, item.filename, item.lineno)
-                elif str(item.message) not in shown:
-                    shown.add(str(item.message))
-                    click.echo(terminal_text(item.message.render()), err=True)
+    finally:
+        shown = set()
+        for item in caught:
+            if not isinstance(item.message, SpecWarning):
+                warnings.showwarning(item.message, item.category, item.filename, item.lineno)
+            elif str(item.message) not in shown and not quiet():
+                shown.add(str(item.message))
+                click.echo(terminal_text(item.message.render()), err=True)
 
 
 @cli.command()
