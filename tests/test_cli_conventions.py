@@ -63,6 +63,7 @@ STDIN_RUNS = {       # a command that takes a SPEC -> (spec, options, what it wr
     "equilibria": (CART_POLE, [], None),
     "routh": (str(SPECS / "spherical_pendulum.yaml"), [], None),
     "hamiltonian": (CART_POLE, [], None),
+    "report": (CART_POLE, ["--no-pictures", "-o", "page.html"], "page.html"),
 }
 
 
