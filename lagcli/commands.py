@@ -55,29 +55,28 @@ PLOT_ROWS = 20_000     # --plot draws at most 2 x this many rows (evenly thinned
 def simulate(request, output: str | None = None, plot: str | None = None,
              note=lambda text: None, progress=None, columns=None, phase=()) -> None:
     """`lagcli simulate`: run `request` (a lagcli.run.options.Request), writing the
-    CSV to `output` (stdout for None or '-') row by row as it is computed, then the PNG
-    to `plot`.  Both targets are checked, and `output` opened, before any work starts.
-    The CSV is kept even when the integration fails or is interrupted (the rows so
-    far); the error is raised after it.  `note` and `progress`: see
-    lagcli.run.simulate.simulate."""
+    CSV to `output` (stdout for None or '-') row by row as it is computed, then the
+    picture to `plot`.  Both targets are checked, and `output` opened, before any work
+    starts. The CSV is kept even when the integration fails or is interrupted (the rows
+    so far); the error is raised after it.  `note` and `progress`: see `run_request`."""
     from lagcli.errors import SimulationError
     from lagcli.render.output import open_output, resolve_target
-    from lagcli.run.simulate import Interrupted, simulate as run
     from lagcli.run.rows import CsvSink, Decimated, Tee
+    from lagcli.run.simulate import Interrupted
 
     if plot:
         resolve_target(plot)
     with open_output(output) as out:
         csv = CsvSink(out.stream)
         shown = Decimated(PLOT_ROWS) if plot else None        # the plot's bounded copy
-        outcome = run(request, note, progress, Tee(csv, shown) if shown else csv)
+        outcome = run_request(request, note, progress, Tee(csv, shown) if shown else csv)
     sink = outcome.trajectory
     plot_error = None
     if plot and sink.rows:
-        from lagcli.viz.plot import plot_png
+        from lagcli.viz.plot import PlotOptions, plot_png
         try:
             plot_png(shown.trajectory(), outcome.coordinates, outcome.energy_conserved, plot, request.spec,
-                     _plot_options(request.spec, columns, phase))
+                     PlotOptions(columns, tuple(phase), outcome.layout.angles, outcome.layout.units))
         except SimulationError as exc:
             plot_error = exc
     where = "stdout" if output in (None, "-") else output
@@ -91,13 +90,76 @@ def simulate(request, output: str | None = None, plot: str | None = None,
         raise plot_error
 
 
-def _plot_options(spec: str, columns, phase):
-    """What `--plot` draws: the coordinates split into angles and lengths (the model says
-    which are angles), or the `--columns`; `--phase` portraits."""
-    from lagcli.derive.pipeline import load_model
-    from lagcli.viz.plot import PlotOptions, angle_coordinates
+def run_request(request, note=lambda text: None, progress=None, sink=None, system=None):
+    """One run of `request`, its rows given to `sink` (in memory when None): the cached
+    driver of this very spec when there is one (no sympy: the run interface and the
+    program come from the cache), else through the System (derive, make the initial
+    state consistent, generate and build the program). Either way the run layer gets
+    the same two values, a `lagcli.interface.Layout` and a program. `note(text)`
+    receives remarks for stderr; `progress(t_end)` is a context manager yielding
+    `update(t)` (or None); `system`: the System of the spec when the caller has it.
+    Returns a `lagcli.run.simulate.Outcome`."""
+    from lagcli.run.simulate import Interrupted
 
-    return PlotOptions(columns, tuple(phase), angle_coordinates(load_model(spec)))
+    try:
+        return _run_request(request, note, progress, sink, system)
+    except KeyboardInterrupt:
+        raise Interrupted(f"{request.spec}: interrupted before the integration started "
+                          "(while deriving, generating or compiling); nothing was written") from None
+
+
+def _run_request(request, note, progress, sink, system):
+    from lagcli.run import c_backend, simulate as runs
+    from lagcli.run.options import parse_overrides, resolve_settings
+    from lagcli.runtime.run_rules import EXPLICIT_METHODS
+    from lagcli.spec.files import read_spec_bytes
+
+    spec_bytes = read_spec_bytes(request.spec)       # once: the cache key and the model
+    compiler = c_backend.find_compiler()
+    if request.backend == "c":
+        c_backend.require_compiler(request.method or EXPLICIT_METHODS[0])   # before any work
+    if compiler and request.backend in (None, "c") and request.method in (None, *EXPLICIT_METHODS):
+        driver = runs.cached_driver(request.spec, spec_bytes, compiler)
+        if driver is not None:
+            outcome = _warm_run(driver, request, note, progress, sink)
+            if outcome is not None:
+                return outcome
+    if system is None:
+        from lagcli.system import load_file
+
+        system = load_file(request.spec, spec_bytes)
+    layout = system.layout
+    settings = resolve_settings(request, layout.settings.as_dict())
+    backend = request.backend or ("c" if compiler and settings.method in EXPLICIT_METHODS else "python")
+    overrides = parse_overrides(layout, request.sets, request.inits)
+    start = system.start(overrides.values, overrides.initial)
+    for text in start.notes:
+        note(text)
+    program = system.program(backend, settings.method)
+    return runs.Outcome(runs.run(program, settings, overrides, start.values, sink, progress), backend, layout)
+
+
+def _warm_run(driver, request, note, progress, sink):
+    """The run on the cached driver alone, or None when the System must solve for the state."""
+    from lagcli.run import simulate as runs
+    from lagcli.run.options import parse_overrides, resolve_settings
+    from lagcli.runtime.run_rules import EXPLICIT_METHODS
+
+    layout = driver.layout
+    settings = resolve_settings(request, layout.settings.as_dict())
+    if settings.method not in EXPLICIT_METHODS:
+        return None
+    overrides = parse_overrides(layout, request.sets, request.inits)
+    start = runs.warm_start(layout, overrides)
+    if start is None:
+        return None
+    state, notes, limit = start
+    rows = runs.run(driver, settings, overrides, state, sink, progress, limit)
+    if rows is None:
+        return None
+    for text in notes:
+        note(text)
+    return runs.Outcome(rows, "c", layout)
 
 
 def generate(path: str, lang: str, output: str | None = None, form: str = "lagrangian",
@@ -279,16 +341,17 @@ def sweep(spec: str, plan_options: dict, options: dict, note=lambda text: None, 
     """`lagcli sweep`: the runs of a grid, samples or a table through the compiled driver;
     the summary written to options["output"] (docs/sweep.md)."""
     import lagcli
-    from lagcli.run.options import parse_assignments
+    from lagcli.run.options import parse_assignments, parse_overrides
     from lagcli.sweep import SweepOptions, make_plan, sweep as run_sweep
 
     plan = make_plan(**plan_options)                   # option mistakes before deriving
     system = lagcli.load(Path(spec))
-    names = [*system.layout.parameter_names, *system.layout.state_names]
-    fixed = {key: parse_assignments(options.pop(key), f"--{flag}", names, what, "names")
-             for key, flag, what in (("parameters", "set", "parameter"), ("initial", "init", "initial value"),
-                                     ("exceed", "exceed", "coordinate or velocity"))}
-    result = run_sweep(system, plan, SweepOptions(**options, **fixed), note, progress)
+    layout = system.layout
+    overrides = parse_overrides(layout, options.pop("parameters"), options.pop("initial"))
+    exceed = parse_assignments(options.pop("exceed"), "--exceed", list(layout.state_names),
+                               "coordinate or velocity", "coordinates and velocities")
+    result = run_sweep(system, plan, SweepOptions(**options, parameters=overrides.values,
+                                                  initial=overrides.initial, exceed=exceed), note, progress)
     statuses = list(result.column("status"))
     note(f"{len(statuses)} runs: {statuses.count('ok')} ok, {statuses.count('failed')} failed; "
          f"summary in {result.path}")
@@ -302,16 +365,15 @@ def animate(spec: str, csv_path: str | None, request, output: str, drawn: dict, 
     import numpy as np
 
     import lagcli
-    from lagcli.viz.animate import Request, animate as draw, check_names, parse_links
     from lagcli.errors import UsageError
-    from lagcli.run.options import parse_assignments
-    from lagcli.run.simulate import simulate as run
+    from lagcli.run.options import parse_overrides
     from lagcli.run.rows import parse_csv
+    from lagcli.viz.animate import Request, animate as draw, check_names, parse_links
 
     system = lagcli.load(Path(spec))
-    names = list(system.layout.parameter_names)
-    params = {**system.layout.parameter_defaults,
-              **parse_assignments(request.sets, "--set", names, "parameter", "parameters")}
+    defaults = system.layout.parameter_defaults
+    overrides = parse_overrides(system.layout, request.sets, request.inits)
+    params = {**defaults, **{k: v for k, v in overrides.values.items() if k in defaults}}
     drawing = Request(parse_links(drawn.get("links", ())), tuple(drawn.get("traces", ())),
                       drawn.get("fps", 25.0), drawn.get("frame"))
     check_names(system.model, drawing)                # before a run is made
@@ -322,7 +384,7 @@ def animate(spec: str, csv_path: str | None, request, output: str, drawn: dict, 
         except OSError as exc:
             raise UsageError(f"--csv {csv_path}: cannot read it ({exc.strerror or exc})") from None
     else:
-        text = run(request, note).trajectory.csv_text()
+        text = run_request(request, note, system=system).trajectory.csv_text()
     header, rows = parse_csv(text)
     missing = [n for n in ("t", *system.layout.state_names) if n not in header]
     if missing or not rows:

@@ -19,14 +19,13 @@ worked example.
 """
 from __future__ import annotations
 
-import contextlib
 import json
 from dataclasses import dataclass
 from pathlib import Path
 
 from lagcli.derive.result import Derivation
 from lagcli.errors import UsageError
-from lagcli.interface import Layout, layout_of
+from lagcli.interface import Layout, Start, layout_of
 from lagcli.model.model_types import Model
 from lagcli.render.output import check_directory_output, write_output
 
@@ -39,27 +38,50 @@ def load(source: str | Path) -> "System":
     """A `System` from a spec file (a `Path`, or a string ending in .yaml/.yml/.toml
     without a newline) or from the spec's YAML text. Raises `lagcli.errors.SpecError`
     with every problem found, each located."""
-    from lagcli.derive.pipeline import derive_model, load_model, load_model_text
-
     from lagcli.spec.files import read_spec_bytes
 
     is_path = isinstance(source, Path) or ("\n" not in source and source.endswith(SPEC_SUFFIXES))
-    model = load_model(source) if is_path else load_model_text(source)
-    derivation = derive_model(model)
-    spec_bytes = read_spec_bytes(source) if is_path else source.encode()
-    return System(model, derivation, layout_of(derivation), spec_bytes)
+    if is_path:
+        return load_file(str(source), read_spec_bytes(source))
+    from lagcli.derive.pipeline import derive_model, load_model_text
+
+    return System(derive_model(load_model_text(source)), source.encode())
+
+
+def load_file(path: str, spec_bytes: bytes) -> "System":
+    """The System of the spec file `path` whose bytes were read already (`lagcli simulate`
+    reads them once, for the cache key and the model alike)."""
+    from lagcli.derive.pipeline import derive_model, load_model
+
+    return System(derive_model(load_model(path, spec_bytes)), spec_bytes)
 
 
 @dataclass(frozen=True, eq=False)
 class System:
-    model: Model
     derivation: Derivation
-    layout: Layout
     spec_bytes: bytes              # the spec as read: with model.source, the key of cached code
 
     @property
+    def model(self) -> Model:
+        return self.derivation.model
+
+    @property
+    def layout(self) -> Layout:
+        """The run interface (lagcli.interface.Layout), built once: names, defaults, units,
+        columns, settings, the consistent default state; what runs, targets, sweeps and
+        pictures read."""
+        return self._once("_layout", self._make_layout)
+
+    def _make_layout(self) -> Layout:
+        from lagcli.model.angles import angle_coordinates
+
+        start, consistent = self.spec_start()
+        return layout_of(self.derivation, Start(tuple(start.values), tuple(start.notes), consistent),
+                         angle_coordinates(self.model))
+
+    @property
     def name(self) -> str:
-        return self.layout.name
+        return self.model.name
 
     @property
     def parts(self):
@@ -126,7 +148,7 @@ class System:
     @property
     def energy_conserved(self) -> bool:
         """The energy column is conserved (it is the Jacobi integral)."""
-        return self.derivation.jacobi_integral is not None and self.derivation.energy_is_jacobi
+        return self.layout.energy_conserved
 
     def initial_state(self, parameters: dict | None = None, initial: dict | None = None):
         """The initial state [q..., q'...] from the spec's `initial:` overridden by
@@ -180,31 +202,31 @@ class System:
         return from_rows(self.layout, rows, start.notes, self.energy_conserved)
 
     def run(self, settings, values: dict[str, float], start, backend: str, sink=None, progress=None):
-        """One run's rows, given to `sink` (a `lagcli.run.rows.RowSink`; in
-        memory when None) as they are computed, and the sink returned: the level
-        `lagcli simulate` works at. `settings`: `lagcli.run.options.RunSettings`;
-        `values`: the parameters and inputs changed for this run (as `--set` gives
-        them); `start`: from `start`; `progress(t_end)`: a context manager yielding
-        `update(t)` (or None), entered once the code is ready and the integration starts."""
-        progress = progress or _no_progress
-        if backend == "python":
-            from lagcli.run.python_backend import integrate_module
+        """One run's rows, given to `sink` (a `lagcli.run.rows.RowSink`; in memory when
+        None) as they are computed, and the sink returned: the level `lagcli simulate`
+        works at. `settings`: `lagcli.interface.RunSettings`; `values`: the parameters
+        and inputs changed for this run (as `--set` gives them); `start`: from `start`;
+        `progress(t_end)`: a context manager yielding `update(t)` (or None), entered once
+        the code is ready and the integration starts."""
+        from lagcli.run import simulate
+        from lagcli.run.options import Overrides
 
-            module = self._module()
-            params = {**self.layout.parameter_defaults, **values}
-            inputs = {**self.layout.input_defaults, **values}
-            u = [inputs[n] for n in self.layout.input_names] or None
-            with progress(settings.t_end) as update:
-                return integrate_module(module, [params[n] for n in self.layout.parameter_names],
-                                        list(start.values), settings, update, sink, u)
+        program = self.program(backend, settings.method)
+        return simulate.run(program, settings, Overrides(values), start.values, sink, progress)
+
+    def program(self, backend: str, method: str | None = None):
+        """What the run layer runs for `backend`: "python" (the generated module,
+        `lagcli.run.python_backend.PythonModule`) or "c" (the compiled driver in the cache,
+        `lagcli.run.c_backend.CDriver`; `method` must be one it implements)."""
+        if backend == "python":
+            from lagcli.run.python_backend import PythonModule
+
+            return PythonModule(self._module(), self.layout)
         if backend == "c":
             from lagcli.run import c_backend
+            from lagcli.runtime.run_rules import EXPLICIT_METHODS
 
-            cached = c_backend.driver(self, c_backend.require_compiler(settings.method))
-            args = c_backend.driver_arguments(settings, values, dict(zip(self.layout.state_names,
-                                                                           start.values)))
-            with progress(settings.t_end) as update:
-                return c_backend.run(cached, args, update, sink=sink)
+            return self._driver(c_backend.require_compiler(method or EXPLICIT_METHODS[0]))
         raise UsageError(f"backend {backend!r}: expected 'python' or 'c'")
 
     def sweep(self, grid: dict | None = None, sample: dict | None = None, count: int | None = None,
@@ -243,10 +265,28 @@ class System:
                        {**self.layout.parameter_defaults, **self._parameters(parameters)}, path, request)
 
     def _module(self):
-        """The generated Python module (its source cached on disk), made once per System."""
-        from lagcli.run.python_backend import cached_module
+        """The generated Python module, its source kept in the cache; made once per System."""
+        return self._once("_generated_module", self._make_module)
 
-        return self._once("_generated_module", lambda: cached_module(self))
+    def _make_module(self):
+        from lagcli.run import cache, python_backend
+
+        key = cache.cache_key(self.model.source, self.spec_bytes, python_backend.MODULE_VARIANT)
+        source = python_backend.cached_source(key)
+        if source is None:
+            (source,) = self.generate("python").values()
+            python_backend.store(key, self.name, source)
+        return python_backend.module_of(self.name, source)
+
+    def _driver(self, compiler):
+        """The compiled driver in the cache, generated (C target) and built when missing."""
+        from lagcli.run import c_backend
+
+        key = c_backend.cache_key(self.model.source, self.spec_bytes, compiler)
+        found = c_backend.lookup(key)
+        if found is not None:
+            return found
+        return c_backend.build(self.generate("c"), key, compiler, self.layout)
 
     def _once(self, name: str, make):
         if name not in self.__dict__:
@@ -290,7 +330,3 @@ class System:
     def __repr__(self) -> str:
         return f"<lagcli.System {self.name}: {', '.join(self.layout.coordinates)}>"
 
-
-@contextlib.contextmanager
-def _no_progress(t_end):
-    yield None

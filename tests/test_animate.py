@@ -116,7 +116,7 @@ def test_bad_animate_options_exit_2(tmp_path, args, expected):
 
 def test_angles_are_told_from_the_model():
     from lagcli.derive.pipeline import load_model
-    from lagcli.viz.plot import angle_coordinates
+    from lagcli.model.angles import angle_coordinates
 
     assert angle_coordinates(load_model(spec_path("rolling_disc"))) == {"psi", "theta", "phi"}
     assert angle_coordinates(load_model(spec_path("cart_pole"))) == {"theta"}

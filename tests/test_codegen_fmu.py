@@ -46,11 +46,10 @@ pytestmark = pytest.mark.skipif(
 
 
 def system_of(derived, name: str):
-    from lagcli.interface import layout_of
     from lagcli.system import System
 
     d = derived(name)
-    return System(d.model, d, layout_of(d), Path(d.model.source).read_bytes())
+    return System(d, Path(d.model.source).read_bytes())
 
 
 _GENERATED: dict[str, bytes] = {}      # spec name -> FMU bytes, made once per session

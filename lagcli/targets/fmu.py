@@ -138,7 +138,7 @@ def _check_file_names(d: Derivation, name: str) -> None:
 
 def fmu_files(d: Derivation, initial=None, initial_notes=()) -> dict[str, bytes]:
     """{`<name>.fmu`: the zip's bytes}: `fmu_sources` plus the binary compiled from them."""
-    from lagcli.run.c_backend import find_compiler
+    from lagcli.runtime.toolchain import find_compiler
 
     name = d.model.name
     compiler = find_compiler()
@@ -162,7 +162,7 @@ def platform_folder() -> tuple[str, str]:
 
 def compile_binary(compiler: str, files: dict, library: str) -> bytes:
     """The shared library built from the FMU's sources/ in a temporary directory."""
-    from lagcli.run.c_backend import compile_library
+    from lagcli.runtime.toolchain import compile_program
 
     with tempfile.TemporaryDirectory(prefix="lagcli-fmu-") as work:
         sources = []
@@ -170,7 +170,8 @@ def compile_binary(compiler: str, files: dict, library: str) -> bytes:
             if path.startswith("sources/"):
                 (Path(work) / path.removeprefix("sources/")).write_text(text, encoding="utf-8")
                 sources.append(path.removeprefix("sources/"))
-        compile_library(compiler, Path(work), sorted(s for s in sources if s.endswith(".c")), library)
+        compile_program(compiler, Path(work), sorted(s for s in sources if s.endswith(".c")), library,
+                        shared=True)
         return (Path(work) / library).read_bytes()
 
 

@@ -25,7 +25,7 @@ whole; longer ones evenly thinned, so a spike narrower than k rows may not show.
 Choosing what is drawn (`PlotOptions`, `lagcli simulate --columns/--phase`):
 
 - the coordinates are split into an "angle (rad)" and a "coordinates" (lengths) panel
-  when the caller knows which coordinates are angles (`angle_coordinates(model)`: a
+  when the caller knows which coordinates are angles (the layout's `angles`, from `lagcli.model.angles`: a
   body's rotation angle, or the argument of a sin/cos/tan in a position or energy);
 - `--columns a,b,...` draws exactly those columns, one panel per kind, in the order
   angles, lengths, velocities, multipliers, invariants (their values; the drift panel
@@ -73,24 +73,6 @@ def column_kind(name: str, coordinates, angles) -> str | None:
     if name in (ENERGY, JACOBI, RESIDUAL) or name.startswith(MOMENTUM_PREFIX):
         return "invariant"
     return None
-
-
-def angle_coordinates(model) -> frozenset:
-    """The coordinates of `model` that are angles: a body's rotation angle, or found
-    inside a sin, cos or tan of a position, a spring end or an energy term."""
-    import sympy as sp
-
-    q = set(model.q)
-    found = set()
-    for body in model.bodies:
-        for _, angle in body.rotations:
-            found |= angle.free_symbols & q
-    exprs = [m.position for m in [*model.particles, *model.bodies]]
-    exprs += [e for s in model.springs for e in (s.end_a, s.end_b)] + [model.potential, model.kinetic]
-    for expr in exprs:
-        for call in sp.sympify(expr).atoms(sp.sin, sp.cos, sp.tan):
-            found |= call.free_symbols & q
-    return frozenset(s.name for s in found)
 
 
 def drift_series(header: list[str], energy_conserved: bool) -> list[tuple[str, str]]:
