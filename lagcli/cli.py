@@ -200,18 +200,25 @@ def generate(ctx, spec, lang, output, form):
               help="With --plot: draw these columns, one panel per kind (angles, lengths, velocities, ...).")
 @click.option("--phase", "phase", multiple=True, metavar="Q",
               help="With --plot: add the phase portrait (Q_dot against Q) of coordinate Q (repeatable).")
+@click.option("--units", "show_units", is_flag=True,
+              help="Print each CSV column with its kind and unit (from the spec's unit:s) and exit.")
 @quiet_option
 @click.pass_context
 def simulate(ctx, spec, t_end, dt, method, rtol, atol, sets, inits, backend, baumgarte, output, plot,
-             columns, phase):
+             columns, phase, show_units):
     """Integrate the equations of motion of SPEC and write the trajectory as CSV.
 
     \b
     Examples:
       lagcli simulate specs/double_pendulum.yaml -o traj.csv --plot traj.png
       lagcli simulate specs/cart_pole.yaml --plot p.png --columns x,theta,x_dot --phase theta -o c.csv
+      lagcli simulate tests/data/units_cart_pendulum.yaml --units
     """
     from lagcli.run.options import Request
+
+    if show_units:
+        _run(ctx, lambda: write_output(output, commands.column_units(spec)))
+        return
 
     if (columns or phase) and not plot:
         raise click.UsageError("--columns and --phase choose what --plot draws: give --plot FILE.png")

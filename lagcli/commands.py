@@ -90,6 +90,24 @@ def simulate(request, output: str | None = None, plot: str | None = None,
         raise plot_error
 
 
+def column_units(spec: str) -> str:
+    """`lagcli simulate SPEC --units`: `column,kind,unit` of each CSV column (the unit empty
+    where the spec gives none), from the cached driver's run interface when there is one."""
+    from lagcli.run import c_backend, simulate as runs
+    from lagcli.spec.files import read_spec_bytes
+
+    spec_bytes = read_spec_bytes(spec)
+    compiler = c_backend.find_compiler()
+    driver = runs.cached_driver(spec, spec_bytes, compiler) if compiler else None
+    if driver is not None:
+        layout = driver.layout
+    else:
+        from lagcli.system import load_file
+
+        layout = load_file(spec, spec_bytes).layout
+    return "column,kind,unit\n" + "".join(f"{c.name},{c.kind},{c.unit or ''}\n" for c in layout.columns)
+
+
 def run_request(request, note=lambda text: None, progress=None, sink=None, system=None):
     """One run of `request`, its rows given to `sink` (in memory when None): the cached
     driver of this very spec when there is one (no sympy: the run interface and the

@@ -31,7 +31,8 @@ Choosing what is drawn (`PlotOptions`, `lagcli simulate --columns/--phase`):
   angles, lengths, velocities, multipliers, invariants (their values; the drift panel
   below stays);
 - `--phase q` adds a phase portrait, q_dot against q;
-- `units` (a column -> unit mapping; empty until specs give units) labels them "x [m]".
+- `units` (column -> unit: the run interface's `Layout.units`, from the spec's `unit:`s) labels
+  the legend and the axes: "x [m]", "t [s]" (`axis_label`).
 
 matplotlib is optional (the `plot` extra); `build_figure` makes a pyplot-free
 `Figure` (drawn by the Agg renderer), `plot_png` writes it as a PNG (like `-o`).
@@ -122,13 +123,13 @@ def build_figure(traj: Trajectory, coordinates, energy_conserved: bool, title: s
     for ax, (label, names) in zip(axes, panels):
         for name in names:
             ax.plot(column[TIME], column[name], label=_with_unit(name, options.units))
-        ax.set_ylabel(label)
+        ax.set_ylabel(axis_label(label, names, options.units))
         ax.legend(loc="best", fontsize="small")
         ax.grid(True, alpha=0.3)
     first.set_title(plot_text(title), usetex=False)   # the spec's file name: never TeX
     if series:
         _drift_panel(axes[len(panels)], column, series, np)
-    axes[-1].set_xlabel("t")
+    axes[-1].set_xlabel(_with_unit(TIME, options.units))
     for k, (q, qd) in enumerate(phase):
         ax = fig.add_subplot(grid[count + k, 0])
         ax.plot(column[q], column[qd], lw=1)
@@ -158,6 +159,15 @@ def _phase_names(phase, coordinates) -> list[tuple[str, str]]:
         if q not in coordinates:
             raise UsageError(f"--phase {q}: not a coordinate; coordinates are: {', '.join(coordinates)}")
     return [(q, velocity_name(q)) for q in phase]
+
+
+def axis_label(label: str, names, units: dict) -> str:
+    """The y label of a panel: its one column with its unit (`x [m]`), else the panel's
+    name with the unit its columns share (`coordinates [m]`), else the name alone."""
+    if len(names) == 1:
+        return _with_unit(names[0], units)
+    shared = {units.get(name) for name in names}
+    return f"{label} [{shared.pop()}]" if len(shared) == 1 and None not in shared else label
 
 
 def _with_unit(name: str, units: dict) -> str:
