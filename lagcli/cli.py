@@ -154,7 +154,9 @@ def check(ctx, specs, as_json):
 @click.option("--lang", required=True, type=LanguageChoice(LANGUAGES),
               help="python: one module (numpy); c: <name>.h, <name>.c, <name>_main.c; "
                    "octave: MATLAB/Octave functions and an ode45 script; rust: a crate; "
-                   "latex: a standalone document; fmu: an FMI 2.0 FMU (needs cc). Any letter case; "
+                   "latex: a standalone document; fmu: an FMI 2.0 FMU (needs cc); "
+                   "casadi: a module of CasADi Functions (needs casadi to run); "
+                   "jax: a module of jax.numpy functions (needs jax to run). Any letter case; "
                    "matlab is octave.")
 @click.option("-o", "--output", default=None,
               help="Output file ('-' or none: stdout); for --lang c, octave, rust the directory (required); "
@@ -166,12 +168,15 @@ def check(ctx, specs, as_json):
 @quiet_option
 @click.pass_context
 def generate(ctx, spec, lang, output, form):
-    """Generate code (Python, C) or a LaTeX document from SPEC's equations of motion.
+    """Generate code (Python, C, Octave, Rust, FMU, CasADi, JAX) or a LaTeX document from
+    SPEC's equations of motion.
 
     \b
     Examples:
       lagcli generate specs/double_pendulum.yaml --lang python -o double_pendulum.py
       lagcli generate specs/double_pendulum.yaml --lang c -o double_pendulum/
+      lagcli generate specs/cart_pole.yaml --lang casadi -o cart_pole_casadi.py
+      lagcli generate specs/double_pendulum.yaml --lang jax -o double_pendulum_jax.py
       lagcli generate specs/spherical_pendulum.yaml --lang python --form hamiltonian -o sp_h.py
     """
     _run(ctx, lambda: commands.generate(spec, lang, output, form, note=note))
@@ -189,11 +194,19 @@ def generate(ctx, spec, lang, output, form):
               help="Override a parameter (repeatable); VALUE may be a constant expression.")
 @click.option("--init", "inits", multiple=True, metavar="NAME=VALUE",
               help="Initial value of a coordinate or <q>_dot (repeatable); overrides `initial:`.")
+@click.option("--input", "inputs", multiple=True, metavar="NAME=EXPR",
+              help="A law for an input, of t, coordinates, velocities, parameters (repeatable; "
+                   "overrides the spec's simulate: inputs:), e.g. --input 'F=-k*x - c*x_dot'.")
 @click.option("--backend", type=click.Choice(["python", "c"]),
-              help="c (compiled driver, cached) is the default when `cc` exists; else python.")
+              help="c (compiled driver, cached) is the default when `cc` exists; else python "
+                   "(and for runs with events or input laws).")
 @click.option("--baumgarte", nargs=2, type=float, metavar="ALPHA BETA",
               help="Constraint stabilisation gains (default 10 10).")
+@click.option("--max-steps", type=int, metavar="N",
+              help="Stop with an error after N integrator steps (default 20000 + 1000 per output interval).")
 @click.option("-o", "--output", default=None, help="CSV file ('-' or none: stdout).")
+@click.option("--events", "events_path", default=None, metavar="FILE.csv",
+              help="Write one row per event (t, event, action, state before and after, impulse).")
 @click.option("--plot", default=None, metavar="FILE.png",
               help="Also plot coordinates and drift (needs matplotlib).")
 @click.option("--columns", default=None, metavar="NAME[,NAME...]",
@@ -204,14 +217,15 @@ def generate(ctx, spec, lang, output, form):
               help="Print each CSV column with its kind and unit (from the spec's unit:s) and exit.")
 @quiet_option
 @click.pass_context
-def simulate(ctx, spec, t_end, dt, method, rtol, atol, sets, inits, backend, baumgarte, output, plot,
-             columns, phase, show_units):
+def simulate(ctx, spec, t_end, dt, method, rtol, atol, sets, inits, inputs, backend, baumgarte, max_steps, output,
+             events_path, plot, columns, phase, show_units):
     """Integrate the equations of motion of SPEC and write the trajectory as CSV.
 
     \b
     Examples:
       lagcli simulate specs/double_pendulum.yaml -o traj.csv --plot traj.png
       lagcli simulate specs/cart_pole.yaml --plot p.png --columns x,theta,x_dot --phase theta -o c.csv
+      lagcli simulate specs/hybrid/bouncing_ball.yaml --events bounces.csv -o ball.csv
       lagcli simulate tests/data/units_cart_pendulum.yaml --units
     """
     from lagcli.run.options import Request
@@ -223,10 +237,11 @@ def simulate(ctx, spec, t_end, dt, method, rtol, atol, sets, inits, backend, bau
     if (columns or phase) and not plot:
         raise click.UsageError("--columns and --phase choose what --plot draws: give --plot FILE.png")
     request = Request(spec, t_end, dt, method, rtol, atol, tuple(sets), tuple(inits), backend,
-                      tuple(baumgarte) if baumgarte else None)
+                      tuple(baumgarte) if baumgarte else None, tuple(inputs), max_steps)
     chosen = tuple(c.strip() for c in columns.split(",")) if columns else None
     _run(ctx, lambda: commands.simulate(request, output, plot, note=note,
-                                        progress=_progress_bar, columns=chosen, phase=tuple(phase)))
+                                        progress=_progress_bar, columns=chosen, phase=tuple(phase),
+                                        events=events_path))
 
 
 @cli.command()
@@ -241,6 +256,8 @@ def simulate(ctx, spec, t_end, dt, method, rtol, atol, sets, inits, backend, bau
 @click.option("--set", "sets", multiple=True, metavar="NAME=VALUE", help="A parameter for every run (repeatable).")
 @click.option("--init", "inits", multiple=True, metavar="NAME=VALUE",
               help="An initial value for every run (repeatable).")
+@click.option("--input", "inputs", multiple=True, metavar="NAME=EXPR",
+              help="A law for an input (not run by the compiled driver yet: refused with a clear error).")
 @click.option("--exceed", "exceed", multiple=True, metavar="NAME=VALUE",
               help="Summary column exceed_NAME: first output time with |NAME| > VALUE (repeatable).")
 @click.option("--t-end", type=float, help="End time (default: the spec's simulate.t_end, else 10).")
@@ -257,8 +274,8 @@ def simulate(ctx, spec, t_end, dt, method, rtol, atol, sets, inits, backend, bau
 @click.option("-o", "--output", required=True, help="Summary file: .csv, or .parquet (pyarrow).")
 @quiet_option
 @click.pass_context
-def sweep(ctx, spec, grids, samples, count, seed, runs, sets, inits, exceed, t_end, dt, method, rtol, atol,
-          baumgarte, trajectories, workers, scheduler, output):
+def sweep(ctx, spec, grids, samples, count, seed, runs, sets, inits, inputs, exceed, t_end, dt, method, rtol,
+          atol, baumgarte, trajectories, workers, scheduler, output):
     """Run SPEC many times (a grid, random samples or a table) and summarise each run.
 
     One row per run in the summary: the varied values, ok/failed and why, the final
@@ -274,7 +291,7 @@ def sweep(ctx, spec, grids, samples, count, seed, runs, sets, inits, exceed, t_e
     options = {"t_end": t_end, "dt": dt, "method": method, "rtol": rtol, "atol": atol,
                "baumgarte": tuple(baumgarte) if baumgarte else None, "parameters": sets, "initial": inits,
                "exceed": exceed, "output": output, "trajectories": trajectories, "workers": workers,
-               "scheduler": scheduler}
+               "scheduler": scheduler, "inputs": inputs}
     _run(ctx, lambda: commands.sweep(spec, plan, options, note=note,
                                      progress=_count_bar))
 
@@ -287,6 +304,8 @@ def sweep(ctx, spec, grids, samples, count, seed, runs, sets, inits, exceed, t_e
 @click.option("--set", "sets", multiple=True, metavar="NAME=VALUE",
               help="A parameter (repeatable; with --csv, the values the CSV was made with).")
 @click.option("--init", "inits", multiple=True, metavar="NAME=VALUE", help="Without --csv: an initial value.")
+@click.option("--input", "inputs", multiple=True, metavar="NAME=EXPR",
+              help="Without --csv: a law for an input, as for simulate (repeatable).")
 @click.option("--link", "links", multiple=True, metavar="A:B",
               help="Draw a rod between two points (particle/body names or 'origin'; repeatable).")
 @click.option("--trace", "traces", multiple=True, metavar="POINT", help="Draw the path of a point (repeatable).")
@@ -295,7 +314,7 @@ def sweep(ctx, spec, grids, samples, count, seed, runs, sets, inits, exceed, t_e
 @click.option("-o", "--output", required=True, help="motion.gif, motion.mp4 (ffmpeg) or frame.png (--frame).")
 @quiet_option
 @click.pass_context
-def animate(ctx, spec, csv_path, t_end, dt, sets, inits, links, traces, fps, frame, output):
+def animate(ctx, spec, csv_path, t_end, dt, sets, inits, inputs, links, traces, fps, frame, output):
     """Draw the motion of SPEC: particles, bodies' axes, springs, rods, traces and the time.
 
     \b
@@ -306,7 +325,7 @@ def animate(ctx, spec, csv_path, t_end, dt, sets, inits, links, traces, fps, fra
     """
     from lagcli.run.options import Request
 
-    request = Request(spec, t_end, dt, sets=tuple(sets), inits=tuple(inits))
+    request = Request(spec, t_end, dt, sets=tuple(sets), inits=tuple(inits), inputs=tuple(inputs))
     drawing = {"links": links, "traces": traces, "fps": fps, "frame": frame}
     _run(ctx, lambda: commands.animate(spec, csv_path, request, output, drawing,
                                        note=note))
@@ -463,12 +482,15 @@ def _format(as_json: bool, as_latex: bool = False) -> str:
               help="With --sweep: find where the number of unstable eigenvalues changes (brentq).")
 @click.option("--symbolic", is_flag=True,
               help="A and B as expressions of the parameters (small unconstrained systems).")
+@click.option("--closed-loop", "closed", is_flag=True,
+              help="Substitute the spec's input laws (simulate: inputs:) first: the closed-loop A.")
 @click.option("--json", "as_json", is_flag=True, help="JSON (full precision).")
 @click.option("--latex", "as_latex", is_flag=True, help="A LaTeX fragment (amsmath).")
 @click.option("-o", "--output", default=None, help="Output file ('-' or none: stdout).")
 @quiet_option
 @click.pass_context
-def linearize(ctx, spec, at, independent, inputs, sweep, find_critical, symbolic, as_json, as_latex, output):
+def linearize(ctx, spec, at, independent, inputs, sweep, find_critical, symbolic, closed, as_json, as_latex,
+              output):
     """Linearize SPEC about an operating point: A, B, M, C, K, eigenvalues and a stability verdict.
 
     \b
@@ -476,12 +498,13 @@ def linearize(ctx, spec, at, independent, inputs, sweep, find_critical, symbolic
       lagcli linearize specs/bead_on_spinning_hoop.yaml --at theta=0
       lagcli linearize specs/cart_pole.yaml --input F --json
       lagcli linearize specs/cart_pole.yaml --input F --symbolic
+      lagcli linearize specs/hybrid/cart_pole_lqr.yaml --closed-loop
       lagcli linearize specs/rolling_disc.yaml --at phi_dot=w --at x_dot=r*w \\
           --sweep w=0:10:101 --find-critical
     """
     fmt = _format(as_json, as_latex)
     _run(ctx, lambda: write_output(output, commands.linearize(spec, at, independent, inputs, sweep,
-                                                              find_critical, fmt, symbolic)))
+                                                              find_critical, fmt, symbolic, closed)))
 
 
 @cli.command()

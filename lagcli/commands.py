@@ -53,24 +53,28 @@ PLOT_ROWS = 20_000     # --plot draws at most 2 x this many rows (evenly thinned
 
 
 def simulate(request, output: str | None = None, plot: str | None = None,
-             note=lambda text: None, progress=None, columns=None, phase=()) -> None:
+             note=lambda text: None, progress=None, columns=None, phase=(), events: str | None = None) -> None:
     """`lagcli simulate`: run `request` (a lagcli.run.options.Request), writing the
     CSV to `output` (stdout for None or '-') row by row as it is computed, then the
     picture to `plot`.  Both targets are checked, and `output` opened, before any work
     starts. The CSV is kept even when the integration fails or is interrupted (the rows
-    so far); the error is raised after it.  `note` and `progress`: see `run_request`."""
+    so far); the error is raised after it.  `note` and `progress`: see `run_request`.
+    `events`: the file of one row per event (`--events`), written after the run; a run
+    with events also says on stderr what happened."""
     from lagcli.errors import SimulationError
     from lagcli.render.output import open_output, resolve_target
     from lagcli.run.rows import CsvSink, Decimated, Tee
     from lagcli.run.simulate import Interrupted
 
-    if plot:
-        resolve_target(plot)
+    for target in (plot, events):
+        if target:
+            resolve_target(target)
     with open_output(output) as out:
         csv = CsvSink(out.stream)
         shown = Decimated(PLOT_ROWS) if plot else None        # the plot's bounded copy
         outcome = run_request(request, note, progress, Tee(csv, shown) if shown else csv)
     sink = outcome.trajectory
+    _report_events(sink, outcome, events, note)
     plot_error = None
     if plot and sink.rows:
         from lagcli.viz.plot import PlotOptions, plot_png
@@ -88,6 +92,19 @@ def simulate(request, output: str | None = None, plot: str | None = None,
         raise Interrupted(f"{request.spec}: interrupted ({kept})")
     if plot_error:
         raise plot_error
+
+
+def _report_events(sink, outcome, events: str | None, note) -> None:
+    """The summary line and the end note of a run with events on stderr; the --events file."""
+    from lagcli.hybrid.records import events_csv, summary
+    from lagcli.render.output import write_output
+
+    if sink.events or outcome.watched_events:
+        note(summary(sink.events))
+    if sink.end_note:
+        note(f"note: {sink.end_note}")
+    if events:
+        write_output(events, events_csv(sink.events, outcome.states))
 
 
 def column_units(spec: str) -> str:
@@ -136,10 +153,11 @@ def _run_request(request, note, progress, sink, system):
     compiler = c_backend.find_compiler()
     if request.backend == "c":
         c_backend.require_compiler(request.method or EXPLICIT_METHODS[0])   # before any work
-    if compiler and request.backend in (None, "c") and request.method in (None, *EXPLICIT_METHODS):
+    if compiler and request.backend in (None, "c") and request.method in (None, *EXPLICIT_METHODS) \
+            and not request.inputs and system is None:
         driver = runs.cached_driver(request.spec, spec_bytes, compiler)
         if driver is not None:
-            outcome = _warm_run(driver, request, note, progress, sink)
+            outcome = _warm_run(driver, request, note, progress, sink, spec_bytes)
             if outcome is not None:
                 return outcome
     if system is None:
@@ -148,16 +166,24 @@ def _run_request(request, note, progress, sink, system):
         system = load_file(request.spec, spec_bytes)
     layout = system.layout
     settings = resolve_settings(request, layout.settings.as_dict())
-    backend = request.backend or ("c" if compiler and settings.method in EXPLICIT_METHODS else "python")
     overrides = parse_overrides(layout, request.sets, request.inits)
+    laws = _laws(request, system)
+    backend = request.backend or ("c" if compiler and settings.method in EXPLICIT_METHODS else "python")
+    python_only = system.hybrid(overrides.values, laws) is not None \
+        and system.compiled_laws(overrides.values, laws) is None
+    if python_only and request.backend is None:
+        backend = "python"
+        if compiler:
+            note("lagcli: events run on the Python backend (the C driver does not run them yet)")
     start = system.start(overrides.values, overrides.initial)
-    for text in start.notes:
+    for text in runs.at_rest(layout.initial, overrides.initial) + list(start.notes):
         note(text)
-    program = system.program(backend, settings.method)
-    return runs.Outcome(runs.run(program, settings, overrides, start.values, sink, progress), backend, layout)
+    program = system.program(backend, settings.method, overrides.values, laws)
+    rows = runs.run(program, settings, overrides, start.values, sink, progress)
+    return runs.Outcome(rows, backend, layout, bool(system.model.events))
 
 
-def _warm_run(driver, request, note, progress, sink):
+def _warm_run(driver, request, note, progress, sink, spec_bytes):
     """The run on the cached driver alone, or None when the System must solve for the state."""
     from lagcli.run import simulate as runs
     from lagcli.run.options import parse_overrides, resolve_settings
@@ -175,184 +201,24 @@ def _warm_run(driver, request, note, progress, sink):
     rows = runs.run(driver, settings, overrides, state, sink, progress, limit)
     if rows is None:
         return None
-    for text in notes:
+    if overrides.values and rows.failure and rows.rows <= 1:      # --set m=0: say why, as the cold path does
+        from lagcli.system import load_file
+
+        load_file(request.spec, spec_bytes).start(overrides.values, {})
+    for text in runs.at_rest(layout.initial, overrides.initial) + list(notes):
         note(text)
     return runs.Outcome(rows, "c", layout)
 
 
-def generate(path: str, lang: str, output: str | None = None, form: str = "lagrangian",
-             note=lambda text: None) -> None:
-    """`lagcli generate`: code or a document for `path` in `lang` (see lagcli.targets.LANGUAGES).
+def _laws(request, system) -> dict:
+    """--input NAME=EXPR as {name: sympy law}, parsed with the safe parser."""
+    from lagcli.hybrid.hybrid_model import parse_law
+    from lagcli.run.options import parse_assignments
 
-    One-file languages write to `output` (stdout for None or '-'; the FMU's zip needs
-    `output`, '-' for stdout); C writes its files
-    into the directory `output` (required; created if only it is missing), each
-    atomically, after all are made.  The target is checked before deriving.
-    `form="hamiltonian"`: the Python module in (q, p) of lagcli/targets/hamilton.py.
-    `note(text)` is told what was written ("wrote dp_c/: 8 files"), unless it went to stdout."""
-    from lagcli.targets import LANGUAGES
-    from lagcli.errors import UsageError
-    from lagcli.render.output import check_directory_output, open_output
-    from lagcli.system import load
-
-    if form == "hamiltonian":
-        if lang != "python":
-            raise UsageError(f"--form hamiltonian: generated for --lang python only (not {lang})")
-        from lagcli.targets.hamilton import hamilton_module
-        with open_output(output) as out:
-            out.stream.write(hamilton_module(_derive(path)))
-        _wrote(output, note)
-        return
-
-    language = LANGUAGES.get(lang)
-    if language is not None and language.directory:
-        if output in (None, "-"):
-            raise UsageError(f"--lang {lang} writes several files: give the directory with -o DIR")
-        check_directory_output(output)
-        files = load(Path(path)).generate(lang, output)
-        note(f"wrote {output}: {len(files)} file{'s' if len(files) != 1 else ''}")
-        return
-    binary = language is not None and language.binary
-    if binary and output is None:
-        raise UsageError(f"--lang {lang} writes a zip archive: give its file with -o NAME.{lang} "
-                         "(or -o - for stdout)")
-    with open_output(output, binary=binary) as out:
-        (data,) = load(Path(path)).generate(lang).values()
-        out.stream.write(data)
-    _wrote(output, note)
-
-
-def _wrote(output: str | None, note) -> None:
-    if output not in (None, "-"):
-        note(f"wrote {output}")
-
-
-# -- analysis: lagcli linearize / equilibria / hamiltonian / routh (lagcli/analysis/) --
-
-def linearize(path: str, at=(), independent=(), inputs=(), sweep: str | None = None,
-              find_critical: bool = False, fmt: str = "text", symbolic: bool = False) -> str:
-    """`lagcli linearize`: the linear model about `--at`, or the eigenvalue table of a sweep."""
-    from lagcli.analysis import report
-    from lagcli.analysis.linearize import CompiledSystem, linearize as linear_model
-    from lagcli.analysis.operating_point import evaluate, parse_assignments
-    from lagcli.analysis.stability import stability
-    from lagcli.analysis.sweep import critical_values, parse_sweep, sweep as run_sweep
-    from lagcli.errors import UsageError
-
-    d = _derive(path)
-    span = parse_sweep(sweep) if sweep else None
-    if find_critical and span is None:
-        raise UsageError("--find-critical needs --sweep NAME=START:STOP:COUNT")
-    points = parse_assignments(d, at, span.name if span else None)
-    if symbolic:
-        return _symbolic_linear(d, points, inputs, fmt)
-    system = CompiledSystem(d, inputs)
-    if span is not None:
-        table = run_sweep(system, points, span.values, independent)
-        critical = critical_values(system, points, table, independent) if find_critical else []
-        content = report.sweep_content(span.name, table, critical)
-        if fmt == "latex":
-            raise UsageError("--sweep prints a table: use the text or --json output")
-        return report.to_json(content) if fmt == "json" else report.sweep_text(content)
-    lm = linear_model(system, evaluate(d, points), independent)
-    content = report.linear_content(d, lm, stability(lm))
-    if fmt == "json":
-        return report.to_json(content)
-    if fmt == "latex":
-        return report.linear_latex(content, _latex_names(d))
-    return report.linear_text(content)
-
-
-def _symbolic_linear(d, points, inputs, fmt: str) -> str:
-    from lagcli.analysis import report
-    from lagcli.analysis.symbolic import symbolic_linear
-    from lagcli.report.latex_printer import LatexPrinter
-    from lagcli.render.spec_printer import spec_str
-
-    lin = symbolic_linear(d, points, inputs)
-    if fmt == "latex":
-        return report.symbolic_latex(lin, LatexPrinter(d.model))
-    content = report.symbolic_content(d, lin, spec_str)
-    return report.to_json(content) if fmt == "json" else report.symbolic_text(content)
-
-
-def _latex_names(d):
-    """name -> LaTeX of a coordinate, velocity or parameter, by the LaTeX emitter's printer."""
-    from lagcli.report.latex_printer import LatexPrinter
-
-    printer = LatexPrinter(d.model)
-    return lambda name: printer.doprint(d.model.symbol(name))
-
-
-def _parameters(d, sets) -> dict:
-    """Every parameter's and input's value by name: the spec's, overridden by `--set NAME=VALUE`."""
-    from lagcli.run.options import parse_assignments as assignments
-
-    constants = (*d.model.parameters, *d.model.inputs)
-    names = [p.symbol.name for p in constants]
-    return {p.symbol.name: float(p.value) for p in constants} | assignments(
-        tuple(sets), "--set", names, "parameter or input", "parameters and inputs")
-
-
-def _guesses(d, guesses) -> list[dict]:
-    """`--guess theta=1.2,phi=0` (one starting point each) -> [{name: value}]."""
-    from lagcli.run.options import parse_assignments as assignments
-
-    names = [s.name for s in (*d.model.q, *d.multipliers)]
-    return [assignments(tuple(g.split(",")), "--guess", names, "coordinate", "coordinates") for g in guesses]
-
-
-def equilibria(path: str, sets=(), guesses=(), fmt: str = "text") -> str:
-    """`lagcli equilibria`: static and relative equilibria with their stability."""
-    from lagcli.analysis import report
-    from lagcli.analysis.equilibria import default_guesses, equilibria as find
-    from lagcli.render.spec_printer import spec_str
-
-    d = _derive(path)
-    found = find(d, _parameters(d, sets), default_guesses(d, _guesses(d, guesses)))
-    content = report.equilibria_content(d, found, spec_str)
-    return report.to_json(content) if fmt == "json" else report.equilibria_text(content)
-
-
-def routh(path: str, momenta=(), sets=(), guesses=(), fmt: str = "text") -> str:
-    """`lagcli routh`: the Routhian over the cyclic coordinates and the steady motions."""
-    from lagcli.analysis import report
-    from lagcli.analysis.routh import routhian, steady_motions
-    from lagcli.run.options import parse_assignments as assignments
-    from lagcli.render.spec_printer import spec_str
-
-    d = _derive(path)
-    reduction = routhian(d)
-    names = [p.name for p in reduction.momenta]
-    given = assignments(tuple(momenta), "--momentum", names, "momentum", "momenta")
-    motions = []
-    if given:
-        missing = [n for n in names if n not in given]
-        if missing:
-            from lagcli.errors import UsageError
-            raise UsageError(f"--momentum: give every cyclic momentum (missing: {', '.join(missing)})")
-        guess_points = [{k: v for k, v in g.items()} for g in _guesses(d, guesses)] or [dict(d.model.initial), {}]
-        motions = steady_motions(d, reduction, given, _parameters(d, sets), guess_points)
-    content = report.routh_content(d, reduction, motions, spec_str)
-    return report.to_json(content) if fmt == "json" else report.routh_text(content)
-
-
-def hamiltonian(path: str, fmt: str = "text") -> str:
-    """`lagcli hamiltonian`: momenta, H(q, p, t) and Hamilton's equations."""
-    from lagcli.analysis import report
-    from lagcli.analysis.hamiltonian import hamilton_form
-    from lagcli.report.latex_printer import LatexPrinter
-    from lagcli.render.spec_printer import spec_str
-
-    d = _derive(path)
-    form = hamilton_form(d)
-    if fmt == "latex":
-        printer = LatexPrinter(d.model)
-        printer._settings["symbol_names"].update({p: f"p_{{{printer.doprint(q)}}}"
-                                                  for p, q in zip(form.momenta, d.model.q)})
-        return report.hamilton_latex(form, d, printer)
-    content = report.hamilton_content(d, form, spec_str)
-    return report.to_json(content) if fmt == "json" else report.hamilton_text(content)
+    given = parse_assignments(request.inputs, "--input", list(system.layout.input_names), "input", "inputs",
+                              lambda text, where: text)
+    return {name: parse_law(system.model, name, text.strip(), f"--input {name}").expr
+            for name, text in given.items()}
 
 
 def sweep(spec: str, plan_options: dict, options: dict, note=lambda text: None, progress=None):
@@ -362,8 +228,14 @@ def sweep(spec: str, plan_options: dict, options: dict, note=lambda text: None, 
     from lagcli.run.options import parse_assignments, parse_overrides
     from lagcli.sweep import SweepOptions, make_plan, sweep as run_sweep
 
+    from lagcli.errors import UsageError
+
+    laws = options.pop("inputs", ())
     plan = make_plan(**plan_options)                   # option mistakes before deriving
     system = lagcli.load(Path(spec))
+    if laws or system.model.events or system.model.laws:
+        raise UsageError(f"{spec}: lagcli sweep runs the compiled C driver, which does not run events or "
+                         "input laws yet\n  hint: loop over `lagcli simulate` (the Python backend runs them)")
     layout = system.layout
     overrides = parse_overrides(layout, options.pop("parameters"), options.pop("initial"))
     exceed = parse_assignments(options.pop("exceed"), "--exceed", list(layout.state_names),

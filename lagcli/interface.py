@@ -37,6 +37,7 @@ reads the layout back from the cache (`Layout.to_json` is the cache entry's meta
 from __future__ import annotations
 
 import json
+import math
 from dataclasses import asdict, dataclass, field, fields
 from pathlib import PurePath
 
@@ -48,6 +49,16 @@ from pathlib import PurePath
 METHODS = ("RK45", "DOP853", "Radau", "BDF", "LSODA")    # scipy's integrators `simulate` accepts
 DEFAULT_BAUMGARTE = (10.0, 10.0)                         # (alpha, beta) of the constraint stabilisation
 CONSTRAINT_TOLERANCE = 1e-8                              # largest |constraint| of a consistent initial state
+STEP_BUDGET_BASE = 20_000         # a run takes at most this many integrator steps, plus
+STEP_BUDGET_PER_OUTPUT = 1_000    # this many per output interval, unless --max-steps says otherwise
+STEP_BUDGET_TEXT = ("the integration reached its bound of {steps} steps before t_end (a stiff or "
+                    "blowing-up solution?); raise the bound with --max-steps N")
+
+
+def default_max_steps(t_end: float, dt: float) -> int:
+    """The step budget of a run (`--max-steps` default): deterministic, from the output grid
+    (the C driver's `step_budget` is the same rule)."""
+    return STEP_BUDGET_BASE + STEP_BUDGET_PER_OUTPUT * math.ceil(t_end / dt - 1e-9)
 
 # --- naming rules ---------------------------------------------------------------------
 
@@ -177,6 +188,11 @@ class RunSettings(Settings):
 
     alpha: float = DEFAULT_BAUMGARTE[0]
     beta: float = DEFAULT_BAUMGARTE[1]
+    max_steps: int = 0                   # integrator steps allowed (0: `default_max_steps(t_end, dt)`)
+
+    @property
+    def step_budget(self) -> int:
+        return self.max_steps or default_max_steps(self.t_end, self.dt)
 
 
 @dataclass(frozen=True)

@@ -171,6 +171,8 @@ class System:
             return spec_start                           # solved once per System
         defaults = self.layout.parameter_defaults
         params = {**defaults, **{k: v for k, v in parameters.items() if k in defaults}}   # not inputs
+        if params != defaults:
+            _refuse_impossible(self.derivation, params, (sources or Sources()).parameter)
         return initial_state(self.derivation, {**self.model.initial, **initial}, params,
                              soft=set(self.model.initial) - set(initial), sources=sources or Sources())
 
@@ -189,35 +191,83 @@ class System:
         """Integrate as `lagcli simulate --backend BACKEND` does: "python" (scipy's
         `solve_ivp` methods on the generated module) or "c" (the compiled driver, built
         once and cached, RK45 and DOP853). None takes the spec's `simulate:` value, else
-        lagcli's default. `inputs`: {name: value} of the spec's `inputs:`, held constant
-        (missing ones at their defaults). Returns a `lagcli.trajectory.Trajectory`; a
-        failed integration keeps its rows and says why in `failure`."""
+        lagcli's default. `inputs`: {name: value} of the spec's `inputs:`: a number (held
+        constant), an expression string (a law of t, q, q', parameters: "-k*x - c*x_dot")
+        or a Python callable u(t, y) returning a number; missing ones follow the spec's
+        law or sit at their default. Laws and the spec's `events:` run on the Python
+        backend. Returns a `lagcli.trajectory.Trajectory` (its `events` lists what
+        happened); a failed integration keeps its rows and says why in `failure`."""
         from lagcli.run.options import Request, resolve_settings
         from lagcli.trajectory import from_rows
 
         settings = resolve_settings(Request(self.model.source, t_end, dt, method, rtol, atol,
                                             baumgarte=baumgarte), self.layout.settings.as_dict())
         start = self.initial_state(parameters, initial)
-        rows = self.run(settings, {**self._parameters(parameters), **self._inputs(inputs)}, start, backend)
+        constants, laws = self._inputs(inputs)
+        rows = self.run(settings, {**self._parameters(parameters), **constants}, start, backend, laws=laws)
         return from_rows(self.layout, rows, start.notes, self.energy_conserved)
 
-    def run(self, settings, values: dict[str, float], start, backend: str, sink=None, progress=None):
+    def laws(self, values: dict[str, float], laws: dict | None = None) -> dict:
+        """The input laws of one run: the spec's, minus the inputs `values` holds constant
+        (`--set`), overridden by `laws` (input name -> a sympy law or a callable u(t, y))."""
+        spec_laws = {law.symbol.name: law.expr for law in self.model.laws if law.symbol.name not in values}
+        return {**spec_laws, **(laws or {})}
+
+    def hybrid(self, values: dict[str, float], laws: dict | None = None):
+        """The numeric laws and events of one run (`lagcli.hybrid.numeric.Hybrid`), or None
+        when the run has neither. `values`: parameters and constant inputs of the run;
+        `laws`: see `laws`."""
+        from lagcli.hybrid.numeric import hybrid_run
+
+        laws = self.laws(values, laws)
+        if not self.model.events and not laws:
+            return None
+        params = {**self.layout.parameter_defaults, **{k: v for k, v in values.items()
+                                                       if k in self.layout.parameter_defaults}}
+        inputs = {**self.layout.input_defaults, **{k: v for k, v in values.items()
+                                                   if k in self.layout.input_defaults}, **laws}
+        return hybrid_run(self.derivation, params, inputs)
+
+    def compiled_laws(self, values: dict[str, float], laws: dict | None = None) -> dict | None:
+        """The laws of a run the compiled driver can take (expressions, no events), or None."""
+        laws = self.laws(values, laws)
+        if self.model.events or any(callable(v) and not hasattr(v, "free_symbols") for v in laws.values()):
+            return None
+        return laws
+
+    def run(self, settings, values: dict[str, float], start, backend: str, sink=None, progress=None,
+            laws: dict | None = None):
         """One run's rows, given to `sink` (a `lagcli.run.rows.RowSink`; in memory when
         None) as they are computed, and the sink returned: the level `lagcli simulate`
         works at. `settings`: `lagcli.interface.RunSettings`; `values`: the parameters
         and inputs changed for this run (as `--set` gives them); `start`: from `start`;
         `progress(t_end)`: a context manager yielding `update(t)` (or None), entered once
-        the code is ready and the integration starts."""
+        the code is ready and the integration starts; `laws`: see `hybrid`."""
         from lagcli.run import simulate
         from lagcli.run.options import Overrides
 
-        program = self.program(backend, settings.method)
+        program = self.program(backend, settings.method, values, laws)
         return simulate.run(program, settings, Overrides(values), start.values, sink, progress)
 
-    def program(self, backend: str, method: str | None = None):
-        """What the run layer runs for `backend`: "python" (the generated module,
-        `lagcli.run.python_backend.PythonModule`) or "c" (the compiled driver in the cache,
-        `lagcli.run.c_backend.CDriver`; `method` must be one it implements)."""
+    def program(self, backend: str, method: str | None = None, values: dict | None = None,
+                laws: dict | None = None):
+        """What the run layer runs (lagcli.run.simulate) for `backend` and a run's constant
+        `values` and input `laws`: "python" (the generated module,
+        `lagcli.run.python_backend.PythonModule`; with events or callable laws
+        `HybridModule`) or "c" (the compiled driver in the cache, `lagcli.run.c_backend.CDriver`,
+        its model generated with the run's expression laws substituted; `method` must be
+        one it implements)."""
+        values = values or {}
+        compiled = self.compiled_laws(values, laws) if backend == "c" else None
+        hybrid = self.hybrid(values, laws) if compiled is None else None
+        if hybrid is not None:
+            from lagcli.run.python_backend import HybridModule
+
+            if backend != "python":
+                raise UsageError(f"{self.model.source}: the {backend} backend does not run events or callable "
+                                 "input laws yet\n  hint: use the Python backend (--backend python; the "
+                                 "default for such a run)")
+            return HybridModule(self._module(), self.layout, hybrid)
         if backend == "python":
             from lagcli.run.python_backend import PythonModule
 
@@ -226,7 +276,7 @@ class System:
             from lagcli.run import c_backend
             from lagcli.runtime.run_rules import EXPLICIT_METHODS
 
-            return self._driver(c_backend.require_compiler(method or EXPLICIT_METHODS[0]))
+            return self._driver(c_backend.require_compiler(method or EXPLICIT_METHODS[0]), compiled or {})
         raise UsageError(f"backend {backend!r}: expected 'python' or 'c'")
 
     def sweep(self, grid: dict | None = None, sample: dict | None = None, count: int | None = None,
@@ -278,15 +328,29 @@ class System:
             python_backend.store(key, self.name, source)
         return python_backend.module_of(self.name, source)
 
-    def _driver(self, compiler):
-        """The compiled driver in the cache, generated (C target) and built when missing."""
+    def _driver(self, compiler, laws: dict):
+        """The compiled driver in the cache, generated (C target) and built when missing.
+        `laws` (input name -> sympy law): the model is generated with them substituted
+        (`lagcli.hybrid.closed_loop`), so the law is C code of the driver, and part of its
+        cache key: a cached driver is never reused for another law. A spec with laws never
+        has a driver under the plain key, which the warm path looks up."""
         from lagcli.run import c_backend
 
-        key = c_backend.cache_key(self.model.source, self.spec_bytes, compiler)
+        spec_bytes = self.spec_bytes
+        if laws or self.model.laws:
+            spec_bytes += ("\0laws:" + ";".join(f"{k}={v!s}" for k, v in sorted(laws.items()))).encode()
+        key = c_backend.cache_key(self.model.source, spec_bytes, compiler)
         found = c_backend.lookup(key)
         if found is not None:
             return found
-        return c_backend.build(self.generate("c"), key, compiler, self.layout)
+        if not laws:
+            return c_backend.build(self.generate("c"), key, compiler, self.layout)
+        from lagcli.hybrid.closed_loop import closed_loop
+        from lagcli.targets import generate
+
+        start = self.layout.start
+        files = generate(closed_loop(self.derivation, laws), "c", start.values, start.notes)
+        return c_backend.build(files, key, compiler, self.layout)
 
     def _once(self, name: str, make):
         if name not in self.__dict__:
@@ -298,10 +362,21 @@ class System:
         self._known("parameters", given, self.layout.parameter_names, "parameter")
         return {k: float(v) for k, v in given.items()}
 
-    def _inputs(self, inputs: dict | None) -> dict[str, float]:
+    def _inputs(self, inputs: dict | None) -> tuple[dict[str, float], dict]:
+        """The constant inputs {name: value} and the laws {name: sympy law or callable}."""
+        from lagcli.hybrid.hybrid_model import parse_law
+
         given = dict(inputs or {})
         self._known("inputs", given, self.layout.input_names, "input")
-        return {k: float(v) for k, v in given.items()}
+        constants, laws = {}, {}
+        for name, value in given.items():
+            if isinstance(value, str):
+                laws[name] = parse_law(self.model, name, value, f"inputs={{{name!r}: ...}}").expr
+            elif callable(value):
+                laws[name] = value
+            else:
+                constants[name] = float(value)
+        return constants, laws
 
     def _known(self, argument: str, given: dict, allowed, what: str) -> None:
         unknown = [name for name in given if name not in allowed]
@@ -330,3 +405,16 @@ class System:
     def __repr__(self) -> str:
         return f"<lagcli.System {self.name}: {', '.join(self.layout.coordinates)}>"
 
+
+
+def _refuse_impossible(derivation, params: dict[str, float], option: str) -> None:
+    """Physical validation at the parameter values of a run (`--set m=0`): an impossible
+    mass or inertia, or a mass matrix singular at the start, is said as such before any run
+    (not as a singular matrix at t = 0)."""
+    from lagcli.model.validation import problems_at
+
+    problems = problems_at(derivation, params)
+    if problems:
+        spec = {p.symbol.name: p.value for p in derivation.model.parameters}
+        changed = ", ".join(f"{name}={value:g}" for name, value in params.items() if value != spec[name])
+        raise UsageError("\n".join(f"{option} {changed}: {p}" for p in problems))

@@ -25,6 +25,8 @@ class Trajectory:
     notes: tuple[str, ...] = ()        # what was solved for in the initial state
     failure: str | None = None         # "at t = ...: reason" when the integration stopped early
     energy_is_jacobi: bool = False     # the energy column is conserved (plots show its drift)
+    events: tuple = ()                 # lagcli.hybrid.records.EventRecord per event, in time order
+    end_note: str | None = None        # why a run with events ended before t_end (accumulation, ...)
 
     @property
     def columns(self) -> tuple[Column, ...]:
@@ -101,4 +103,5 @@ def from_rows(layout: Layout, rows, notes=(), energy_is_jacobi: bool = False) ->
     text = "".join(line + "\n" for line in rows.lines)
     data = (np.loadtxt(io.StringIO(text), delimiter=",", ndmin=2) if rows.lines
             else np.empty((0, len(layout.columns))))
-    return Trajectory(layout, data, tuple(notes), rows.failure, energy_is_jacobi)
+    return Trajectory(layout, data, tuple(notes), rows.failure, energy_is_jacobi, tuple(rows.events),
+                      rows.end_note)

@@ -58,6 +58,7 @@ body = st.fixed_dictionaries(
                                                                                         max_size=3))),
      "position": usually(vectors)},
     optional={"angle": usually(expressions),
+              "frame": st.sampled_from(["A", "C", "N"]),
               "orientation": usually(st.lists(st.tuples(st.sampled_from(["x", "y", "z", "w"]), expressions)
                                               .map(list), min_size=1, max_size=3))})
 force = st.one_of(
@@ -66,8 +67,42 @@ force = st.one_of(
     st.fixed_dictionaries({"body": st.sampled_from(["B", "P"]),
                            "torque": usually(st.one_of(expressions, vectors))}))
 spring = st.fixed_dictionaries(
-    {"between": usually(st.one_of(st.just(["P", "Q"]), st.just(["P", [0, 0]]), st.just(["B", "nope"]))),
+    {"between": usually(st.one_of(st.just(["P", "Q"]), st.just(["P", [0, 0]]), st.just(["B", "nope"]),
+                                  st.just(["P", "P"]), st.lists(vectors, min_size=2, max_size=2))),
      "stiffness": usually(expressions)}, optional={"rest_length": usually(expressions)})
+damper = st.fixed_dictionaries(
+    {"between": usually(st.one_of(st.just(["P", "Q"]), st.just(["P", [0, 0]]), st.just(["P", "P"]),
+                                  st.just(["B", [0, 0, 0]]), st.lists(vectors, min_size=2, max_size=2))),
+     "damping": usually(expressions)})
+UNITS = ("m", "kg", "s", "N", "N/m", "N*s/m", "m/s^2", "J", "rad", "deg", "kg*m^2", "1", "0", "nope",
+         "exp(kg)", "sin(m)", "atan2(m, s)", "m**1000", "m**0.5", "kg/0", "m^-2", "(m", "N*m")
+units = st.sampled_from(UNITS)
+unit_parameters = st.dictionaries(st.sampled_from(["m", "k", "g"]),
+                                  st.fixed_dictionaries({"value": usually(expressions)},
+                                                        optional={"unit": usually(units)}), max_size=3)
+unit_coordinates = st.lists(st.one_of(st.sampled_from(["x", "y"]),
+                                      st.fixed_dictionaries({"name": st.sampled_from(["x", "y"])},
+                                                            optional={"unit": usually(units)})),
+                            min_size=1, max_size=2)
+inputs_block = st.one_of(st.lists(st.sampled_from(["F", "u", "x", "m"]), max_size=2),
+                         st.dictionaries(st.sampled_from(["F", "u"]),
+                                         st.one_of(expressions, st.fixed_dictionaries(
+                                             {"value": usually(expressions)}, optional={"unit": usually(units)})),
+                                         max_size=2))
+AXES = ("x", "y", "z", "w")
+frames_block = st.dictionaries(
+    st.sampled_from(["A", "C"]),
+    st.fixed_dictionaries({"rotations": usually(st.lists(st.tuples(st.sampled_from(AXES), expressions).map(list),
+                                                         min_size=1, max_size=3))},
+                          optional={"parent": st.sampled_from(["A", "C", "N"])}), max_size=2)
+rolling_item = st.fixed_dictionaries(
+    {"body": st.sampled_from(["B", "P", "nope"])},
+    optional={"wheel": usually(st.fixed_dictionaries({"radius": usually(expressions),
+                                                      "axis": st.sampled_from(AXES)})),
+              "contact": usually(st.lists(expressions, min_size=3, max_size=3)),
+              "surface": usually(st.fixed_dictionaries({}, optional={
+                  "normal": usually(st.lists(expressions, min_size=3, max_size=3)),
+                  "height": usually(expressions), "angular_velocity": usually(expressions)}))})
 simulate_block = st.dictionaries(st.sampled_from(["t_end", "dt", "method", "rtol", "atol"]),
                                  usually(st.one_of(expressions, st.sampled_from(["RK45", "Radau", "nope"]))))
 
@@ -91,7 +126,15 @@ spec_data = st.fixed_dictionaries({
     "initial": usually(st.dictionaries(st.sampled_from(["x", "y", "x_dot", "q"]), usually(expressions),
                                        max_size=3)),
     "simulate": usually(simulate_block),
+    "dampers": usually(st.lists(usually(damper), max_size=2)),
+    "dissipation": usually(expressions),
+    "inputs": usually(inputs_block),
+    "frames": usually(frames_block),
+    "rolling": usually(st.lists(usually(rolling_item), max_size=2)),
 })
+# the same, in the units dialect: coordinates and parameters with `unit:`
+unit_spec_data = st.tuples(spec_data, unit_coordinates, unit_parameters).map(
+    lambda p: {**p[0], "coordinates": p[1], **({"parameters": p[2]} if p[2] else {})})
 
 
 class _Dumper(yaml.SafeDumper):
@@ -102,7 +145,7 @@ class _Dumper(yaml.SafeDumper):
 @st.composite
 def spec_texts(draw) -> str:
     """The YAML text of a random spec (see the module docstring)."""
-    text = yaml.dump(draw(spec_data), Dumper=_Dumper, sort_keys=False, default_flow_style=None, width=10_000)
+    text = yaml.dump(draw(st.one_of(spec_data, unit_spec_data)), Dumper=_Dumper, sort_keys=False, default_flow_style=None, width=10_000)
     mutation = draw(st.sampled_from(["none"] * 10 + ["tag", "cut"]))
     if mutation == "tag" and ": " in text:
         places = [i + 2 for i in range(len(text)) if text.startswith(": ", i)]

@@ -1,5 +1,5 @@
 """Same spec -> same bytes, for every output of `derive` (text, JSON, LaTeX) and of
-`generate` in every language (Python, C, Octave, Rust, LaTeX, and the FMU's zip, its
+`generate` in every language (Python, C, Octave, Rust, CasADi, JAX, LaTeX, and the FMU's zip, its
 compiled binary included: zip entries carry a fixed date and cc is deterministic).
 
 Each command runs in fresh processes, several at once while other processes keep the
@@ -31,6 +31,8 @@ COMMANDS = {
     "octave": ["generate", "--lang", "octave"],
     "rust": ["generate", "--lang", "rust"],
     "fmu": ["generate", "--lang", "fmu"],
+    "casadi": ["generate", "--lang", "casadi"],
+    "jax": ["generate", "--lang", "jax"],
     "latex-document": ["generate", "--lang", "latex"],
 }
 DIRECTORIES = ("c", "octave", "rust")   # -o names a folder; the others write one file

@@ -369,6 +369,21 @@ def test_hostile_spec_python(tmp_path, run):
     assert _pwned(tmp_path) == []
 
 
+@pytest.mark.parametrize("lang", ["casadi", "jax"])
+def test_hostile_spec_casadi_jax(tmp_path, run, lang):
+    """The CasADi and JAX modules use the Python escapes: the module imports, its
+    constants hold the text as given, and nothing in the text runs."""
+    pytest.importorskip(lang, reason=f"{lang} is not installed (pip install 'lagcli[{lang}]')")
+    spec = hostile_spec(tmp_path)
+    result = run("generate", spec, "--lang", lang, "-o", tmp_path / f"hostile_{lang}.py")
+    assert result.exit_code == 0, result.output
+    module_spec = importlib.util.spec_from_file_location(f"hostile_{lang}", tmp_path / f"hostile_{lang}.py")
+    module = importlib.util.module_from_spec(module_spec)
+    module_spec.loader.exec_module(module)
+    assert module.SPEC_FILE == spec.name and module.STATE == ["theta", "theta_dot"]
+    assert _pwned(tmp_path) == []
+
+
 def test_hostile_spec_text_reports(tmp_path, run):
     spec = hostile_spec(tmp_path)
     for args in (("derive", spec, "--text"), ("check", spec)):

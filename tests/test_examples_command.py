@@ -8,12 +8,13 @@ from click.testing import CliRunner
 from lagcli.cli import cli
 
 SPECS = Path(__file__).resolve().parent.parent / "specs"
+BUNDLED = sorted([*SPECS.glob("*.yaml"), *SPECS.glob("hybrid/*.yaml")], key=lambda p: p.name)  # events: hybrid/
 
 
 def test_lists_every_bundled_spec_with_its_description():
     result = CliRunner().invoke(cli, ["examples"])
     assert result.exit_code == 0
-    names = sorted(p.stem for p in SPECS.glob("*.yaml"))
+    names = [p.stem for p in BUNDLED]
     listed = [line.split()[0] for line in result.output.splitlines()]
     assert listed == names
     assert "Planar double pendulum" in result.output
@@ -33,7 +34,7 @@ def test_copies_all_and_keeps_existing_files(tmp_path):
     result = CliRunner().invoke(cli, ["examples", "--copy", str(target)])
     assert result.exit_code == 0
     assert (target / "atwood.yaml").read_text() == "# mine\n"
-    assert sorted(p.name for p in target.iterdir()) == sorted(p.name for p in SPECS.glob("*.yaml"))
+    assert sorted(p.name for p in target.iterdir()) == sorted(p.name for p in BUNDLED)
 
 
 def test_unknown_name_is_exit_2_with_the_list():

@@ -1,4 +1,5 @@
-"""Golden files of the generated Python, C, MATLAB/Octave and Rust, and their determinism.
+"""Golden files of the generated Python, C, MATLAB/Octave, Rust, CasADi and JAX, and their
+determinism.
 
 The generated text of one unconstrained (double_pendulum) and one constrained spec
 (ex6_9_two_wheels_axle) is compared byte for byte with tests/golden/<lang>/ (a file
@@ -26,7 +27,7 @@ import pytest
 ROOT = Path(__file__).resolve().parent.parent
 GOLDEN = Path(__file__).resolve().parent / "golden"
 SPECS = ["double_pendulum", "ex6_9_two_wheels_axle"]
-LANGS = ["python", "c", "octave", "rust"]
+LANGS = ["python", "c", "octave", "rust", "casadi", "jax"]
 UPDATE = os.environ.get("LAGCLI_UPDATE_GOLDEN") == "1"
 
 
@@ -57,7 +58,7 @@ def test_golden(spec, lang):
     from lagcli.runtime import c_runtime_files, rust_runtime_files
 
     files = generate(spec, lang)
-    expected = {"python": [f"{spec}.py"], "c": [f"{spec}.h", f"{spec}.c", f"{spec}_main.c"],
+    expected = {"python": [f"{spec}.py"], "casadi": [f"{spec}.py"], "jax": [f"{spec}.py"], "c": [f"{spec}.h", f"{spec}.c", f"{spec}_main.c"],
                 "octave": [f"{spec}_{f}.m" for f in FUNCTIONS + ("run",)],
                 "rust": ["Cargo.toml", "src/lib.rs", "src/main.rs"]}[lang]
     runtime = {"c": c_runtime_files(),

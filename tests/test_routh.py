@@ -3,8 +3,10 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 import sympy as sp
+from click.testing import CliRunner
 
 from lagcli.analysis.routh import routhian, steady_motions
 
@@ -108,3 +110,23 @@ def test_routh_refuses_an_ignorable_coordinate_inside_a_constraint():
     assert result.exit_code == 2 and "Traceback" not in result.output
     assert "ex6_9_two_wheels_axle.yaml:" in result.output and "constraints[0]:" in result.output
     assert "'phi' is ignorable (p_phi is conserved) but this constraint contains it" in result.output
+
+
+def test_routh_of_the_heavy_top_at_given_momenta_needs_no_cyclic_angle():
+    # the Routhian held sin^2 + cos^2 of the cyclic phi (NameError at the numbers); the steady
+    # motion is the root of the closed-form V_eff' of the top (Goldstein 5.7), A' = A + m h^2:
+    # V_eff = (p_psi - p_phi cos th)^2 / (2 A' sin^2 th) + p_phi^2 / (2 C) + m g h cos th
+    from scipy.optimize import brentq
+
+    from lagcli.cli import cli
+
+    A, C, m, g, h, a, b = 2e-4 + 0.5 * 0.04**2, 3e-4, 0.5, 9.81, 0.04, 0.002, 0.0045
+    slope = lambda t: (-(a - b * np.cos(t))**2 * np.cos(t) / (A * np.sin(t)**3)          # noqa: E731
+                       + (a - b * np.cos(t)) * b / (A * np.sin(t)) - m * g * h * np.sin(t))
+    expected = brentq(slope, 2.3, 2.6)
+    args = ["routh", "specs/heavy_symmetric_top.yaml", "--momentum", "p_psi=0.002", "--momentum", "p_phi=0.0045"]
+    for guess in ("0.4", "2.4"):
+        result = CliRunner().invoke(cli, [*args, "--guess", f"theta={guess}"])
+        assert result.exit_code == 0 and result.exception is None, result.output
+    found = float(result.output.split("steady motion 1: theta = ")[1].split(",")[0])
+    assert found == pytest.approx(expected, abs=1e-9)

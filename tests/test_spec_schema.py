@@ -119,7 +119,8 @@ def test_schema_and_checker_agree_on_bad_specs(path):
 # replaced by values of other types; the two verdicts compared on each -----------------
 
 MUTANT_SPECS = ("cart_pole.yaml", "rolling_disc_frames.yaml", "heavy_symmetric_top.yaml",
-                "ex6_9_two_wheels_axle.yaml", "chaplygin_sled.yaml", "atwood.yaml", "sphere_on_turntable.yaml")
+                "ex6_9_two_wheels_axle.yaml", "chaplygin_sled.yaml", "atwood.yaml", "sphere_on_turntable.yaml",
+                "hybrid/rimless_wheel.yaml", "hybrid/bouncing_ball.yaml", "hybrid/cart_pole_lqr.yaml")
 REPLACEMENTS = (True, None, [], {}, "", " ", 1.5, ["a"], ["a", "b"], [[1]], {"zz": 1}, "1x", "x")
 
 

@@ -74,3 +74,37 @@ def test_function_arguments_must_be_dimensionless():
 def test_without_units_nothing_is_checked():
     lagcli.load("coordinates: [x]\nparameters: {m: 1.0, F: 2.0}\nparticles:\n  P: {mass: m, position: [x, 0]}\n"
                 "generalized_forces: {x: F + m}\n")
+
+
+PROJECTILE = """coordinates: [{name: x, unit: m}, {name: y, unit: m}]
+parameters: {m: {value: 1.0, unit: kg}, g: {value: 9.81, unit: m/s^2}}
+gravity: [0, -g]
+particles: {P: {mass: m, position: [x, y]}}
+"""
+
+
+def test_a_zero_generalized_force_fits_every_dimension():
+    # Q_x = 0 for the simplest projectile: zero is a force per metre as much as anything
+    system = lagcli.load(PROJECTILE)
+    assert system.derivation.generalized_forces[0] == 0
+    check_derivation_units(system.derivation)
+
+
+def test_inputs_take_a_unit_and_are_checked_with_it():
+    spec = PROJECTILE + "inputs: {F: {value: 0.5, unit: N}}\nforces: [{at: P, force: [F, 0]}]\n"
+    check_derivation_units(lagcli.load(spec).derivation)
+    with pytest.raises(SpecError, match=r"the force should be a force, N \(kg\*m/s\*\*2\) but 'F' is a mass"):
+        lagcli.load(spec.replace("unit: N}", "unit: kg}"))
+
+
+@pytest.mark.parametrize("unit", ["exp(kg)", "sin(m)", "atan2(m, s)", "m + s"])
+def test_a_function_of_a_unit_is_refused_as_a_unit(unit):
+    with pytest.raises(SpecError, match="is not a product of powers of units"):
+        unit_dimension(unit, Loc("spec.yaml"))
+
+
+def test_unit_messages_speak_the_derived_units_of_the_docs():
+    # a stiffness is N/m in docs/spec.md: the message says so, with its base units beside it
+    text = CONSISTENT.read_text().replace("k: {value: 10.0, unit: N/m}", "k: {value: 10.0, unit: N}")
+    with pytest.raises(SpecError, match=r"stiffness should be N/m \(kg/s\*\*2\) but 'k' is a force, N"):
+        lagcli.load(text)

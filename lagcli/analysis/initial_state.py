@@ -42,6 +42,8 @@ from lagcli.errors import UsageError
 from lagcli.interface import CONSTRAINT_TOLERANCE as TOLERANCE
 
 _SOLVE_TOL = 1e-11      # what the least-squares solves aim for
+_RCOND = 1e-8           # singular values of the free velocities' columns below this (relative) are not used
+_LARGEST_CHANGE = 1e3   # a repair may change velocities by at most this times the spec's scale
 
 
 @dataclass(frozen=True)
@@ -140,8 +142,9 @@ def spec_initial_state(d) -> tuple[InitialState, bool]:
     default initial state (`lagcli.targets.about.interface`)."""
     model = d.model
     given = dict(model.initial)
+    own = Sources(override=Sources.spec)   # every value given is the spec's: "(initial:)", never "(--init)"
     try:
-        return initial_state(d, given, {p.symbol.name: p.value for p in model.parameters}), True
+        return initial_state(d, given, {p.symbol.name: p.value for p in model.parameters}, sources=own), True
     except UsageError:
         values = tuple(float(given.get(s.name, 0.0)) for s in model.q + model.qd)
         return InitialState(values, ("initial state: inconsistent with the constraints; used as given",)), False
@@ -255,13 +258,23 @@ def _solve_velocities(f: _ConstraintFunctions, q, qd, free, d, origin) -> np.nda
         _fail(d, list(zip(d.constraints, residual)), "every velocity is given, so none can be solved for",
               origin, level="velocity")
     A = f.A(q)
+    scale = max(1.0, _worst(qd), _worst(residual))   # the spec's own scale of velocities
     qd = qd.copy()       # unknowns not given are 0 here; soft ones keep their given values
-    qd[free] += np.linalg.lstsq(A[:, free], -(A @ qd + f.d(q)), rcond=None)[0]   # least-norm change
+    # least-norm change; directions the free velocities move only by a hair (singular values
+    # below RCOND of the largest) are not used: they would "fix" a row with a huge velocity
+    change = np.linalg.lstsq(A[:, free], -(A @ qd + f.d(q)), rcond=_RCOND)[0]
+    qd[free] += change
     after = f.velocity_residual(q, qd)
+    names = ", ".join(str(d.model.qd[k]) for k in free)
     if not np.all(np.isfinite(after)) or _worst(after) > TOLERANCE * 1e-2:
-        names = ", ".join(str(d.model.qd[k]) for k in free)
+        unsatisfied = [(row, value) for row, value, now in zip(d.constraints, residual, after)
+                       if not abs(now) <= TOLERANCE * 1e-2]
+        _fail(d, unsatisfied, f"the velocities solved for ({names}) cannot satisfy these rows", origin,
+              level="velocity")
+    if _worst(change) > _LARGEST_CHANGE * scale:
         _fail(d, list(zip(d.constraints, residual)),
-              f"the velocities solved for ({names}) cannot satisfy them", origin, level="velocity")
+              f"the velocities solved for ({names}) would change by up to {_worst(change):.3g}, far beyond "
+              f"the given velocities' scale ({scale:.3g})", origin, level="velocity")
     return qd
 
 

@@ -56,17 +56,21 @@ def routhian(d) -> Routhian:
     _require_absent_from_constraints(d, cyclic)
     s = [model.q.index(c) for c in cyclic]
     r = [k for k in range(len(model.q)) if k not in s]
-    M, a = sp.Matrix(d.mass_matrix), sp.Matrix(d.t1_coefficients)
+    # L does not depend on a cyclic coordinate, but may still hold it in a form that cancels
+    # (sin(phi)**2 + cos(phi)**2 where the tidying gave up): any value of it is exact, and 0
+    # leaves no cyclic coordinate in R (it would be an unknown name at the numbers)
+    absent = {c: sp.S.Zero for c in cyclic}
+    M, a = sp.Matrix(d.mass_matrix).xreplace(absent), sp.Matrix(d.t1_coefficients).xreplace(absent)
     p = sp.Matrix([sp.Symbol(f"p_{c.name}", real=True) for c in cyclic])
     M_ss, M_sr = M.extract(s, s), M.extract(s, r)
     qd_r = sp.Matrix([model.qd[k] for k in r])
     qd_s = M_ss.LUsolve(p - M_sr * qd_r - a.extract(s, [0]))
     qd_s = sp.Matrix([sp.cancel(e) for e in qd_s])
     eliminate = {model.qd[k]: e for k, e in zip(s, qd_s)}
-    R = _tidy((d.L - sum(pi * model.qd[k] for pi, k in zip(p, s))).xreplace(eliminate))
+    R = _tidy((d.L.xreplace(absent) - sum(pi * model.qd[k] for pi, k in zip(p, s))).xreplace(eliminate))
     at_rest = {model.qd[k]: 0 for k in r}
     V_eff = _tidy(-R.xreplace(at_rest))
-    forces = sp.Matrix(d.nonconservative_forces).xreplace(eliminate)
+    forces = sp.Matrix(d.nonconservative_forces).xreplace(absent).xreplace(eliminate)
     if d.constraints:      # the multipliers' generalized forces sum_j lambda_j a_jr stay
         forces += sp.Matrix(d.constraint_matrix).T * sp.Matrix(d.multipliers)
     equations = _reduced_equations(model, R, r, forces)

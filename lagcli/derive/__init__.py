@@ -17,6 +17,7 @@ from lagcli.derive.forces import applied_generalized_forces
 from lagcli.derive.invariants import (LagrangianProbe, conserved_quantities, ignorable_coordinates,
                                       jacobi_integral, jacobi_obstacle, momenta)
 from lagcli.derive.result import Derivation, Equation
+from lagcli.hybrid.event_functions import event_functions
 from lagcli.model.model_types import Model
 
 __all__ = ["derive", "Derivation"]
@@ -64,6 +65,7 @@ def derive(model: Model) -> Derivation:
                                        energy_is_jacobi),
         jacobi_integral=h, energy_is_jacobi=energy_is_jacobi, no_jacobi_reason=no_jacobi,
         scleronomic=_is_scleronomic(model),
+        events=event_functions(model),
     )
 
 

@@ -21,6 +21,7 @@ from lagcli.model.expr import Scope, parse, parse_constant
 from lagcli.interface import acceleration_name, velocity_name
 from lagcli.model.model_types import (AppliedForce, ConstraintSpec, InputInfo, LinearDamper, LinearSpring,
                                 Model, ParameterInfo, PointMass, RigidBody, Settings)
+from lagcli.hybrid.hybrid_model import hybrid_fields
 from lagcli.model.kinematics import AXES, Entity, Vector, frame_chains
 from lagcli.model.rolling import rolling_constraints
 from lagcli.spec.types import Body, Spec, Src, VectorSrc
@@ -77,11 +78,11 @@ class _ModelBuilder:
         parts = [self.expr(s, check=check) for s in srcs]
         return sp.ImmutableMatrix(parts + [sp.S.Zero] * (3 - len(parts)))
 
-    def constant(self, src: Src | None, default: float | None, extra=None) -> float | None:
+    def constant(self, src: Src | None, default: float | None, extra=None, elsewhere=None) -> float | None:
         if src is None:
             return default
         try:
-            return parse_constant(src.text, src.loc, extra)
+            return parse_constant(src.text, src.loc, extra, elsewhere)
         except SpecError as exc:
             self.problems.extend(exc.problems)
             return default
@@ -165,21 +166,33 @@ class _ModelBuilder:
             settings=self._settings(),
             dampers=tuple(self._damper(d, where) for d in spec.dampers),
             dissipation=self.expr(spec.dissipation, sp.S.Zero, self.no_accelerations),
-            units={item.name: (item.unit, item.loc.child("unit")) for item in (*spec.coordinates, *spec.parameters)
+            units={item.name: (item.unit, item.loc.child("unit")) for item in (*spec.coordinates, *spec.parameters,
+                                                                          *spec.inputs)
                    if item.unit is not None},
             locs=_item_locs(spec),
             inputs=inputs,
+            **hybrid_fields(self),
         )
         if self.problems:
             raise SpecError(self.problems)
         return model
 
     def _parameters(self) -> tuple[ParameterInfo, ...]:
-        return tuple(ParameterInfo(sp.Symbol(p.name, real=True), self.constant(p.value, 0.0),
+        return tuple(ParameterInfo(sp.Symbol(p.name, real=True), self.constant(p.value, 0.0, None,
+                                                                               self._in_a_value(p)),
                                    p.latex, p.description) for p in self.spec.parameters)
 
+    def _in_a_value(self, item) -> dict:
+        """What to say of a parameter or input named in `item`'s value: values are constants."""
+        example = f"definitions: {{{item.name}: {item.value.text if item.value else '...'}}}"
+        return {other.name: (f"'{other.name}' is {kind}, and the value of {item.name} must be a constant "
+                             "(numbers and pi)", f"a quantity computed from parameters goes in `definitions:` "
+                             f"instead, e.g. {example}")
+                for kind, group in (("a parameter", self.spec.parameters), ("an input", self.spec.inputs))
+                for other in group}
+
     def _inputs(self) -> tuple[InputInfo, ...]:
-        return tuple(InputInfo(symbol, self.constant(u.value, 0.0), u.latex, u.description)
+        return tuple(InputInfo(symbol, self.constant(u.value, 0.0, None, self._in_a_value(u)), u.latex, u.description)
                      for symbol, u in zip(self.u, self.spec.inputs))
 
     def constraint_expr(self, value: sp.Expr, src: Src) -> None:

@@ -39,6 +39,9 @@ MAX_LITERAL_DIGITS = 40  # digits in one numeric literal
 MAX_RESULT_NODES = 20_000  # tree size of one expression after definitions are substituted
 MAX_RESULT_DEPTH = 100     # its nesting depth (sympy recurses, and slows, with depth)
 MAX_EXACT_DIGITS = 20      # digits of a number kept exact under a fractional power
+MAX_EXACT_ROOT = 12        # ... and the highest root kept exact (x**(1/3) yes, 12**-0.007 no)
+MAX_EXACT_NUMBER_DIGITS = 1_000  # digits of the numerator or denominator of any exact number built
+MAX_LITERAL_EXPONENT = 400       # |e| in a literal 1e-400: beyond it the double is 0 or inf anyway
 
 
 @dataclass(frozen=True)
@@ -116,17 +119,21 @@ class Scope:
     expression for known functions and definitions). `time_derivative` is the
     total time derivative operator used by `diff(expr, t)`. `builder` is the tree
     walker (`_Builder` here; lagcli/model/vectors.py's adds vectors, frames and kinematics).
+    `elsewhere` maps names of the spec that cannot be used here to (message, hint), said
+    instead of "unknown name" (a parameter in another parameter's value).
     """
 
     def __init__(self, names: Mapping[str, sp.Expr], t: sp.Symbol,
-                 time_derivative: Callable[[sp.Expr], sp.Expr] | None = None, builder: type | None = None):
+                 time_derivative: Callable[[sp.Expr], sp.Expr] | None = None, builder: type | None = None,
+                 elsewhere: Mapping[str, tuple[str, str]] | None = None):
         self.names = dict(names)
         self.t = t
         self.time_derivative = time_derivative
         self.builder = builder or _Builder
+        self.elsewhere = dict(elsewhere or {})
 
     def with_name(self, name: str, value: sp.Expr) -> "Scope":
-        return Scope({**self.names, name: value}, self.t, self.time_derivative, self.builder)
+        return Scope({**self.names, name: value}, self.t, self.time_derivative, self.builder, self.elsewhere)
 
 
 def parse(text: str, scope: Scope, loc: Loc, vector: bool = False, limits: Limits = SPEC_LIMITS) -> sp.Expr:
@@ -143,8 +150,8 @@ def parse(text: str, scope: Scope, loc: Loc, vector: bool = False, limits: Limit
         with _recursion_limit(OUTPUT_SUM_TERMS if limits.flat_sums else 0):
             tree = ast.parse(source, mode="eval")
     except SyntaxError as exc:
-        _fail(loc, f"invalid expression {text!r}: {exc.msg}"
-                   + (f" at column {exc.offset}" if exc.offset else ""), expression_syntax_hint(text))
+        _fail(loc, f"invalid expression {text!r}: {exc.msg}" + (f" at column {exc.offset}" if exc.offset else ""),
+              expression_syntax_hint(text, toml=loc.file.endswith(".toml")))
     except (RecursionError, MemoryError, ValueError):
         _fail(loc, f"expression is too deeply nested or too large: {_short(text)!r}")
     _check_size(tree, text, loc, limits)
@@ -160,10 +167,12 @@ def parse(text: str, scope: Scope, loc: Loc, vector: bool = False, limits: Limit
     return value
 
 
-def parse_constant(text: str, loc: Loc, extra: Mapping[str, sp.Expr] | None = None) -> float:
-    """Parse a constant expression (numbers, pi, and `extra` names) to a float."""
+def parse_constant(text: str, loc: Loc, extra: Mapping[str, sp.Expr] | None = None,
+                   elsewhere: Mapping[str, tuple[str, str]] | None = None) -> float:
+    """Parse a constant expression (numbers, pi, and `extra` names) to a float; `elsewhere`
+    as for `Scope`."""
     names = {"pi": sp.pi, **(extra or {})}
-    value = parse(text, Scope(names, sp.Symbol("t")), loc)
+    value = parse(text, Scope(names, sp.Symbol("t"), elsewhere=elsewhere), loc)
     if value.free_symbols:
         names_used = ", ".join(sorted(str(s) for s in value.free_symbols))
         _fail(loc, f"{_short(text)!r} must be a constant, but uses {names_used}")
@@ -266,12 +275,14 @@ class _Builder:
         if self.depth(value) > MAX_RESULT_DEPTH:
             self.too_deep()
         for part in (value,) if self.is_constant(value) else value.args:
+            if part.is_Rational and exact_digits(part) > MAX_EXACT_NUMBER_DIGITS:
+                self.too_many_digits(exact_digits(part))
             if self.is_constant(part):
                 try:
                     constant_value(part, self.values)
                 except ConstantError as exc:
                     written = ast.get_source_segment(self.source, node) if part is value else None
-                    self.fail(f"the constant {_short(written or str(part))} {exc}",
+                    self.fail(f"the constant {_short(written) if written else _number_text(part)} {exc}",
                               "constants must be finite real numbers within the double range")
         return value
 
@@ -285,6 +296,11 @@ class _Builder:
     def too_deep(self) -> None:
         self.fail(f"expression is nested too deeply once names are substituted (more than "
                   f"{MAX_RESULT_DEPTH} levels)", "split the chain of definitions, or simplify it")
+
+    def too_many_digits(self, digits: int) -> None:
+        self.fail(f"an exact number here has about {digits} digits, more than the {MAX_EXACT_NUMBER_DIGITS} "
+                  "that exact arithmetic is allowed", "write the numbers as floating-point values with fewer "
+                  "digits, or simplify the arithmetic on them")
 
     def is_zero(self, value: sp.Expr) -> bool:
         """Exactly zero, or a constant whose double value is 0 (a 0.0 parameter value)."""
@@ -309,6 +325,11 @@ class _Builder:
             return sp.Integer(value)
         if not math.isfinite(value):
             self.fail(f"numeric literal {literal} is too large")
+        if _literal_exponent(literal) > MAX_LITERAL_EXPONENT:  # 1e-1000000000: no billion-digit rational
+            if value != 0 or not any(c in "123456789" for c in literal.lower().partition("e")[0]):
+                return sp.Float(value)
+            self.fail(f"the constant {literal} is too small (below 1e-300; it would be 0 in double precision)",
+                      "constants must be finite real numbers within the double range")
         # Exact rationals keep symbolic results clean (0.5 -> 1/2).
         return sp.Rational(literal.replace("_", "")) if _is_plain_decimal(literal) else sp.Float(value)
 
@@ -322,6 +343,8 @@ class _Builder:
             return self.scope.t
         if name in FUNCTIONS:
             self.fail(f"'{name}' is a function; call it as {name}(...)")
+        if name in self.scope.elsewhere:
+            self.fail(*self.scope.elsewhere[name])
         close = difflib.get_close_matches(name, list(self.scope.names) + ["t"], n=3)
         self.fail(f"unknown name '{name}'",
                   f"did you mean {' or '.join(repr(c) for c in close)}?" if close
@@ -368,21 +391,25 @@ class _Builder:
     def _power(self, base: sp.Expr, exponent: sp.Expr) -> sp.Expr:
         if exponent.is_Number:
             if abs(exponent) > MAX_EXPONENT:
-                self.fail(f"exponent {_short(str(exponent))} is too large (at most {MAX_EXPONENT})")
+                self.fail(f"exponent {_number_text(exponent)} is too large (at most {MAX_EXPONENT})")
+            if base.is_Rational and exponent.is_Integer and \
+                    exact_digits(base) * abs(int(exponent)) > MAX_EXACT_NUMBER_DIGITS:
+                self.too_many_digits(exact_digits(base) * abs(int(exponent)))
             size = abs(constant_value(base, self.values)) if self.is_constant(base) else 0.0
             if size != 0 and abs(float(exponent) * math.log10(size)) > 300:
                 self.fail("numeric power is too large or too small for double precision")
             if self.is_zero(base) and exponent.is_negative:
                 self.fail("division by zero (0 to a negative power)")
             if base.is_Rational and not exponent.is_Integer and \
-                    max(len(str(abs(base.p))), len(str(base.q))) > MAX_EXACT_DIGITS:
-                # sympy factors the integers of an exact root (to pull out perfect powers):
-                # unbounded work for big numbers, so those roots are taken in floating point
+                    (exact_digits(base) > MAX_EXACT_DIGITS or exponent.is_Rational and exponent.q > MAX_EXACT_ROOT):
+                # sympy factors the integers of an exact root (to pull out perfect powers) and raises
+                # them to the exponent's numerator first: unbounded work for big numbers or roots of
+                # a high degree (12**-0.007 is a 1000th root), so those are taken in floating point
                 base = sp.Float(base, 17)
         result = base ** exponent
         # sympy merges (x**a)**b into x**(a*b): bound the merged exponent too
         if result.is_Pow and result.exp.is_Number and abs(result.exp) > MAX_EXPONENT:
-            self.fail(f"exponent {_short(str(result.exp))} is too large (at most {MAX_EXPONENT})")
+            self.fail(f"exponent {_number_text(result.exp)} is too large (at most {MAX_EXPONENT})")
         if result.has(sp.I, sp.zoo, sp.nan, sp.oo):
             self.fail("the expression is complex or infinite; expressions must be real")
         return result
@@ -423,6 +450,32 @@ class _Builder:
         if self.scope.time_derivative is None:
             self.fail("diff(expr, t) is not available here")
         return self.scope.time_derivative(self.scalar(node.args[0]))
+
+
+def exact_digits(number: sp.Rational) -> int:
+    """About how many decimal digits the longer of the numerator and denominator has (no
+    conversion to text: Python refuses to print an integer of over 4300 digits)."""
+    return 1 + int(max(abs(number.p).bit_length(), number.q.bit_length()) * 0.30103)
+
+
+def _number_text(number: sp.Number) -> str:
+    """A number for a message: exact when short, else its floating-point value."""
+    if number.is_Rational and exact_digits(number) > 20:
+        value = float(number)
+        if math.isfinite(value) and value != 0:
+            return f"{value:.6g}"
+        exponent = (abs(number.p).bit_length() - number.q.bit_length()) * 0.30103
+        return f"of about {'-' if number.p < 0 else ''}1e{round(exponent):+d}"
+    return _short(str(number))  # a Float, or a short exact number
+
+
+def _literal_exponent(literal: str) -> int:
+    """|e| of a literal written 1.5e-7 (0 without an exponent)."""
+    mantissa, e, exponent = literal.lower().replace("_", "").partition("e")
+    if not e or "x" in mantissa:
+        return 0
+    digits = exponent.lstrip("+-")
+    return MAX_LITERAL_EXPONENT + 1 if len(digits) > 6 else int(digits or 0)
 
 
 def _is_plain_decimal(literal: str) -> bool:

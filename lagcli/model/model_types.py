@@ -106,6 +106,28 @@ class ConstraintSpec:
 
 
 @dataclass(frozen=True)
+class InputLaw:
+    """`simulate: inputs:`: the input `symbol` follows `expr` (t, q, q', parameters)."""
+
+    symbol: sp.Symbol
+    expr: sp.Expr
+    loc: Loc | None = None
+
+
+@dataclass(frozen=True)
+class EventSpec:
+    """An item of `events:`: `action` where g = `when` crosses zero in `direction`."""
+
+    name: str
+    when: sp.Expr                      # g(t, q, q'); an impact's: g(t, q)
+    direction: str                     # "falling" | "rising" | "either"
+    action: str                        # "impact" | "reset" | "stop"
+    restitution: sp.Expr | None        # impact: parameters only
+    reset: tuple[tuple[str, sp.Expr], ...] = ()   # state name -> new value (of the state before)
+    loc: Loc | None = None
+
+
+@dataclass(frozen=True)
 class Model:
     name: str
     description: str
@@ -132,13 +154,15 @@ class Model:
     settings: Settings = field(default_factory=Settings)
     dampers: tuple[LinearDamper, ...] = ()
     dissipation: sp.Expr = sp.S.Zero             # Rayleigh R(q, q', t) as written (dampers not included)
-    units: dict = field(default_factory=dict)    # name -> (unit text, Loc) of parameters and coordinates
+    units: dict = field(default_factory=dict)    # name -> (unit text, Loc) of parameters, inputs and coordinates
     locs: dict = field(default_factory=dict)     # key path ("coordinates[1]", "potential") -> Loc, for messages
 
     def loc(self, path: str) -> Loc:
         """Where the spec item at key `path` was written (its path alone when unknown)."""
         return self.locs.get(path) or Loc(self.source, path=path)
     inputs: tuple[InputInfo, ...] = ()
+    laws: tuple[InputLaw, ...] = ()              # spec `simulate: inputs:`
+    events: tuple[EventSpec, ...] = ()           # spec `events:`
 
     def symbol(self, name: str) -> sp.Symbol:
         """The symbol called `name`: t, a coordinate, velocity, acceleration or parameter."""

@@ -70,8 +70,22 @@ def unit_dimension(text: str, loc: Loc) -> Dim:
     except SpecError as exc:
         raise SpecError([Problem(p.loc, f"unit: {p.message}", "units are sympy.physics.units names, e.g. "
                                  "kg, m, s, N, J, rad, N*m, m/s^2") for p in exc.problems]) from None
+    if not _is_product_of_powers(value):
+        raise SpecError(Problem(loc, f"unit: {text!r} is not a product of powers of units (a function of a "
+                                "unit, or a sum, has no dimension)", "units are sympy.physics.units names, "
+                                "multiplied, divided and raised to numeric powers, e.g. N*m or m/s^2"))
     expression = SI.get_dimensional_expr(value)
     return _dim({k.name: v for k, v in dimsys_SI.get_dimensional_dependencies(Dimension(expression)).items()})
+
+
+def _is_product_of_powers(value: sp.Expr) -> bool:
+    if value.is_Mul:
+        return all(_is_product_of_powers(factor) for factor in value.args)
+    if value.is_Pow:
+        return value.exp.is_Rational and _is_product_of_powers(value.base)
+    from sympy.physics.units import Quantity
+
+    return value.is_Rational or isinstance(value, Quantity)
 
 
 BASE_UNITS = {"mass": "kg", "length": "m", "time": "s", "current": "A", "temperature": "K",
@@ -79,6 +93,14 @@ BASE_UNITS = {"mass": "kg", "length": "m", "time": "s", "current": "A", "tempera
 
 
 def describe(dim: Dim) -> str:
+    """The dimension in the derived unit the docs use, with its SI base units: `N/m (kg/s**2)`;
+    in base units alone when no derived unit is usual (`kg*m/s`), or `dimensionless`."""
+    base = base_units(dim)
+    derived = DERIVED.get(dim)
+    return f"{derived} ({base})" if derived else base
+
+
+def base_units(dim: Dim) -> str:
     """The dimension in SI base units, `kg*m**2/s**2`, or `dimensionless`."""
     if not dim:
         return "dimensionless"
@@ -101,8 +123,13 @@ NAMED = {MASS: "a mass", LENGTH: "a length", ENERGY: "an energy or a torque, J =
          times(MASS, raised(LENGTH, 2)): "a moment of inertia"}
 
 
+DERIVED = {FORCE: "N", ENERGY: "J = N*m", POWER: "W", times(FORCE, LENGTH, -1): "N/m",
+           times(times(FORCE, TIME), LENGTH, -1): "N*s/m", times(ENERGY, TIME): "N*m*s",
+           times(FORCE, TIME): "N*s", times(FORCE, raised(LENGTH, 2), -1): "Pa"}
+
+
 def named(dim: Dim) -> str:
-    return f"{NAMED[dim]} ({describe(dim)})" if dim in NAMED else describe(dim)
+    return f"{NAMED[dim]} ({base_units(dim)})" if dim in NAMED else describe(dim)
 
 
 # --- the dimension of an expression ---------------------------------------------------------
@@ -174,6 +201,8 @@ def expect(expr: sp.Expr, wanted: Dim, dims: dict, loc: Loc, what: str) -> Probl
     """A located problem when `expr` (the spec's `what`) is not of dimension `wanted`,
     naming the first term of it that is not."""
     expr = sp.sympify(expr)
+    if expr.is_zero:     # 0 is a zero of every dimension (a generalized force that vanishes)
+        return None
     terms = sp.Add.make_args(expr)
     for term in terms:
         try:
@@ -209,7 +238,7 @@ def symbol_dimensions(model) -> dict:
     for q, qd, qdd in zip(model.q, model.qd, model.qdd):
         d = dims.get(q.name, NONE)
         out.update({q: d, qd: times(d, TIME, -1), qdd: times(d, TIME, -2)})
-    out.update({p.symbol: dims.get(p.symbol.name, NONE) for p in model.parameters})
+    out.update({p.symbol: dims.get(p.symbol.name, NONE) for p in (*model.parameters, *model.inputs)})
     return out
 
 

@@ -48,6 +48,27 @@ def check_model(model: Model) -> None:
         warn_spec(problem)
 
 
+def problems_at(derivation, parameters: dict[str, float]) -> list[Problem]:
+    """What physical validation says of the spec at other parameter values (`--set`): the
+    masses and inertias, and a mass matrix singular at the initial state there (a run could
+    not start). Only errors; [] when the values are fine."""
+    model = derivation.model
+    values = {**parameter_values(model), **{p.symbol: float(parameters[p.symbol.name])
+                                            for p in model.parameters if p.symbol.name in parameters}}
+    problems = [p for item in (*model.particles, *model.bodies) for p in _mass_problems(item, values, quiet=True)]
+    problems += [p for body in model.bodies for p in _inertia_problems(body, values, model.dimension)]
+    if problems:
+        return problems
+    singular = _singular_directions(derivation, {**values, **initial_values(model)})
+    if singular:
+        names = ", ".join(f"'{name}'" for name in singular)
+        where = model.loc(f"coordinates[{[q.name for q in model.q].index(singular[0])}]")
+        problems.append(Problem(where, f"the mass matrix is singular at the initial state (along {names}): "
+                                "nothing with mass or a moment of inertia moves when it changes",
+                                "give the masses and moments of inertia positive values"))
+    return problems
+
+
 def check_mass_matrix(derivation) -> None:
     """Raise `SpecError` when the mass matrix (on the constraints' null space) is singular
     at every state tried; warn when it is singular at the initial state only."""
@@ -98,7 +119,7 @@ def _real(expr: sp.Expr, values: dict) -> float | None:
     overflows instead of sending mpmath after millions of digits."""
     try:
         return value_at(sp.sympify(expr), values, {})
-    except ConstantError:
+    except (ConstantError, TypeError, ValueError, ArithmeticError):   # complex, undefined, overflow
         return None
 
 
@@ -113,7 +134,9 @@ def _matrix(matrix, values: dict) -> np.ndarray | None:
 
 # --- masses and inertias ----------------------------------------------------------------
 
-def _mass_problems(item, values: dict) -> list[Problem]:
+def _mass_problems(item, values: dict, quiet: bool = False) -> list[Problem]:
+    """Errors for a mass that is not finite or negative; a zero mass is a warning (not
+    `quiet`: at other parameter values only what it does to the mass matrix counts)."""
     where = item.loc.child("mass") if item.loc else Loc("", path="mass")
     mass = _real(item.mass, values)
     if mass is None:
@@ -121,7 +144,7 @@ def _mass_problems(item, values: dict) -> list[Problem]:
                         "parameters' values", "check the parameters it uses")]
     if mass < 0:
         return [Problem(where, f"the mass of '{item.name}' is negative ({mass:g})", "a mass is positive")]
-    if mass == 0:
+    if mass == 0 and not quiet:
         warn_spec(Problem(where, f"the mass of '{item.name}' is zero: it adds nothing to T or V",
                           "give it a positive mass, or leave it out"))
     return []
@@ -209,8 +232,10 @@ def _singular_directions(derivation, values: dict) -> list[str]:
     import numpy as np
 
     M = _matrix(derivation.mass_matrix, values)
+    if M is None:
+        return []
     A = _matrix(derivation.constraint_matrix, values) if derivation.constraints else np.zeros((0, len(M)))
-    if M is None or A is None:
+    if A is None or not (np.all(np.isfinite(M)) and np.all(np.isfinite(A))):
         return []
     allowed = _null_space(A) if A.size else np.eye(len(M))
     if allowed.shape[1] == 0:

@@ -17,9 +17,10 @@ import sympy as sp
 from lagcli.derive.result import Derivation
 from lagcli.report.display import Display, signed_sum
 from lagcli.report.naming import Namer
+from lagcli.hybrid.hybrid_report import check_lines, hybrid_content
 
 
-PARTS = ("system", "energies", "forces", "equations", "constraints", "explicit", "conservation")
+PARTS = ("system", "energies", "forces", "equations", "constraints", "explicit", "conservation", "events")
 
 
 def report_parts(selection: str | None) -> tuple[str, ...]:
@@ -110,6 +111,7 @@ def report_content(d: Derivation, printer: ReportPrinter, simplify: bool = True,
         return printer.terms([shown_as(e) for e in (namer.terms(items) if namer else items)])
 
     content = _content(d, shown, p, terms)
+    content.update(hybrid_content(d, p))
     content["parameters"] = {renamed.get(pi.symbol, pi.symbol).name: pi.value for pi in m.parameters}
     content["renamed_parameters"] = {old.name: new.name for old, new in renamed.items()}
     content["named_quantities"] = [] if namer is None else [
@@ -203,4 +205,5 @@ def check_content(d: Derivation) -> dict:
         "time": "scleronomic" if d.scleronomic else "rheonomic",
         "ignorable": ", ".join(q.name for q in d.ignorable) or "none",
         "jacobi": jacobi,
+        "hybrid": check_lines(d),
     }

@@ -215,7 +215,21 @@ def latex_context(d: Derivation, r: dict) -> dict:
         "jacobi": r["jacobi_integral"] is not None,
         "energy_is_jacobi": r["energy_is_jacobi"],
         "no_jacobi_reason": _math_words(r["no_jacobi_reason"] or ""),
+        "law_rows": [row for name, e in r.get("input_laws", {}).items()
+                     for row in rows(printer.doprint(m.symbol(name)), e)],
+        "events": [_event(e, printer, m) for e in r.get("events", [])],
     }
+
+
+def _event(e: dict, printer, m) -> dict:
+    """One event of the report: what happens where g crosses zero, and its rows."""
+    out = [*rows("g", e["when"])]
+    if e["action"] == "impact":
+        out += [rf"G = \partial g/\partial q &= \begin{{pmatrix}} {' & '.join(e['G'])} \end{{pmatrix}}",
+                *rows(r"\partial_t g", e["g_t"]), *rows("e", e["restitution"])]
+    for name, value in e.get("reset", {}).items():
+        out += rows(f"{printer.doprint(m.symbol(name))}^{{+}}", value)
+    return {"name": latex_text(e["name"]), "action": e["action"], "direction": e["direction"], "rows": out}
 
 
 # The symbols in lagcli's own sentences (invariants.jacobi_obstacle), set as math.

@@ -117,7 +117,8 @@ def build(files: dict[str, str], key: str, compiler: toolchain.Compiler, layout:
 
 def driver_arguments(s: RunSettings, sets: dict[str, float], state: dict[str, float]) -> list[str]:
     args = ["--t-end", _num(s.t_end), "--dt", _num(s.dt), "--method", s.method,
-            "--rtol", _num(s.rtol), "--atol", _num(s.atol), "--baumgarte", _num(s.alpha), _num(s.beta)]
+            "--rtol", _num(s.rtol), "--atol", _num(s.atol), "--baumgarte", _num(s.alpha), _num(s.beta),
+            "--max-steps", str(s.step_budget)]
     for option, values in (("--set", sets), ("--init", state)):
         for name, value in values.items():
             args += [option, f"{name}={_num(value)}"]

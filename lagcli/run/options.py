@@ -32,6 +32,8 @@ class Request:
     inits: tuple[str, ...] = ()         # raw "NAME=VALUE" items of --init
     backend: str | None = None          # "python" | "c" | None (c when `cc` exists)
     baumgarte: tuple[float, float] | None = None
+    inputs: tuple[str, ...] = ()        # raw "NAME=EXPR" items of --input (input laws)
+    max_steps: int | None = None        # the step budget (None: `default_max_steps`)
 
 
 def resolve_settings(request: Request, spec_settings: dict) -> RunSettings:
@@ -41,8 +43,10 @@ def resolve_settings(request: Request, spec_settings: dict) -> RunSettings:
         return spec_settings[key] if value is None else value
 
     alpha, beta = request.baumgarte or DEFAULT_BAUMGARTE
+    if request.max_steps is not None and not 1 <= request.max_steps <= 10**15:
+        raise UsageError(f"--max-steps: must be a whole number of steps from 1 to 1e15, got {request.max_steps}")
     s = RunSettings(pick("t_end"), pick("dt"), pick("method"), pick("rtol"), pick("atol"),
-                    float(alpha), float(beta))
+                    float(alpha), float(beta), request.max_steps or 0)
     if s.method not in METHODS:
         raise UsageError(f"--method: unknown integration method {s.method!r}"
                          + _hint(s.method, METHODS, "methods"))

@@ -27,6 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import integrate
 
+from lagcli.interface import STEP_BUDGET_TEXT
 from lagcli.runtime.run_rules import max_step, output_time_windows
 from lagcli.run import cache
 from lagcli.interface import Layout, RunSettings
@@ -61,6 +62,25 @@ class PythonModule:
                                 settings, progress, sink, u)
 
 
+@dataclass(frozen=True)
+class HybridModule(PythonModule):
+    """The generated module with the numeric input laws and events of one run
+    (`lagcli.hybrid.numeric.Hybrid`, made by the System): run by lagcli/hybrid/hybrid_run.py."""
+
+    hybrid: object = None
+
+    def run(self, settings: RunSettings, values: dict[str, float], state, sink=None, progress=None,
+            max_first_residual: float | None = None) -> RowSink:
+        from lagcli.hybrid.hybrid_run import integrate_hybrid
+
+        layout = self.layout
+        params = {**layout.parameter_defaults, **values}
+        inputs = {**layout.input_defaults, **values}
+        u = [inputs[n] for n in layout.input_names] or None
+        return integrate_hybrid(self.module, [params[n] for n in layout.parameter_names], list(state),
+                                settings, self.hybrid, u, progress, sink)
+
+
 def cached_source(key: str) -> str | None:
     """The module source cached under `key` (checked by the cache), or None."""
     entry = cache.load(key)
@@ -84,6 +104,11 @@ def store(key: str, model_name: str, source: str) -> None:
             cache.publish(work, key, f"{model_name}: Python module")
     except OSError:
         pass
+
+
+def header(module) -> list[str]:
+    """The CSV header of a generated module's rows."""
+    return ["t", *module.STATE, *module.MULTIPLIERS, *module.INVARIANTS]
 
 
 def integrate_module(module, p: list[float], y0: list[float], s: RunSettings,
@@ -111,7 +136,7 @@ def integrate_module(module, p: list[float], y0: list[float], s: RunSettings,
         return [t, *y, *lam, *(inv[name] for name in module.INVARIANTS)]
 
     sink = Trajectory() if sink is None else sink
-    sink.begin(["t", *module.STATE, *module.MULTIPLIERS, *module.INVARIANTS])
+    sink.begin(header(module))
     y = np.array(y0, dtype=float)
     with np.errstate(all="ignore"):   # overflow shows up as a failure, not as warnings
         _run(fun, row, y, s, max_step(s.method, s.alpha, s.beta, bool(module.MULTIPLIERS)),
@@ -124,22 +149,26 @@ def _run(fun, row, y, s, cap, sink: RowSink, progress) -> None:
         _check_finite(0.0, y)
         sink.add_row(row(0.0, y))
         _steps(SOLVERS[s.method](fun, 0.0, y, s.t_end, rtol=s.rtol, atol=s.atol, max_step=cap),
-               output_time_windows(s.t_end, s.dt), sink, row, progress)
+               output_time_windows(s.t_end, s.dt), sink, row, progress, s.step_budget)
     except _RhsFailure as exc:
         sink.failure = f"at t = {exc.t:.10g}: {exc.reason}"
     except KeyboardInterrupt:
         sink.interrupted = True
 
 
-def _steps(solver, windows, sink: RowSink, row, progress) -> None:
+def _steps(solver, windows, sink: RowSink, row, progress, budget: int) -> None:
     """solve_ivp's loop for increasing t_eval (the output times after t = 0, a window at
-    a time): step, then dense output at the times passed."""
+    a time): step, then dense output at the times passed; at most `budget` steps."""
     times, k = np.array(next(windows)), 1             # times[0] = 0: its row is written
+    steps = 0
     while True:
         while k == len(times):
             times, k = np.array(next(windows, [])), 0
             if not len(times):
                 return
+        if steps == budget:
+            raise _RhsFailure(solver.t, STEP_BUDGET_TEXT.format(steps=budget))
+        steps += 1
         message = solver.step()
         if solver.status == "failed":
             raise _RhsFailure(solver.t, f"the {type(solver).__name__} integrator failed: {message}")

@@ -34,6 +34,8 @@ class RowSink:
         self.last_time: float | None = None
         self.failure: str | None = None          # "at t = ...: reason"
         self.interrupted = False
+        self.events: list = []                   # lagcli.hybrid.records.EventRecord, as they happen
+        self.end_note: str | None = None         # why a run with events ended before t_end
 
     def begin(self, header) -> None:
         self.header = list(header)

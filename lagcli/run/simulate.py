@@ -41,6 +41,7 @@ class Outcome:
     trajectory: RowSink           # the sink given to the run, holding the run's end state
     backend: str                  # "c" | "python"
     layout: Layout                # the run interface the rows follow
+    watched_events: bool = False  # the spec has events (the run says how many happened)
 
     @property
     def coordinates(self) -> tuple[str, ...]:
@@ -49,6 +50,11 @@ class Outcome:
     @property
     def energy_conserved(self) -> bool:
         return self.layout.energy_conserved
+
+    @property
+    def states(self) -> tuple[str, ...]:
+        """The state names (the columns of --events)."""
+        return self.layout.state_names
 
 
 def cached_driver(spec: str, spec_bytes: bytes, compiler) -> c_backend.CDriver | None:
@@ -81,3 +87,12 @@ def run(program, settings: RunSettings, overrides: Overrides, state, sink: RowSi
 @contextlib.contextmanager
 def _no_progress(total):
     yield None
+
+
+AT_REST = ("initial state: the spec has no initial: values and no --init was given, so the run starts "
+           "at rest with every coordinate 0 (give initial: in the spec, or --init NAME=VALUE)")
+
+
+def at_rest(initial: dict, inits: dict) -> list[str]:
+    """The note that a run starts from the all-zero state only because nothing was given."""
+    return [] if initial or inits else [AT_REST]

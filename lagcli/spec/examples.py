@@ -13,6 +13,7 @@ from lagcli.errors import UsageError
 from lagcli.render.package_data import data_dir
 
 SUFFIXES = (".yaml", ".yml", ".toml")
+HYBRID = "hybrid"       # specs with events or input laws (which not every code target takes yet)
 
 
 def examples_dir() -> Path:
@@ -21,8 +22,11 @@ def examples_dir() -> Path:
 
 
 def example_paths() -> list[Path]:
-    """Every bundled spec, sorted by name."""
-    return sorted(p for p in examples_dir().iterdir() if p.suffix in SUFFIXES)
+    """Every bundled spec (those of the `hybrid/` folder too), sorted by name."""
+    folder = examples_dir()
+    paths = [p for where in (folder, folder / HYBRID) if where.is_dir()
+             for p in where.iterdir() if p.suffix in SUFFIXES]
+    return sorted(paths, key=lambda p: p.name)
 
 
 def summary(path: Path) -> str:

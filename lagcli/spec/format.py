@@ -93,8 +93,8 @@ COORDINATE = Table("coordinate", "a coordinate with its LaTeX symbol or unit",
                    {"name": NAME, "latex": STRING, "unit": STRING}, ("name",))
 PARAMETER = Table("parameter", "a parameter's default value with its symbol, description or unit",
                   {"value": EXPRESSION, "latex": STRING, "description": STRING, "unit": STRING}, ("value",))
-INPUT = Table("input", "an input's default value with its symbol or description",
-              {"value": EXPRESSION, "latex": STRING, "description": STRING})
+INPUT = Table("input", "an input's default value with its symbol, description or unit",
+              {"value": EXPRESSION, "latex": STRING, "description": STRING, "unit": STRING})
 PARTICLE = Table("particle", "a point mass", {"mass": EXPRESSION, "position": VECTOR}, ("mass", "position"))
 BODY = Table("body", "a rigid body: planar with angle, spatial with orientation or frame",
              {"mass": EXPRESSION, "inertia": INERTIA, "position": VECTOR, "angle": EXPRESSION,
@@ -107,9 +107,15 @@ DAMPER = Table("damper", "a linear dashpot between two particles, bodies or fixe
                {"between": ENDS, "damping": EXPRESSION}, ("between", "damping"))
 CONSTRAINT = Table("constraint", "a constraint expression with a name for its multiplier",
                    {"name": NAME, "expr": EXPRESSION}, ("expr",))
-SIMULATE = Table("simulate", "the default run settings",
+SIMULATE = Table("simulate", "the default run settings, and a law per input",
                  {"t_end": EXPRESSION, "dt": EXPRESSION, "method": {"enum": list(METHODS)},
-                  "rtol": EXPRESSION, "atol": EXPRESSION})
+                  "rtol": EXPRESSION, "atol": EXPRESSION, "inputs": mapping_of(EXPRESSION)})
+DIRECTIONS = ("falling", "rising", "either")     # of an event's g through zero; the first is the default
+ACTIONS = ("impact", "reset", "stop")
+EVENT = Table("event", "what happens where g = `when` crosses zero: an impact, a reset or a stop",
+              {"name": NAME, "when": EXPRESSION, "direction": {"enum": list(DIRECTIONS)},
+               "action": {"enum": list(ACTIONS)}, "restitution": EXPRESSION,
+               "reset": mapping_of(EXPRESSION, names=False)}, ("when", "action"))
 FRAME = Table("frame", "a frame: rotations from its parent (default: the inertial frame)",
               {"parent": STRING, "rotations": ROTATIONS}, ("rotations",))
 WHEEL = Table("wheel", "a disc rolling on its rim", {"radius": EXPRESSION, "axis": {"enum": list(AXES)}},
@@ -143,4 +149,5 @@ TOP = Table("spec", "a lagcli spec: a mechanical system for Lagrange's method (d
     "rolling": nullable(list_of(ROLLING)),
     "dampers": nullable(list_of(DAMPER)),
     "dissipation": EXPRESSION,
+    "events": nullable(list_of(EVENT)),
 }, ("coordinates",))

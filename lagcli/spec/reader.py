@@ -24,7 +24,7 @@ import yaml
 
 from lagcli.errors import Loc, Problem, SpecError
 from lagcli.spec.files import MAX_BYTES, STDIN, STDIN_NAME, read_spec_bytes
-from lagcli.spec.slips import toml_line_hint, yaml_scanner_hint
+from lagcli.spec.slips import toml_line_hint, unclosed_toml_array, yaml_scanner_hint
 from lagcli.spec.toml_positions import toml_marks
 
 MAX_NODES = 100_000
@@ -174,6 +174,8 @@ def _yaml_problem(name: str, exc: yaml.MarkedYAMLError) -> Problem:
     if exc.context and exc.problem:
         where = f" at line {exc.context_mark.line + 1}" if exc.context_mark else ""
         message += f" ({exc.context}{where})"
+    if exc.context == "while scanning a simple key" and exc.context_mark is not None:
+        return Problem(_mark_loc(name, exc.context_mark), message)  # the key's line: the slip is there
     return Problem(_mark_loc(name, exc.problem_mark or exc.context_mark), message)
 
 
@@ -281,6 +283,11 @@ def _read_toml(name: str, text: str) -> RawDoc:
 def _toml_problem(name: str, message: str, text: str) -> Problem:
     found = _TOML_AT.match(message)
     what, loc = (found[1], Loc(name, int(found[2]), int(found[3]))) if found else (message, Loc(name))
+    if what == "Unclosed array" and loc.line:   # tomllib reads on to where the array could no longer go on
+        opened = unclosed_toml_array(text, loc.line)
+        if opened:
+            return Problem(Loc(name, opened, 1), f"invalid TOML: Unclosed array (opened on line {opened})",
+                           "close the array with ']' before the next key or [table]")
     hint = ("an expression is a quoted string in TOML: potential = \"k*x**2/2\""
             if what == "Invalid value" else toml_line_hint(text, loc.line))
     return Problem(loc, f"invalid TOML: {what}", hint)

@@ -8,6 +8,7 @@ of `latex:` strings (latex_subset.py) are checked here.
 """
 from __future__ import annotations
 
+import dataclasses
 import re
 from pathlib import Path
 from typing import Any, Callable
@@ -22,7 +23,8 @@ from lagcli.spec.files import STDIN_NAME
 from lagcli.spec.reader import KeyPath, RawDoc
 from lagcli.spec.dampers import dissipation_fields
 from lagcli.spec import format as fmt
-from lagcli.spec.slips import axis_hint, misplaced_toml_keys
+from lagcli.spec.events import events_field, input_laws
+from lagcli.spec.slips import axis_hint, misplaced_toml_keys, misplaced_toml_pairs
 from lagcli.spec.types import (Body, Constraint, Coordinate, Force, Input, Named, Parameter, Particle,
                                SimulateSettings, Spec, Spring, Src, Vector, VectorSrc)
 
@@ -41,9 +43,21 @@ def validate(raw: RawDoc) -> Spec:
 def check(raw: RawDoc) -> tuple[Spec, list]:
     """The best-effort `Spec` for `raw` and the problems found (the spec is only
     trustworthy when there are none; later stages may still scan it for more problems)."""
-    checker = _SpecChecker(raw)
+    checker = _SpecChecker(_without(raw, misplaced_toml_pairs(raw, fmt.TOP.allowed)))
     spec = checker.spec()
     return spec, checker.problems + misplaced_toml_keys(raw, fmt.TOP.allowed)
+
+
+def _without(raw: RawDoc, misplaced: list[tuple[str, str]]) -> RawDoc:
+    """`raw` without the TOML keys that ended up in the table above them: checked as what
+    they were meant to be, `kinetic = ...` below `[parameters]` would be a parameter whose
+    value uses unknown names, a false second error after the true one."""
+    if not misplaced:
+        return raw
+    data = {table: ({key: item for key, item in value.items()
+                     if (table, key) not in misplaced}
+                    if isinstance(value, dict) else value) for table, value in raw.data.items()}
+    return dataclasses.replace(raw, data=data)
 
 
 def default_name(file: str) -> str:
@@ -84,6 +98,7 @@ class _SpecChecker(FrameChecks, Checker):
                                        self.keyed_by(self.state_names(), "coordinate or velocity")),
             simulate=self.simulate(top.get("simulate")),
             **dissipation_fields(self, top),
+            events=events_field(self, top),
             name=self.identifier(("name",), top["name"]) if "name" in top else None,
             description=self.optional_string(top, (), "description") or "",
         )
@@ -154,7 +169,8 @@ class _SpecChecker(FrameChecks, Checker):
         table = self.table(path, value, fmt.INPUT)
         src = self.expr(path + ("value",), table["value"]) if "value" in table else None
         return Input(name, src, self.latex_symbol(table, path),
-                     self.optional_string(table, path, "description"), loc)
+                     self.optional_string(table, path, "description"), loc,
+                     self.optional_string(table, path, "unit"))
 
     def latex_symbol(self, table: dict, path: KeyPath) -> str | None:
         """The item's `latex:`, when it is in the safe subset of lagcli/spec/latex_subset.py."""
@@ -353,9 +369,10 @@ class _SpecChecker(FrameChecks, Checker):
         if not table:
             return SimulateSettings()
         numbers = {key: self.expr(path + (key,), table[key]) for key in fmt.SIMULATE.allowed
-                   if key in table and key != "method"}
+                   if key in table and key not in ("method", "inputs")}
         method = self.method(path + ("method",), table["method"]) if "method" in table else None
-        return SimulateSettings(method=method, **numbers)
+        laws = input_laws(self, path + ("inputs",), table["inputs"]) if "inputs" in table else ()
+        return SimulateSettings(method=method, inputs=laws, **numbers)
 
     def method(self, path: KeyPath, value: Any) -> str | None:
         if value in METHODS:

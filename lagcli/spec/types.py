@@ -55,6 +55,7 @@ class Input:
     latex: str | None
     description: str | None
     loc: Loc
+    unit: str | None = None    # a unit expression (lagcli/units.py); None: dimensionless
 
 
 @dataclass(frozen=True)
@@ -172,6 +173,21 @@ class SimulateSettings:
     method: str | None = None
     rtol: Src | None = None
     atol: Src | None = None
+    inputs: tuple[Named, ...] = ()           # input laws: input name -> expression of t, q, q'
+
+
+@dataclass(frozen=True)
+class Event:
+    """An item of `events:` (docs/spec.md, "events"): where `when` crosses zero in
+    `direction`, `action` happens (impact with `restitution`, reset of states, stop)."""
+
+    name: str
+    when: Src
+    direction: str                           # "falling" | "rising" | "either"
+    action: str                              # "impact" | "reset" | "stop"
+    restitution: Src | None                  # impact only
+    reset: tuple[Named, ...]                 # reset only: state name -> new value
+    loc: Loc
 
 
 @dataclass(frozen=True)
@@ -200,3 +216,4 @@ class Spec:
     rolling: tuple[Rolling, ...] = ()
     dampers: tuple[Damper, ...] = ()
     dissipation: Src | None = None           # a Rayleigh dissipation function R(q, q', t)
+    events: tuple[Event, ...] = ()

@@ -222,9 +222,7 @@ def _failed(run_id: int, reason: str, metrics) -> driver.RunResult:
 def _journal(system, options: SweepOptions, arguments, lines, failed, header) -> summary.Journal | None:
     if options.output is None:
         return None
-    digest = hashlib.sha256()
-    with open(system.model.source, "rb") as spec:
-        digest.update(spec.read())
+    digest = hashlib.sha256(system.spec_bytes)      # as read: a file, standard input or text
     for part in (__version__, *arguments, str(bool(options.trajectories)), *header,
                  *lines.values(), *(f"{k}:{v}" for k, v in sorted(failed.items()))):
         digest.update(part.encode() + b"\0")

@@ -10,9 +10,14 @@
     octave   lagcli/targets/octave.py   templates/octave/*.m.jinja             MATLAB/Octave functions + a script
     rust     lagcli/targets/rust.py     templates/rust/*.jinja                 a crate, plus
                                      lagcli/runtime/rust/ode.rs copied as it is
+    casadi   lagcli/targets/casadi.py   templates/casadi/module.py.jinja    one module of CasADi
+                                     Functions (SX), casadi imported by it only
+    jax      lagcli/targets/jax.py      templates/jax/module.py.jinja       one module of pure
+                                     jax.numpy functions, jax imported by it only
 
 How to add a code target (say Julia) — a printer configuration and templates
-(lagcli/targets/octave.py and rust.py were made this way, 120-150 lines each):
+(lagcli/targets/octave.py and rust.py were made this way, 120-150 lines each; casadi.py
+and jax.py, 60-80 lines, reuse the Python literals and escapes):
 
 1. Printer: in `lagcli/targets/julia.py`, subclass `slots.SlotPrinter` and sympy's
    printer for the language (`class JuliaPrinter(SlotPrinter, JuliaCodePrinter)`),
@@ -86,6 +91,8 @@ LANGUAGES = {
     "rust": Language("rust", "lagcli.targets.rust", "rust_files", directory=True),
     "latex": Language("latex", __name__, "_latex_files", directory=False, embeds_initial=False),
     "fmu": Language("fmu", "lagcli.targets.fmu", "fmu_files", directory=False, binary=True),
+    "casadi": Language("casadi", "lagcli.targets.casadi", "casadi_files", directory=False),
+    "jax": Language("jax", "lagcli.targets.jax", "jax_files", directory=False),
 }
 
 
@@ -97,5 +104,22 @@ def generate(derivation, lang: str, initial=None, initial_notes=()) -> dict[str,
         language = LANGUAGES[lang]
     except KeyError:
         raise EmitError(f"unknown output language {lang!r}; known: {', '.join(LANGUAGES)}") from None
+    if lang != "latex":
+        _refuse_hybrid(derivation, lang)
     return getattr(importlib.import_module(language.module), language.function)(
         derivation, initial=initial, initial_notes=initial_notes)
+
+
+def _refuse_hybrid(derivation, lang: str) -> None:
+    """Generated code does not carry events or the spec's input laws yet: refuse rather than
+    drop them (lagcli simulate runs them on its Python backend)."""
+    model = derivation.model
+    events = model.events if lang != "fmu" else ()      # the FMU has them (lagcli/hybrid/fmu_events.py)
+    keys = [key for key, used in (("events:", events), ("simulate: inputs:", model.laws)) if used]
+    if keys:
+        from lagcli.errors import UsageError
+
+        raise UsageError(f"{model.source}: --lang {lang} does not implement {' and '.join(keys)} yet; "
+                        "the generated code would silently ignore them\n"
+                        "  hint: `lagcli simulate` runs them (on its Python backend); remove them from a copy "
+                        "of the spec to generate the smooth equations")

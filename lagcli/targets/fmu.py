@@ -30,6 +30,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from lagcli.derive.result import Derivation
+from lagcli.hybrid.fmu_events import fmu_event_sources
 from lagcli.targets import c as c_target
 from lagcli.render.templates import render
 from lagcli.errors import Loc, Problem, SimulationError, SpecError
@@ -101,9 +102,11 @@ def fmu_sources(d: Derivation, initial=None, initial_notes=()) -> dict[str, str]
     _check_file_names(d, name)
     context = c_target.c_context(d, initial, initial_notes)
     c_sources = {**c_target.model_sources(context),
-                 **{file: c_runtime_files()[file] for file in INTEGRATOR}, **fmi2_runtime_files()}
+                 **{file: c_runtime_files()[file] for file in INTEGRATOR}, **fmi2_runtime_files(),
+                 **fmu_event_sources(d, context)}
     descriptions = {p.symbol.name: p.description for p in d.model.parameters}
-    fmu = fmu_context(layout, context, descriptions, sorted(f for f in c_sources if f.endswith(".c")))
+    fmu = fmu_context(layout, context, descriptions, sorted(f for f in c_sources if f.endswith(".c")),
+                      len(d.events))
     guid = _guid(render("fmu/modelDescription.xml.jinja", guid="", **fmu), c_sources)
     return {
         "modelDescription.xml": render("fmu/modelDescription.xml.jinja", guid=guid, **fmu),
@@ -114,9 +117,11 @@ def fmu_sources(d: Derivation, initial=None, initial_notes=()) -> dict[str, str]
     }
 
 
-def fmu_context(layout: Layout, c_context: dict, descriptions: dict, compiled: list[str]) -> dict:
+def fmu_context(layout: Layout, c_context: dict, descriptions: dict, compiled: list[str],
+                nevent: int = 0) -> dict:
     """What the templates of templates/fmu/ need: the variables of `layout`, the
-    `Interface` and settings of the C context, the C files to compile."""
+    `Interface` and settings of the C context, the C files to compile; `nevent`: the
+    spec's events, the FMU's event indicators (then it is Model Exchange only)."""
     i = c_context["i"]
     variables = model_variables(layout, i.initial, descriptions)
     method = c_context["driver_method"]
@@ -124,6 +129,7 @@ def fmu_context(layout: Layout, c_context: dict, descriptions: dict, compiled: l
                 inputs=[u.name for u in layout.inputs], units=sorted({v.unit for v in variables if v.unit}),
                 literal=c_context["literal"], method=method,
                 max_step=c_context["literal"](max_step(method, *i.baumgarte, layout.constrained)),
+                nevent=nevent,
                 **model_structure(variables))
 
 

@@ -125,6 +125,14 @@ class SlotPrinter:
     def sqrt_name(self) -> str:
         return self.sqrt_function
 
+    def nested_call(self, function: str, args) -> str:
+        """`function(a, function(b, c))` for args (a, b, c): min/max of several arguments
+        in a language whose function takes two (`function` a module path: `casadi.fmin`)."""
+        first, *rest = args
+        if not rest:
+            return self._print(first)
+        return f"{self._module_format(function)}({self._print(first)}, {self.nested_call(function, rest)})"
+
     def _print_sqrt(self, base) -> str:
         """sqrt(base) as a call of `sqrt_name()`; a language with methods overrides it."""
         return f"{self.sqrt_name()}({self._print(base)})"

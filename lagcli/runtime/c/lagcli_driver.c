@@ -38,6 +38,10 @@
 #define LAGCLI_METHODS "RK45|DOP853"      /* the explicit methods lagcli_ode implements */
 #define LAGCLI_WINDOW 65536               /* output times per integration (see the top) */
 #define LAGCLI_MAX_EXCEED 16              /* --exceed options of a batch */
+#define LAGCLI_STEP_BUDGET_BASE 20000     /* default --max-steps: this many steps ... */
+#define LAGCLI_STEP_BUDGET_PER_OUTPUT 1000 /* ... plus this many per output interval (t_end/dt) */
+#define STEP_BUDGET_TEXT "the integration reached its bound of %ld steps before t_end " \
+    "(a stiff or blowing-up solution?); raise the bound with --max-steps N"
 
 typedef struct {
     const lagcli_model *model;
@@ -52,6 +56,7 @@ typedef struct {
 typedef struct {
     double t_end, dt, rtol, atol;
     const char *method;
+    double max_steps; /* --max-steps: accepted steps a run may take (0: the default rule) */
     long bench;    /* --bench-integration N: time N silent integrations instead of printing */
     int batch;     /* --batch: many runs read from stdin (batch_main); 2 with --batch-rows */
     int nexceed;   /* --exceed NAME=VALUE: first time |NAME| > VALUE, in the batch summaries */
@@ -122,7 +127,8 @@ static int usage(const char *program, const char *problem)
         fprintf(stderr, "error: %s\n", problem);
     fprintf(problem != NULL ? stderr : stdout,
             "usage: %s [--t-end T] [--dt DT] [--method " LAGCLI_METHODS "] [--rtol R] [--atol A]\n"
-            "       [--set NAME=VALUE]... [--init NAME=VALUE]... [--baumgarte ALPHA BETA]\n",
+            "       [--set NAME=VALUE]... [--init NAME=VALUE]... [--baumgarte ALPHA BETA]\n"
+            "       [--max-steps N]\n",
             program);
     return problem != NULL ? 2 : 0;
 }
@@ -210,6 +216,10 @@ static int parse(int argc, char **argv, run_settings *s, run_state *run, double 
         } else if ((v = option(argc, argv, &i, "--init", &missing)) != NULL) {
             if (!assign("--init", v, run->model->state_names, "coordinate or velocity", y0, message))
                 return usage(argv[0], message);
+        } else if ((v = option(argc, argv, &i, "--max-steps", &missing)) != NULL) {
+            if (!number(v, &s->max_steps) || s->max_steps < 1 || s->max_steps > 1e15
+                || s->max_steps != floor(s->max_steps))
+                return usage(argv[0], "--max-steps: expected a whole number of steps from 1 to 1e15");
         } else if ((v = option(argc, argv, &i, "--bench-integration", &missing)) != NULL) {
             double count;
             if (!number(v, &count) || count < 1 || count > 1e6 || count != floor(count))
@@ -293,6 +303,15 @@ static double time_at(const output_times *times, size_t k)
     return k < times->regular ? (double)k * times->dt : times->t_end;
 }
 
+/* The steps a run may take: --max-steps, else LAGCLI_STEP_BUDGET_BASE plus
+ * LAGCLI_STEP_BUDGET_PER_OUTPUT per output interval (lagcli.interface.default_max_steps). */
+static long step_budget(const run_settings *s)
+{
+    if (s->max_steps > 0)
+        return (long)s->max_steps;
+    return LAGCLI_STEP_BUDGET_BASE + LAGCLI_STEP_BUDGET_PER_OUTPUT * (long)ceil(s->t_end / s->dt - LAGCLI_OUTPUT_SLACK);
+}
+
 /* Integrate from y0 at t = 0, calling `out` at every output time after 0: LAGCLI_WINDOW
  * output times per integration, each continuing from the last row's state. */
 static int integrate_windows(const run_settings *s, run_state *run, const double *y0,
@@ -302,6 +321,7 @@ static int integrate_windows(const run_settings *s, run_state *run, const double
     output_times times = times_of(s->t_end, s->dt);
     double t0 = 0.0, t_stop;
     size_t next = 1, n, i;
+    long used = 0, budget = step_budget(s);
     int rc = LAGCLI_ODE_OK;
     memset(stats, 0, sizeof *stats);
     memcpy(run->last, y0, (size_t)run->model->nstate * sizeof *y0);
@@ -312,9 +332,10 @@ static int integrate_windows(const run_settings *s, run_state *run, const double
         t_stop = window[n - 1];
         if (next + n == times.count && t_stop < s->t_end)
             t_stop = s->t_end;                 /* the last window: integrate to t_end */
-        rc = lagcli_ode_integrate(s->method, rhs, out, run, run->model->nstate, t0, run->last, t_stop,
-                                  window, n, s->rtol, s->atol,
-                                  max_step(run->model, run->alpha, run->beta), stats);
+        rc = lagcli_ode_integrate_bounded(s->method, rhs, out, run, run->model->nstate, t0, run->last, t_stop,
+                                          window, n, s->rtol, s->atol,
+                                          max_step(run->model, run->alpha, run->beta), budget - used, stats);
+        used += stats->n_accepted;
         t0 = window[n - 1];
         next += n;
     }
@@ -369,6 +390,8 @@ static int integrate(const run_settings *s, run_state *run, const double *y0)
     else if (rc == LAGCLI_ODE_ERR_NONFINITE)
         fprintf(stderr, "error: at t = %.10g: the state is no longer finite (inf/nan): the solution blows up\n",
                 stats.t);
+    else if (rc == LAGCLI_ODE_ERR_MAX_STEPS)
+        fprintf(stderr, "error: at t = %.10g: " STEP_BUDGET_TEXT "\n", stats.t, step_budget(s));
     else
         fprintf(stderr, "error: at t = %.10g: the %s integrator failed: %s\n", stats.t, s->method, stats.message);
     return 1;
@@ -405,6 +428,7 @@ int lagcli_driver_main(const lagcli_model *model, int argc, char **argv)
     s.method = model->method;
     s.rtol = model->rtol;
     s.atol = model->atol;
+    s.max_steps = 0;
     s.bench = 0;
     s.batch = 0;
     s.nexceed = 0;
@@ -557,6 +581,8 @@ static void failure_text(int rc, const run_settings *s, const run_state *run, co
         sprintf(text, "at t = %.10g: %s", run->when, reason(run->code));
     else if (rc == LAGCLI_ODE_ERR_NONFINITE)
         sprintf(text, "at t = %.10g: the state is no longer finite (inf/nan): the solution blows up", st->t);
+    else if (rc == LAGCLI_ODE_ERR_MAX_STEPS)
+        sprintf(text, "at t = %.10g: " STEP_BUDGET_TEXT, st->t, step_budget(s));
     else
         sprintf(text, "at t = %.10g: the %s integrator failed: %s", st->t, s->method, st->message);
 }

@@ -181,6 +181,7 @@ typedef struct {
     void *ctx;
     int n;
     double rtol, atol, max_step;
+    long max_steps;        /* accepted steps allowed (0: no bound) */
     double direction;      /* +1 or -1 */
     double t_end;
     double error_exponent; /* -1 / (error_order + 1) */
@@ -207,6 +208,7 @@ const char *lagcli_ode_message(int code)
     case LAGCLI_ODE_INTERRUPTED: return "integration stopped by the output callback";
     case LAGCLI_ODE_ERR_ARGS: return "invalid arguments (method, tolerances, max_step or output times)";
     case LAGCLI_ODE_ERR_NOMEM: return "out of memory";
+    case LAGCLI_ODE_ERR_MAX_STEPS: return "the bound on the number of steps was reached";
     default: return "unknown error";
     }
 }
@@ -526,6 +528,8 @@ static int lagcli_ode_run(lagcli_ode_solver *s, lagcli_ode_out_fn out, const dou
 
     for (;;) {
         int dense_ready = 0;
+        if (s->max_steps > 0 && s->n_accepted >= s->max_steps)
+            return LAGCLI_ODE_ERR_MAX_STEPS;
         if ((rc = lagcli_ode_step(s)) != LAGCLI_ODE_OK)
             return rc;
         /* Output times up to and including t come from this step's interpolant. */
@@ -552,6 +556,15 @@ int lagcli_ode_integrate(const char *method, lagcli_ode_rhs_fn rhs, lagcli_ode_o
                          const double *t_out, size_t n_out, double rtol, double atol,
                          double max_step, lagcli_ode_stats *stats)
 {
+    return lagcli_ode_integrate_bounded(method, rhs, out, ctx, n, t0, y0, t_end, t_out, n_out, rtol, atol,
+                                        max_step, 0, stats);
+}
+
+int lagcli_ode_integrate_bounded(const char *method, lagcli_ode_rhs_fn rhs, lagcli_ode_out_fn out, void *ctx,
+                                 int n, double t0, const double *y0, double t_end,
+                                 const double *t_out, size_t n_out, double rtol, double atol,
+                                 double max_step, long max_steps, lagcli_ode_stats *stats)
+{
     lagcli_ode_stats ignored;
     lagcli_ode_solver s;
     double *work;
@@ -565,7 +578,7 @@ int lagcli_ode_integrate(const char *method, lagcli_ode_rhs_fn rhs, lagcli_ode_o
     s.t = t0;
 
     if (!s.tab || !rhs || (n_out > 0 && !out) || n < 1 || !y0 || !isfinite(t0)
-        || !isfinite(t_end) || isnan(rtol) || !(atol >= 0) || !(max_step > 0)
+        || !isfinite(t_end) || isnan(rtol) || !(atol >= 0) || !(max_step > 0) || max_steps < 0
         || !lagcli_ode_check_times(t0, t_end, t_out, n_out))
         rc = LAGCLI_ODE_ERR_ARGS;
     else if (!lagcli_ode_all_finite(n, y0))
@@ -589,6 +602,7 @@ int lagcli_ode_integrate(const char *method, lagcli_ode_rhs_fn rhs, lagcli_ode_o
         s.rtol = rtol < 100 * DBL_EPSILON ? 100 * DBL_EPSILON : rtol; /* as scipy */
         s.atol = atol;
         s.max_step = max_step;
+        s.max_steps = max_steps;
         s.direction = t_end >= t0 ? 1.0 : -1.0;
         s.t_end = t_end;
         s.error_exponent = -1.0 / (s.tab->error_order + 1);

@@ -45,7 +45,8 @@ enum {
                                    step produced inf/nan (scipy: status -1) */
     LAGCLI_ODE_INTERRUPTED = 4,        /* the output callback returned nonzero */
     LAGCLI_ODE_ERR_ARGS = 5,           /* unknown method, bad tolerances or output times */
-    LAGCLI_ODE_ERR_NOMEM = 6           /* the workspace could not be allocated */
+    LAGCLI_ODE_ERR_NOMEM = 6,          /* the workspace could not be allocated */
+    LAGCLI_ODE_ERR_MAX_STEPS = 7       /* max_steps steps were accepted before t_end */
 };
 
 typedef int (*lagcli_ode_rhs_fn)(double t, const double *y, double *dydt, void *ctx);
@@ -63,6 +64,13 @@ int lagcli_ode_integrate(const char *method, lagcli_ode_rhs_fn rhs, lagcli_ode_o
                          int n, double t0, const double *y0, double t_end,
                          const double *t_out, size_t n_out, double rtol, double atol,
                          double max_step, lagcli_ode_stats *stats);
+
+/* The same, stopping with LAGCLI_ODE_ERR_MAX_STEPS after `max_steps` accepted steps
+ * (0: no bound); lagcli_ode_integrate is this with max_steps = 0. */
+int lagcli_ode_integrate_bounded(const char *method, lagcli_ode_rhs_fn rhs, lagcli_ode_out_fn out, void *ctx,
+                                 int n, double t0, const double *y0, double t_end,
+                                 const double *t_out, size_t n_out, double rtol, double atol,
+                                 double max_step, long max_steps, lagcli_ode_stats *stats);
 
 /* A static description of a return code of lagcli_ode_integrate. */
 const char *lagcli_ode_message(int code);

@@ -17,10 +17,17 @@
  * Constrained models are integrated in the stabilised index-1 form of the C driver:
  * the augmented system with Baumgarte terms, alpha = LAGCLI_FMU_ALPHA, beta =
  * LAGCLI_FMU_BETA. Inputs live at the end of the model's value vector p, so setting one
- * changes the equations like a parameter. No event indicators, no
- * discrete states; Co-Simulation integrates each communication step with lagcli_ode
- * (LAGCLI_FMU_METHOD, the spec's tolerances, the step cap of the C driver).
+ * changes the equations like a parameter. Co-Simulation integrates each communication step
+ * with lagcli_ode (LAGCLI_FMU_METHOD, the spec's tolerances, the step cap of the C driver).
+ *
+ * A spec with `events:` defines LAGCLI_FMU_NEVENT (lagcli_fmu_model.h) and brings
+ * lagcli_fmu_events.c: its event functions are the event indicators, and where one has
+ * crossed zero in its event's direction since the last event or accepted step, the
+ * action happens in fmi2NewDiscreteStates (impact: the impact law solved like the
+ * augmented system; reset: the new state; stop: terminateSimulation). Such an FMU is
+ * Model Exchange only (its modelDescription.xml has no CoSimulation element).
  */
+#include <float.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -41,6 +48,9 @@ typedef struct {
     double *dydt, *lambda, *inv;  /* derived values, valid while !stale */
     int stale;                    /* a state, time, parameter or input changed since they were computed */
     int failed;                   /* the model function's code when they could not be computed */
+#ifdef LAGCLI_FMU_NEVENT
+    double g_before[LAGCLI_FMU_NEVENT];   /* each event function at the last event or accepted step */
+#endif
 } instance;
 
 static size_t count_states(void) { return (size_t)MODEL->nstate; }
@@ -199,6 +209,10 @@ fmi2Status fmi2EnterInitializationMode(fmi2Component component)
 
 fmi2Status fmi2ExitInitializationMode(fmi2Component component)
 {
+#ifdef LAGCLI_FMU_NEVENT
+    instance *c = (instance *)component;
+    lagcli_fmu_event_functions(c->t, c->y, c->p, c->g_before);
+#endif
     return compute((instance *)component);
 }
 
@@ -387,6 +401,125 @@ fmi2Status fmi2EnterEventMode(fmi2Component c)
     return fmi2OK;
 }
 
+#ifdef LAGCLI_FMU_NEVENT
+/* --- events (lagcli_fmu_events.c) -------------------------------------------------- */
+
+#define MODEL_NQ_MAX 256              /* the largest model whose resets are done here */
+
+static int crossed(int direction, double before, double after)
+{
+    int falling = before > 0.0 && after <= 0.0, rising = before < 0.0 && after >= 0.0;
+    return direction < 0 ? falling : direction > 0 ? rising : (falling || rising);
+}
+
+/* The first event whose function crossed zero in its direction since g_before, or -1. */
+static int crossing(instance *c, double *g)
+{
+    int k;
+    lagcli_fmu_event_functions(c->t, c->y, c->p, g);
+    for (k = 0; k < LAGCLI_FMU_NEVENT; k++)
+        if (crossed(lagcli_fmu_event_directions[k], c->g_before[k], g[k]))
+            return k;
+    return -1;
+}
+
+/* Solve K x = b (N x N, row-major) in place by Gaussian elimination with partial pivoting. */
+static int solve(int N, double *K, double *b)
+{
+    int i, j, r, pivot;
+    for (i = 0; i < N; i++) {
+        pivot = i;
+        for (r = i + 1; r < N; r++)
+            if (fabs(K[r * N + i]) > fabs(K[pivot * N + i]))
+                pivot = r;
+        if (K[pivot * N + i] == 0.0)
+            return 1;
+        if (pivot != i) {
+            double swap;
+            for (j = 0; j < N; j++) {
+                swap = K[i * N + j]; K[i * N + j] = K[pivot * N + j]; K[pivot * N + j] = swap;
+            }
+            swap = b[i]; b[i] = b[pivot]; b[pivot] = swap;
+        }
+        for (r = i + 1; r < N; r++) {
+            double f = K[r * N + i] / K[i * N + i];
+            for (j = i; j < N; j++)
+                K[r * N + j] -= f * K[i * N + j];
+            b[r] -= f * b[i];
+        }
+    }
+    for (i = N - 1; i >= 0; i--) {
+        for (j = i + 1; j < N; j++)
+            b[i] -= K[i * N + j] * b[j];
+        b[i] /= K[i * N + i];
+    }
+    return 0;
+}
+
+/* Impact k: [[M, -G^T, -A^T], [G, 0, 0], [A, 0, 0]] [q'+; P; Lambda] = [M q'-; -e (G q'- + g_t) - g_t; -d]. */
+static int impact(instance *c, int k)
+{
+    int n = MODEL->nq, m = MODEL->nlambda, N = n + 1 + m, i, j;
+    double K[(n + 1 + m) * (n + 1 + m)], b[n + 1 + m], M[n * n], A[m * n + 1], d[m + 1], G[n], g_t, e, Gv = 0.0;
+    const double *v = c->y + n;
+    if (lagcli_fmu_mass_matrix(c->t, c->y, c->p, M) || lagcli_fmu_constraint_matrix(c->t, c->y, c->p, A))
+        return 1;
+    lagcli_fmu_impact_terms(k, c->t, c->y, c->p, G, &g_t, &e, d);
+    memset(K, 0, sizeof K);
+    for (i = 0; i < n; i++) {
+        b[i] = 0.0;
+        for (j = 0; j < n; j++) {
+            K[i * N + j] = M[i * n + j];
+            b[i] += M[i * n + j] * v[j];
+        }
+        K[i * N + n] = -G[i];
+        K[n * N + i] = G[i];
+        Gv += G[i] * v[i];
+        for (j = 0; j < m; j++) {
+            K[i * N + n + 1 + j] = -A[j * n + i];
+            K[(n + 1 + j) * N + i] = A[j * n + i];
+        }
+    }
+    b[n] = -e * (Gv + g_t) - g_t;
+    for (j = 0; j < m; j++)
+        b[n + 1 + j] = -d[j];
+    if (solve(N, K, b))
+        return 1;
+    memcpy(c->y + n, b, (size_t)n * sizeof(double));
+    return 0;
+}
+
+fmi2Status fmi2NewDiscreteStates(fmi2Component component, fmi2EventInfo *info)
+{
+    instance *c = (instance *)component;
+    double g[LAGCLI_FMU_NEVENT], y_new[2 * MODEL_NQ_MAX];
+    int k = crossing(c, g);
+    info->newDiscreteStatesNeeded = fmi2False;
+    info->terminateSimulation = fmi2False;
+    info->nominalsOfContinuousStatesChanged = fmi2False;
+    info->valuesOfContinuousStatesChanged = fmi2False;
+    info->nextEventTimeDefined = fmi2False;
+    info->nextEventTime = 0.0;
+    if (k >= 0 && lagcli_fmu_event_actions[k] == 2) {
+        info->terminateSimulation = fmi2True;
+    } else if (k >= 0 && lagcli_fmu_event_actions[k] == 1 && MODEL->nq <= MODEL_NQ_MAX) {
+        lagcli_fmu_reset(k, c->t, c->y, c->p, y_new);
+        memcpy(c->y, y_new, count_states() * sizeof(double));
+        info->valuesOfContinuousStatesChanged = fmi2True;
+    } else if (k >= 0 && lagcli_fmu_event_actions[k] == 0) {
+        if (impact(c, k)) {
+            say(c, fmi2Error, "logStatusError", "at t = %.17g: event %d (impact): singular impact system", c->t, k);
+            return fmi2Error;
+        }
+        info->valuesOfContinuousStatesChanged = fmi2True;
+    }
+    c->stale = 1;
+    lagcli_fmu_event_functions(c->t, c->y, c->p, c->g_before);
+    if (k >= 0 && lagcli_fmu_event_actions[k] == 0)      /* g = 0 here: it leaves to the side before */
+        c->g_before[k] = lagcli_fmu_event_directions[k] > 0 ? -DBL_MIN : DBL_MIN;
+    return fmi2OK;
+}
+#else
 fmi2Status fmi2NewDiscreteStates(fmi2Component c, fmi2EventInfo *info)
 {
     (void)c;
@@ -398,6 +531,7 @@ fmi2Status fmi2NewDiscreteStates(fmi2Component c, fmi2EventInfo *info)
     info->nextEventTime = 0.0;
     return fmi2OK;
 }
+#endif
 
 fmi2Status fmi2EnterContinuousTimeMode(fmi2Component c)
 {
@@ -405,12 +539,22 @@ fmi2Status fmi2EnterContinuousTimeMode(fmi2Component c)
     return fmi2OK;
 }
 
-fmi2Status fmi2CompletedIntegratorStep(fmi2Component c, fmi2Boolean noSetFMUStatePriorToCurrentPoint,
+fmi2Status fmi2CompletedIntegratorStep(fmi2Component component, fmi2Boolean noSetFMUStatePriorToCurrentPoint,
                                        fmi2Boolean *enterEventMode, fmi2Boolean *terminateSimulation)
 {
-    (void)c;
-    (void)noSetFMUStatePriorToCurrentPoint;
+#ifdef LAGCLI_FMU_NEVENT
+    /* A crossing in an event's direction enters event mode (its g_before is kept for
+     * fmi2NewDiscreteStates); otherwise the step's values become the ones to compare with. */
+    instance *c = (instance *)component;
+    double g[LAGCLI_FMU_NEVENT];
+    *enterEventMode = crossing(c, g) >= 0 ? fmi2True : fmi2False;
+    if (!*enterEventMode)
+        memcpy(c->g_before, g, sizeof g);
+#else
+    (void)component;
     *enterEventMode = fmi2False;
+#endif
+    (void)noSetFMUStatePriorToCurrentPoint;
     *terminateSimulation = fmi2False;
     return fmi2OK;
 }
@@ -453,6 +597,13 @@ fmi2Status fmi2GetDerivatives(fmi2Component component, fmi2Real derivatives[], s
 
 fmi2Status fmi2GetEventIndicators(fmi2Component c, fmi2Real eventIndicators[], size_t ni)
 {
+#ifdef LAGCLI_FMU_NEVENT
+    instance *self = (instance *)c;
+    if (ni == LAGCLI_FMU_NEVENT) {
+        lagcli_fmu_event_functions(self->t, self->y, self->p, eventIndicators);
+        return fmi2OK;
+    }
+#endif
     (void)eventIndicators;
     return ni == 0 ? fmi2OK : unsupported(c, "event indicators");
 }

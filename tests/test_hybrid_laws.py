@@ -1,0 +1,151 @@
+"""Input laws (spec `simulate: inputs:`, `--input`, `System.simulate(inputs=...)`), checked
+against closed forms and an LQR design made here with scipy."""
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+import scipy.linalg
+from click.testing import CliRunner
+
+import lagcli
+from lagcli.cli import cli
+from lagcli.errors import LagcliError
+
+from conftest import SPECS
+
+OSCILLATOR = """
+coordinates: [x]
+parameters: {m: 2.0, k: 8.0}
+inputs: [F]
+particles:
+  P: {mass: m, position: [x, 0]}
+forces:
+  - {at: P, force: [F, 0]}
+initial: {x: 1.0}
+simulate:
+  t_end: 3.0
+  dt: 0.1
+  inputs: {F: -k*x}
+"""
+
+
+def run(*args):
+    try:
+        runner = CliRunner(mix_stderr=False)
+    except TypeError:
+        runner = CliRunner()
+    return runner.invoke(cli, [str(a) for a in args])
+
+
+def cart_pole_lqr(mc=1.0, m=0.1, l=0.5, g=9.81):
+    """A, B of the upright cart-pole (the closed form in specs/cart_pole.yaml) and the LQR
+    gain for Q = diag(1, 10, 1, 1), R = 1, from scipy."""
+    A = np.array([[0, 0, 1, 0], [0, 0, 0, 1], [0, -m * g / mc, 0, 0], [0, (mc + m) * g / (mc * l), 0, 0]])
+    B = np.array([[0], [0], [1 / mc], [-1 / (mc * l)]])
+    P = scipy.linalg.solve_continuous_are(A, B, np.diag([1.0, 10.0, 1.0, 1.0]), np.eye(1))
+    return A, B, (B.T @ P).ravel()
+
+
+def test_spec_law_is_a_spring():
+    traj = lagcli.load(OSCILLATOR).simulate()
+    assert np.allclose(traj["x"], np.cos(2 * traj.t), atol=1e-8)      # x'' = -k x / m, w = 2
+
+
+def test_api_laws_numbers_strings_and_callables():
+    system = lagcli.load(OSCILLATOR)
+    t = system.simulate(inputs={"F": "-2*k*x"}).t
+    assert np.allclose(system.simulate(inputs={"F": "-2*k*x"})["x"], np.cos(math.sqrt(8) * t), atol=1e-8)
+    callable_run = system.simulate(inputs={"F": lambda t, y: -18.0 * y[0]})
+    assert np.allclose(callable_run["x"], np.cos(3 * t), atol=1e-8)
+    held = system.simulate(inputs={"F": 4.0})                         # a constant overrides the law
+    assert np.allclose(held["x"], 1 + t ** 2, atol=1e-9)
+
+
+def test_cli_input_and_set_override_the_spec_law(tmp_path):
+    spec = tmp_path / "osc.yaml"
+    spec.write_text(OSCILLATOR)
+    result = run("simulate", spec, "--input", "F=-2*k*x - 0*x_dot + 0*t", "-o", tmp_path / "a.csv")
+    assert result.exit_code == 0, result.stderr
+    rows = np.loadtxt(tmp_path / "a.csv", delimiter=",", skiprows=1)
+    assert np.allclose(rows[:, 1], np.cos(math.sqrt(8) * rows[:, 0]), atol=1e-8)
+    result = run("simulate", spec, "--set", "F=4", "-o", tmp_path / "b.csv")
+    rows = np.loadtxt(tmp_path / "b.csv", delimiter=",", skiprows=1)
+    assert np.allclose(rows[:, 1], 1 + rows[:, 0] ** 2, atol=1e-9)
+
+
+@pytest.mark.parametrize("law, message", [
+    ("F=x_ddot", "an input law cannot use accelerations"),
+    ("F=lambda_1", "unknown name 'lambda_1'"),
+    ("G=x", "unknown input 'G'"),
+    ("F=__import__('os')", "is not allowed"),
+])
+def test_bad_laws_on_the_command_line_are_exit_2(tmp_path, law, message):
+    spec = tmp_path / "osc.yaml"
+    spec.write_text(OSCILLATOR)
+    result = run("simulate", spec, "--input", law, "-o", tmp_path / "a.csv")
+    assert result.exit_code == 2 and message in result.stderr, result.stderr
+
+
+def test_a_callable_that_returns_no_number_is_a_clear_error():
+    with pytest.raises(LagcliError, match="the callable returned"):
+        lagcli.load(OSCILLATOR).simulate(inputs={"F": lambda t, y: "push"})
+
+
+def test_closed_loop_eigenvalues_are_those_of_a_minus_b_k():
+    A, B, K = cart_pole_lqr()
+    gains = [f"k{i}={float(v)!r}" for i, v in enumerate(K, start=1)]
+    result = run("linearize", SPECS / "hybrid" / "cart_pole_lqr.yaml", "--closed-loop", "--json",
+                 *[a for g in gains for a in ("--at", g)])
+    assert result.exit_code == 0, result.stderr
+    content = json.loads(result.stdout)
+    found = [complex(*e) for e in content["eigenvalues"]]        # [re, im] pairs
+    expected = sorted(np.linalg.eigvals(A - B @ K[None, :]), key=lambda z: (z.real, z.imag))
+    found = sorted(found, key=lambda z: (z.real, z.imag))
+    assert np.allclose(found, expected, atol=1e-8)
+
+
+def test_lqr_brings_the_cart_pole_back_upright():
+    A, B, K = cart_pole_lqr()
+    system = lagcli.load(SPECS / "hybrid" / "cart_pole_lqr.yaml")
+    traj = system.simulate(parameters={f"k{i}": v for i, v in enumerate(K, start=1)}, initial={"theta": 0.2})
+    assert traj["theta"][0] == 0.2
+    assert np.max(np.abs(traj["theta"][-100:])) < 1e-3 and abs(traj["x"][-1]) < 1e-2
+    assert np.max(np.abs(traj["theta"])) <= 0.2 + 1e-12
+
+
+def test_generated_module_takes_a_callable_law(tmp_path):
+    import importlib.util
+
+    files = lagcli.load(SPECS / "cart_pole.yaml").generate("python")
+    path = tmp_path / "cart_pole.py"
+    path.write_text(files["cart_pole.py"])
+    spec = importlib.util.spec_from_file_location("cart_pole_generated", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    A, B, K = cart_pole_lqr()
+    header, rows = module.simulate(t_end=10.0, y0=[0.0, 0.2, 0.0, 0.0], u=lambda t, y: [-K @ np.asarray(y)])
+    system = lagcli.load(SPECS / "hybrid" / "cart_pole_lqr.yaml")
+    traj = system.simulate(parameters={f"k{i}": v for i, v in enumerate(K, start=1)}, t_end=10.0)
+    assert np.allclose(rows[:, 1:5], traj.states, atol=1e-7)
+
+
+def test_the_compiled_driver_runs_laws_in_c_and_never_reuses_a_driver_for_another_law(tmp_path, monkeypatch):
+    """The law is C code of the generated model (the closed loop), so C and Python agree,
+    and a second law (or a constant that replaces it) gets its own cached driver."""
+    import shutil
+
+    if shutil.which("cc") is None:
+        pytest.skip("no C compiler (cc)")
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    system = lagcli.load(SPECS / "hybrid" / "cart_pole_lqr.yaml")
+    for inputs in ({}, {"F": "-(k2*theta + k4*theta_dot)"}, {"F": 0.0}):
+        c = system.simulate(t_end=2.0, backend="c", inputs=inputs)
+        python = system.simulate(t_end=2.0, backend="python", inputs=inputs)
+        assert np.allclose(c.states, python.states, rtol=1e-8, atol=1e-8), inputs
+    entries = [p for p in (tmp_path / "cache" / "lagcli").iterdir() if (p / "meta.json").exists()]
+    assert len(entries) == 3                       # one driver per law set
+    with pytest.raises(LagcliError, match="callable"):
+        system.simulate(t_end=1.0, backend="c", inputs={"F": lambda t, y: 0.0})
