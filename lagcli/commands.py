@@ -221,6 +221,186 @@ def _laws(request, system) -> dict:
             for name, text in given.items()}
 
 
+def generate(path: str, lang: str, output: str | None = None, form: str = "lagrangian",
+             note=lambda text: None) -> None:
+    """`lagcli generate`: code or a document for `path` in `lang` (see lagcli.targets.LANGUAGES).
+
+    One-file languages write to `output` (stdout for None or '-'; the FMU's zip needs
+    `output`, '-' for stdout); C writes its files
+    into the directory `output` (required; created if only it is missing), each
+    atomically, after all are made.  The target is checked before deriving.
+    `form="hamiltonian"`: the Python module in (q, p) of lagcli/targets/hamilton.py.
+    `note(text)` is told what was written ("wrote dp_c/: 8 files"), unless it went to stdout."""
+    from lagcli.targets import LANGUAGES
+    from lagcli.errors import UsageError
+    from lagcli.render.output import check_directory_output, open_output
+    from lagcli.system import load
+
+    if form == "hamiltonian":
+        if lang != "python":
+            raise UsageError(f"--form hamiltonian: generated for --lang python only (not {lang})")
+        from lagcli.targets.hamilton import hamilton_module
+        with open_output(output) as out:
+            out.stream.write(hamilton_module(_derive(path)))
+        _wrote(output, note)
+        return
+
+    language = LANGUAGES.get(lang)
+    if language is not None and language.directory:
+        if output in (None, "-"):
+            raise UsageError(f"--lang {lang} writes several files: give the directory with -o DIR")
+        check_directory_output(output)
+        files = load(Path(path)).generate(lang, output)
+        note(f"wrote {output}: {len(files)} file{'s' if len(files) != 1 else ''}")
+        return
+    binary = language is not None and language.binary
+    if binary and output is None:
+        raise UsageError(f"--lang {lang} writes a zip archive: give its file with -o NAME.{lang} "
+                         "(or -o - for stdout)")
+    with open_output(output, binary=binary) as out:
+        (data,) = load(Path(path)).generate(lang).values()
+        out.stream.write(data)
+    _wrote(output, note)
+
+
+def _wrote(output: str | None, note) -> None:
+    if output not in (None, "-"):
+        note(f"wrote {output}")
+
+
+# -- analysis: lagcli linearize / equilibria / hamiltonian / routh (lagcli/analysis/) --
+
+def linearize(path: str, at=(), independent=(), inputs=(), sweep: str | None = None,
+              find_critical: bool = False, fmt: str = "text", symbolic: bool = False,
+              closed: bool = False) -> str:
+    """`lagcli linearize`: the linear model about `--at`, or the eigenvalue table of a sweep;
+    `closed`: with the spec's input laws substituted (lagcli/hybrid/closed_loop.py)."""
+    from lagcli.analysis import report
+    from lagcli.analysis.linearize import CompiledSystem, linearize as linear_model
+    from lagcli.analysis.operating_point import evaluate, parse_assignments
+    from lagcli.analysis.stability import stability
+    from lagcli.analysis.sweep import critical_values, parse_sweep, sweep as run_sweep
+    from lagcli.errors import UsageError
+
+    d = _derive(path)
+    if closed:
+        from lagcli.hybrid.closed_loop import closed_loop
+        d = closed_loop(d)
+    span = parse_sweep(sweep) if sweep else None
+    if find_critical and span is None:
+        raise UsageError("--find-critical needs --sweep NAME=START:STOP:COUNT")
+    points = parse_assignments(d, at, span.name if span else None)
+    if symbolic:
+        return _symbolic_linear(d, points, inputs, fmt)
+    system = CompiledSystem(d, inputs)
+    if span is not None:
+        table = run_sweep(system, points, span.values, independent)
+        critical = critical_values(system, points, table, independent) if find_critical else []
+        content = report.sweep_content(span.name, table, critical)
+        if fmt == "latex":
+            raise UsageError("--sweep prints a table: use the text or --json output")
+        return report.to_json(content) if fmt == "json" else report.sweep_text(content)
+    lm = linear_model(system, evaluate(d, points), independent)
+    content = report.linear_content(d, lm, stability(lm))
+    if fmt == "json":
+        return report.to_json(content)
+    if fmt == "latex":
+        return report.linear_latex(content, _latex_names(d))
+    return report.linear_text(content)
+
+
+def _symbolic_linear(d, points, inputs, fmt: str) -> str:
+    from lagcli.analysis import report
+    from lagcli.analysis.symbolic import symbolic_linear
+    from lagcli.report.latex_printer import LatexPrinter
+    from lagcli.render.spec_printer import spec_str
+
+    lin = symbolic_linear(d, points, inputs)
+    if fmt == "latex":
+        return report.symbolic_latex(lin, LatexPrinter(d.model))
+    content = report.symbolic_content(d, lin, spec_str)
+    return report.to_json(content) if fmt == "json" else report.symbolic_text(content)
+
+
+def _latex_names(d):
+    """name -> LaTeX of a coordinate, velocity or parameter, by the LaTeX emitter's printer."""
+    from lagcli.report.latex_printer import LatexPrinter
+
+    printer = LatexPrinter(d.model)
+    return lambda name: printer.doprint(d.model.symbol(name))
+
+
+def _parameters(d, sets) -> dict:
+    """Every parameter's and input's value by name: the spec's, overridden by `--set NAME=VALUE`."""
+    from lagcli.run.options import parse_assignments as assignments
+
+    constants = (*d.model.parameters, *d.model.inputs)
+    names = [p.symbol.name for p in constants]
+    return {p.symbol.name: float(p.value) for p in constants} | assignments(
+        tuple(sets), "--set", names, "parameter or input", "parameters and inputs")
+
+
+def _guesses(d, guesses) -> list[dict]:
+    """`--guess theta=1.2,phi=0` (one starting point each) -> [{name: value}]."""
+    from lagcli.run.options import parse_assignments as assignments
+
+    names = [s.name for s in (*d.model.q, *d.multipliers)]
+    return [assignments(tuple(g.split(",")), "--guess", names, "coordinate", "coordinates") for g in guesses]
+
+
+def equilibria(path: str, sets=(), guesses=(), fmt: str = "text") -> str:
+    """`lagcli equilibria`: static and relative equilibria with their stability."""
+    from lagcli.analysis import report
+    from lagcli.analysis.equilibria import default_guesses, equilibria as find
+    from lagcli.render.spec_printer import spec_str
+
+    d = _derive(path)
+    found = find(d, _parameters(d, sets), default_guesses(d, _guesses(d, guesses)))
+    content = report.equilibria_content(d, found, spec_str)
+    return report.to_json(content) if fmt == "json" else report.equilibria_text(content)
+
+
+def routh(path: str, momenta=(), sets=(), guesses=(), fmt: str = "text") -> str:
+    """`lagcli routh`: the Routhian over the cyclic coordinates and the steady motions."""
+    from lagcli.analysis import report
+    from lagcli.analysis.routh import routhian, steady_motions
+    from lagcli.run.options import parse_assignments as assignments
+    from lagcli.render.spec_printer import spec_str
+
+    d = _derive(path)
+    reduction = routhian(d)
+    names = [p.name for p in reduction.momenta]
+    given = assignments(tuple(momenta), "--momentum", names, "momentum", "momenta")
+    motions = []
+    if given:
+        missing = [n for n in names if n not in given]
+        if missing:
+            from lagcli.errors import UsageError
+            raise UsageError(f"--momentum: give every cyclic momentum (missing: {', '.join(missing)})")
+        guess_points = [{k: v for k, v in g.items()} for g in _guesses(d, guesses)] or [dict(d.model.initial), {}]
+        motions = steady_motions(d, reduction, given, _parameters(d, sets), guess_points)
+    content = report.routh_content(d, reduction, motions, spec_str)
+    return report.to_json(content) if fmt == "json" else report.routh_text(content)
+
+
+def hamiltonian(path: str, fmt: str = "text") -> str:
+    """`lagcli hamiltonian`: momenta, H(q, p, t) and Hamilton's equations."""
+    from lagcli.analysis import report
+    from lagcli.analysis.hamiltonian import hamilton_form
+    from lagcli.report.latex_printer import LatexPrinter
+    from lagcli.render.spec_printer import spec_str
+
+    d = _derive(path)
+    form = hamilton_form(d)
+    if fmt == "latex":
+        printer = LatexPrinter(d.model)
+        printer._settings["symbol_names"].update({p: f"p_{{{printer.doprint(q)}}}"
+                                                  for p, q in zip(form.momenta, d.model.q)})
+        return report.hamilton_latex(form, d, printer)
+    content = report.hamilton_content(d, form, spec_str)
+    return report.to_json(content) if fmt == "json" else report.hamilton_text(content)
+
+
 def sweep(spec: str, plan_options: dict, options: dict, note=lambda text: None, progress=None):
     """`lagcli sweep`: the runs of a grid, samples or a table through the compiled driver;
     the summary written to options["output"] (docs/sweep.md)."""

@@ -324,7 +324,7 @@ class System:
         key = cache.cache_key(self.model.source, self.spec_bytes, python_backend.MODULE_VARIANT)
         source = python_backend.cached_source(key)
         if source is None:
-            (source,) = self.generate("python").values()
+            (source,) = self._sources("python").values()
             python_backend.store(key, self.name, source)
         return python_backend.module_of(self.name, source)
 
@@ -343,14 +343,20 @@ class System:
         found = c_backend.lookup(key)
         if found is not None:
             return found
-        if not laws:
-            return c_backend.build(self.generate("c"), key, compiler, self.layout)
-        from lagcli.hybrid.closed_loop import closed_loop
-        from lagcli.targets import generate
+        derivation = self.derivation
+        if laws:
+            from lagcli.hybrid.closed_loop import closed_loop
+
+            derivation = closed_loop(derivation, laws)
+        return c_backend.build(self._sources("c", derivation), key, compiler, self.layout)
+
+    def _sources(self, target: str, derivation=None) -> dict[str, str]:
+        """The generated sources of a program (`lagcli.targets.program_sources`), embedding
+        the consistent default state of the layout."""
+        from lagcli.targets import program_sources
 
         start = self.layout.start
-        files = generate(closed_loop(self.derivation, laws), "c", start.values, start.notes)
-        return c_backend.build(files, key, compiler, self.layout)
+        return program_sources(derivation or self.derivation, target, start.values, start.notes)
 
     def _once(self, name: str, make):
         if name not in self.__dict__:
