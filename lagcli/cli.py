@@ -207,8 +207,8 @@ def generate(ctx, spec, lang, output, form):
 @click.option("-o", "--output", default=None, help="CSV file ('-' or none: stdout).")
 @click.option("--events", "events_path", default=None, metavar="FILE.csv",
               help="Write one row per event (t, event, action, state before and after, impulse).")
-@click.option("--plot", default=None, metavar="FILE.png",
-              help="Also plot coordinates and drift (needs matplotlib).")
+@click.option("--plot", default=None, metavar="FILE.png|svg|pdf",
+              help="Also plot coordinates and drift (needs matplotlib), in the format the extension names.")
 @click.option("--columns", default=None, metavar="NAME[,NAME...]",
               help="With --plot: draw these columns, one panel per kind (angles, lengths, velocities, ...).")
 @click.option("--phase", "phase", multiple=True, metavar="Q",
@@ -310,8 +310,9 @@ def sweep(ctx, spec, grids, samples, count, seed, runs, sets, inits, inputs, exc
               help="Draw a rod between two points (particle/body names or 'origin'; repeatable).")
 @click.option("--trace", "traces", multiple=True, metavar="POINT", help="Draw the path of a point (repeatable).")
 @click.option("--fps", type=float, default=25.0, show_default=True, help="Frames per second of simulated time.")
-@click.option("--frame", type=float, metavar="T", help="Only the frame at time T, as a PNG.")
-@click.option("-o", "--output", required=True, help="motion.gif, motion.mp4 (ffmpeg) or frame.png (--frame).")
+@click.option("--frame", type=float, metavar="T", help="Only the frame at time T, as a PNG, SVG or PDF.")
+@click.option("-o", "--output", required=True,
+              help="motion.gif, motion.mp4 (ffmpeg) or frame.png, .svg, .pdf (--frame).")
 @quiet_option
 @click.pass_context
 def animate(ctx, spec, csv_path, t_end, dt, sets, inits, inputs, links, traces, fps, frame, output):

@@ -56,11 +56,11 @@ def simulate(request, output: str | None = None, plot: str | None = None,
              note=lambda text: None, progress=None, columns=None, phase=(), events: str | None = None) -> None:
     """`lagcli simulate`: run `request` (a lagcli.run.options.Request), writing the
     CSV to `output` (stdout for None or '-') row by row as it is computed, then the
-    picture to `plot`.  Both targets are checked, and `output` opened, before any work
-    starts. The CSV is kept even when the integration fails or is interrupted (the rows
-    so far); the error is raised after it.  `note` and `progress`: see `run_request`.
-    `events`: the file of one row per event (`--events`), written after the run; a run
-    with events also says on stderr what happened."""
+    picture to `plot` (PNG, SVG or PDF by its extension).  Both targets are checked, and
+    `output` opened, before any work starts. The CSV is kept even when the integration
+    fails or is interrupted (the rows so far); the error is raised after it.  `note` and
+    `progress`: see `run_request`. `events`: the file of one row per event (`--events`),
+    written after the run; a run with events also says on stderr what happened."""
     from lagcli.errors import SimulationError
     from lagcli.render.output import open_output, resolve_target
     from lagcli.run.rows import CsvSink, Decimated, Tee
@@ -69,6 +69,9 @@ def simulate(request, output: str | None = None, plot: str | None = None,
     for target in (plot, events):
         if target:
             resolve_target(target)
+    if plot:
+        from lagcli.viz.plot import figure_format
+        figure_format(plot)
     with open_output(output) as out:
         csv = CsvSink(out.stream)
         shown = Decimated(PLOT_ROWS) if plot else None        # the plot's bounded copy
@@ -77,10 +80,11 @@ def simulate(request, output: str | None = None, plot: str | None = None,
     _report_events(sink, outcome, events, note)
     plot_error = None
     if plot and sink.rows:
-        from lagcli.viz.plot import PlotOptions, plot_png
-        try:
-            plot_png(shown.trajectory(), outcome.coordinates, outcome.energy_conserved, plot, request.spec,
-                     PlotOptions(columns, tuple(phase), outcome.layout.angles, outcome.layout.units))
+        from lagcli.viz.plot import PlotOptions, plot_file
+        try:                   # the title, angles and units from the run interface: no model rebuilt
+            layout = outcome.layout
+            plot_file(shown.trajectory(), outcome.coordinates, outcome.energy_conserved, plot, layout.name,
+                      PlotOptions(columns, tuple(phase), layout.angles, layout.units))
         except SimulationError as exc:
             plot_error = exc
     where = "stdout" if output in (None, "-") else output
@@ -273,131 +277,111 @@ def _wrote(output: str | None, note) -> None:
 def linearize(path: str, at=(), independent=(), inputs=(), sweep: str | None = None,
               find_critical: bool = False, fmt: str = "text", symbolic: bool = False,
               closed: bool = False) -> str:
-    """`lagcli linearize`: the linear model about `--at`, or the eigenvalue table of a sweep;
-    `closed`: with the spec's input laws substituted (lagcli/hybrid/closed_loop.py)."""
+    """`lagcli linearize`: the linear model about `--at`, or the eigenvalue table of a sweep
+    (`System.linearize`, `linearize_sweep`, `linearize_symbolic`, formatted); `closed`: with
+    the spec's input laws substituted (lagcli/hybrid/closed_loop.py)."""
     from lagcli.analysis import report
-    from lagcli.analysis.linearize import CompiledSystem, linearize as linear_model
-    from lagcli.analysis.operating_point import evaluate, parse_assignments
-    from lagcli.analysis.stability import stability
-    from lagcli.analysis.sweep import critical_values, parse_sweep, sweep as run_sweep
+    from lagcli.analysis.operating_point import parse_assignments
+    from lagcli.analysis.sweep import parse_sweep
     from lagcli.errors import UsageError
+    from lagcli.system import load
 
-    d = _derive(path)
-    if closed:
-        from lagcli.hybrid.closed_loop import closed_loop
-        d = closed_loop(d)
+    system = load(Path(path))
     span = parse_sweep(sweep) if sweep else None
     if find_critical and span is None:
         raise UsageError("--find-critical needs --sweep NAME=START:STOP:COUNT")
-    points = parse_assignments(d, at, span.name if span else None)
+    points = parse_assignments(system.derivation, at, span.name if span else None)
     if symbolic:
-        return _symbolic_linear(d, points, inputs, fmt)
-    system = CompiledSystem(d, inputs)
+        return _symbolic_linear(system, points, inputs, fmt, closed)
     if span is not None:
-        table = run_sweep(system, points, span.values, independent)
-        critical = critical_values(system, points, table, independent) if find_critical else []
-        content = report.sweep_content(span.name, table, critical)
+        found = system.linearize_sweep(span.name, span.values, points, independent=independent,
+                                       extra_inputs=inputs, find_critical=find_critical, closed_loop=closed)
         if fmt == "latex":
             raise UsageError("--sweep prints a table: use the text or --json output")
+        content = report.sweep_content(found)
         return report.to_json(content) if fmt == "json" else report.sweep_text(content)
-    lm = linear_model(system, evaluate(d, points), independent)
-    content = report.linear_content(d, lm, stability(lm))
+    lin = system.linearize(points, independent=independent, extra_inputs=inputs, closed_loop=closed)
+    content = report.linear_content(lin)
     if fmt == "json":
         return report.to_json(content)
     if fmt == "latex":
-        return report.linear_latex(content, _latex_names(d))
+        return report.linear_latex(content, lin.latex_names.__getitem__)
     return report.linear_text(content)
 
 
-def _symbolic_linear(d, points, inputs, fmt: str) -> str:
+def _symbolic_linear(system, points, inputs, fmt: str, closed: bool) -> str:
     from lagcli.analysis import report
-    from lagcli.analysis.symbolic import symbolic_linear
     from lagcli.report.latex_printer import LatexPrinter
     from lagcli.render.spec_printer import spec_str
 
-    lin = symbolic_linear(d, points, inputs)
+    d = system.derivation
+    lin = system.linearize_symbolic(points, inputs, closed_loop=closed)
     if fmt == "latex":
         return report.symbolic_latex(lin, LatexPrinter(d.model))
     content = report.symbolic_content(d, lin, spec_str)
     return report.to_json(content) if fmt == "json" else report.symbolic_text(content)
 
 
-def _latex_names(d):
-    """name -> LaTeX of a coordinate, velocity or parameter, by the LaTeX emitter's printer."""
-    from lagcli.report.latex_printer import LatexPrinter
-
-    printer = LatexPrinter(d.model)
-    return lambda name: printer.doprint(d.model.symbol(name))
-
-
-def _parameters(d, sets) -> dict:
-    """Every parameter's and input's value by name: the spec's, overridden by `--set NAME=VALUE`."""
+def _constants(system, sets) -> tuple[dict, dict]:
+    """`--set NAME=VALUE` of parameters and inputs -> (parameters, inputs) by name."""
     from lagcli.run.options import parse_assignments as assignments
 
-    constants = (*d.model.parameters, *d.model.inputs)
-    names = [p.symbol.name for p in constants]
-    return {p.symbol.name: float(p.value) for p in constants} | assignments(
-        tuple(sets), "--set", names, "parameter or input", "parameters and inputs")
+    layout = system.layout
+    given = assignments(tuple(sets), "--set", [*layout.parameter_names, *layout.input_names],
+                        "parameter or input", "parameters and inputs")
+    return ({k: v for k, v in given.items() if k in layout.parameter_names},
+            {k: v for k, v in given.items() if k in layout.input_names})
 
 
-def _guesses(d, guesses) -> list[dict]:
+def _guesses(system, guesses) -> list[dict]:
     """`--guess theta=1.2,phi=0` (one starting point each) -> [{name: value}]."""
     from lagcli.run.options import parse_assignments as assignments
 
+    d = system.derivation
     names = [s.name for s in (*d.model.q, *d.multipliers)]
     return [assignments(tuple(g.split(",")), "--guess", names, "coordinate", "coordinates") for g in guesses]
 
 
 def equilibria(path: str, sets=(), guesses=(), fmt: str = "text") -> str:
-    """`lagcli equilibria`: static and relative equilibria with their stability."""
+    """`lagcli equilibria`: static and relative equilibria with their stability (`System.equilibria`)."""
     from lagcli.analysis import report
-    from lagcli.analysis.equilibria import default_guesses, equilibria as find
     from lagcli.render.spec_printer import spec_str
+    from lagcli.system import load
 
-    d = _derive(path)
-    found = find(d, _parameters(d, sets), default_guesses(d, _guesses(d, guesses)))
-    content = report.equilibria_content(d, found, spec_str)
+    system = load(Path(path))
+    parameters, inputs = _constants(system, sets)
+    found = system.equilibria(parameters, inputs, _guesses(system, guesses))
+    content = report.equilibria_content(found, spec_str)
     return report.to_json(content) if fmt == "json" else report.equilibria_text(content)
 
 
 def routh(path: str, momenta=(), sets=(), guesses=(), fmt: str = "text") -> str:
-    """`lagcli routh`: the Routhian over the cyclic coordinates and the steady motions."""
+    """`lagcli routh`: the Routhian over the cyclic coordinates and the steady motions (`System.routh`)."""
     from lagcli.analysis import report
-    from lagcli.analysis.routh import routhian, steady_motions
+    from lagcli.interface import momentum_name
     from lagcli.run.options import parse_assignments as assignments
     from lagcli.render.spec_printer import spec_str
+    from lagcli.system import load
 
-    d = _derive(path)
-    reduction = routhian(d)
-    names = [p.name for p in reduction.momenta]
-    given = assignments(tuple(momenta), "--momentum", names, "momentum", "momenta")
-    motions = []
-    if given:
-        missing = [n for n in names if n not in given]
-        if missing:
-            from lagcli.errors import UsageError
-            raise UsageError(f"--momentum: give every cyclic momentum (missing: {', '.join(missing)})")
-        guess_points = [{k: v for k, v in g.items()} for g in _guesses(d, guesses)] or [dict(d.model.initial), {}]
-        motions = steady_motions(d, reduction, given, _parameters(d, sets), guess_points)
-    content = report.routh_content(d, reduction, motions, spec_str)
+    system = load(Path(path))
+    names = [momentum_name(q.name) for q in system.derivation.ignorable]
+    given = assignments(tuple(momenta), "--momentum", names, "momentum", "momenta") if names else {}
+    parameters, inputs = _constants(system, sets)
+    reduction = system.routh(given, parameters, inputs, _guesses(system, guesses))
+    content = report.routh_content(reduction, spec_str)
     return report.to_json(content) if fmt == "json" else report.routh_text(content)
 
 
 def hamiltonian(path: str, fmt: str = "text") -> str:
-    """`lagcli hamiltonian`: momenta, H(q, p, t) and Hamilton's equations."""
+    """`lagcli hamiltonian`: momenta, H(q, p, t) and Hamilton's equations (`System.hamiltonian`)."""
     from lagcli.analysis import report
-    from lagcli.analysis.hamiltonian import hamilton_form
-    from lagcli.report.latex_printer import LatexPrinter
     from lagcli.render.spec_printer import spec_str
+    from lagcli.system import load
 
-    d = _derive(path)
-    form = hamilton_form(d)
+    found = load(Path(path)).hamiltonian()
     if fmt == "latex":
-        printer = LatexPrinter(d.model)
-        printer._settings["symbol_names"].update({p: f"p_{{{printer.doprint(q)}}}"
-                                                  for p, q in zip(form.momenta, d.model.q)})
-        return report.hamilton_latex(form, d, printer)
-    content = report.hamilton_content(d, form, spec_str)
+        return report.hamilton_latex(found.form, found.derivation)
+    content = report.hamilton_content(found, spec_str)
     return report.to_json(content) if fmt == "json" else report.hamilton_text(content)
 
 

@@ -205,7 +205,13 @@ class System:
         start = self.initial_state(parameters, initial)
         constants, laws = self._inputs(inputs)
         rows = self.run(settings, {**self._parameters(parameters), **constants}, start, backend, laws=laws)
-        return from_rows(self.layout, rows, start.notes, self.energy_conserved)
+        return from_rows(self.layout, rows, start.notes, self.energy_conserved, self.angles)
+
+    @property
+    def angles(self) -> frozenset:
+        """The coordinates that are angles (the layout's, from `lagcli.model.angles`): the
+        angle panel of a plot."""
+        return self.layout.angles
 
     def laws(self, values: dict[str, float], laws: dict | None = None) -> dict:
         """The input laws of one run: the spec's, minus the inputs `values` holds constant
@@ -313,6 +319,63 @@ class System:
         request = Request(tuple(tuple(link) for link in links), tuple(traces), fps, frame)
         return animate(self, trajectory.t, trajectory.states,
                        {**self.layout.parameter_defaults, **self._parameters(parameters)}, path, request)
+
+    # --- analyses (docs/analysis.md; lagcli/analysis/methods.py) -------------------------
+
+    def linearize(self, at: dict | None = None, parameters: dict | None = None, inputs: dict | None = None,
+                  independent=(), extra_inputs=(), closed_loop: bool = False):
+        """The linear model about `at` (as `lagcli linearize --at`: {name: number or
+        expression text} of coordinates, velocities (`q_dot`), parameters, inputs, `t`;
+        what is not given is 0, parameters and inputs their spec value), with
+        `parameters` and `inputs` changed for this call. `independent`: the independent
+        coordinates and speeds of a constrained system; `extra_inputs`: parameters taken
+        as inputs too (`--input`); `closed_loop`: the spec's input laws substituted first
+        (`--closed-loop`). A `lagcli.analysis.results.Linearization`: A, B, M, C, K (numpy
+        arrays), eigenvalues, verdict, the point used."""
+        from lagcli.analysis import methods
+
+        return methods.linearize(self, at, parameters, inputs, independent, extra_inputs, closed_loop)
+
+    def linearize_sweep(self, variable: str, values, at: dict | None = None, parameters: dict | None = None,
+                        inputs: dict | None = None, independent=(), extra_inputs=(), find_critical: bool = False,
+                        closed_loop: bool = False):
+        """`linearize` at each of `values` of `variable` (a parameter, or a name the `at`
+        expressions use), as `lagcli linearize --sweep` (`--find-critical`: where the count
+        of unstable eigenvalues changes). A `lagcli.analysis.sweep.LinearizationSweep`."""
+        from lagcli.analysis import methods
+
+        return methods.linearize_sweep(self, variable, values, at, parameters, inputs, independent,
+                                       extra_inputs, find_critical, closed_loop)
+
+    def linearize_symbolic(self, at: dict | None = None, extra_inputs=(), closed_loop: bool = False):
+        """A and B as sympy matrices of the parameters (`lagcli linearize --symbolic`; small
+        unconstrained systems): a `lagcli.analysis.symbolic.SymbolicLinear`."""
+        from lagcli.analysis import methods
+
+        return methods.linearize_symbolic(self, at, extra_inputs, closed_loop)
+
+    def equilibria(self, parameters: dict | None = None, inputs: dict | None = None, guesses=None):
+        """The equilibria (q' = 0) with their stability, as `lagcli equilibria`; `guesses`:
+        starting points [{coordinate: value}] of the numeric search. A
+        `lagcli.analysis.results.Equilibria` (a sequence of `Equilibrium`)."""
+        from lagcli.analysis import methods
+
+        return methods.equilibria(self, parameters, inputs, guesses)
+
+    def hamiltonian(self):
+        """Momenta, H(q, p, t) and Hamilton's equations (`lagcli hamiltonian`): a
+        `lagcli.analysis.results.Hamiltonian` of sympy expressions."""
+        from lagcli.analysis import methods
+
+        return methods.hamiltonian(self)
+
+    def routh(self, momenta: dict | None = None, parameters: dict | None = None, inputs: dict | None = None,
+              guesses=None):
+        """The Routhian over the cyclic coordinates and, given every cyclic `momenta`
+        ({"p_phi": 0.5}), the steady motions (`lagcli routh`): a `lagcli.analysis.results.Routh`."""
+        from lagcli.analysis import methods
+
+        return methods.routh(self, momenta, parameters, inputs, guesses)
 
     def _module(self):
         """The generated Python module, its source kept in the cache; made once per System."""

@@ -99,7 +99,7 @@ def test_cli_animates_a_csv_of_simulate(tmp_path):
 
 
 @pytest.mark.parametrize("args, expected", [
-    (["-o", "m.avi"], "expected a .gif, .mp4 or .png"),
+    (["-o", "m.avi"], "expected a .gif, .mp4, or a .png, .svg or .pdf"),
     (["-o", "m.png"], "give --frame T"),
     (["--link", "origin:P9", "--frame", "0", "-o", "m.png"], "unknown point 'P9'"),
     (["--link", "P1", "-o", "m.gif"], "expected A:B"),

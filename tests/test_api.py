@@ -51,8 +51,9 @@ def test_notebook_session(tmp_path):
     assert energy[0] == pytest.approx(0.5 * (xd[0] ** 2 + yd[0] ** 2) + y[0], abs=1e-12)
     frame = trajectory.to_pandas() if _has_pandas() else None
     if frame is not None:
-        assert list(frame.columns) == list(trajectory.names)
+        assert list(frame.columns) == list(trajectory.columns[1:]) and frame.index.name == "t"
         assert frame["x"].to_numpy() == pytest.approx(x)
+        assert frame.index.to_numpy() == pytest.approx(trajectory.t)
     latex = from_path._repr_latex_()
     assert latex.startswith("$$") and r"\lambda_{\mathrm{rod}}" in latex
     files = from_path.generate("c", tmp_path / "c")

@@ -192,3 +192,18 @@ def test_symbolic_cart_pole_and_bead(derived, assert_zero):
     assert_zero(lin.A[1, 0] + W**2 * (1 - (g / (R * W**2))**2))
     with pytest.raises(Exception, match="unconstrained"):
         symbolic_linear(derived("cartesian_pendulum"), parse_assignments(derived("cartesian_pendulum"), []))
+
+
+def test_a_damper_set_to_zero_with_at_gives_the_undamped_verdict(tmp_path):
+    # docs/analysis.md: undamped, at rest, K positive definite -> "stable"; decided from the
+    # values (c = 0 via --at), not from the spec having a damper. With c > 0 the eigenvalues
+    # -c/2m +- i sqrt(k/m - c^2/4m^2) lie left of the axis: asymptotically stable.
+    spec = tmp_path / "damped.yaml"
+    spec.write_text("coordinates: [x]\nparameters: {m: 1.0, k: 4.0, c: 0.3}\n"
+                    "particles: {P: {mass: m, position: [x, 0]}}\nsprings: [{between: [P, [0, 0]], stiffness: k}]\n"
+                    "dampers: [{between: [P, [-1, 0]], damping: c}]\n")
+    undamped = CliRunner().invoke(cli, ["linearize", str(spec), "--at", "c=0"])
+    assert undamped.exit_code == 0, undamped.output
+    assert "verdict: stable" in undamped.output
+    damped = CliRunner().invoke(cli, ["linearize", str(spec)])
+    assert "verdict: asymptotically stable" in damped.output

@@ -91,14 +91,14 @@ def _numeric(equations, unknowns, parameters, guesses) -> list[Stationary]:
 
 
 @dataclass(frozen=True)
-class Equilibrium:
+class RestPoint:
     coordinates: dict                   # name -> value
     symbolic: dict | None               # name -> closed form (sympy)
     linear: object                      # LinearModel about it (None at a singular point)
     stability: object                   # Stability (None at a singular point)
 
 
-def equilibria(d, parameters: dict, guesses: list[dict], independent=()) -> list[Equilibrium]:
+def equilibria(d, parameters: dict, guesses: list[dict], independent=()) -> list[RestPoint]:
     """Every equilibrium found, with its linearization and stability."""
     from lagcli.analysis.linearize import CompiledSystem, SingularPoint, linearize
     from lagcli.analysis.operating_point import Point
@@ -129,7 +129,7 @@ def equilibria(d, parameters: dict, guesses: list[dict], independent=()) -> list
         except SingularPoint:
             lm = None
         names = [q.name for q in model.q]
-        out.append(Equilibrium(dict(zip(names, s.values[:n])),
+        out.append(RestPoint(dict(zip(names, s.values[:n])),
                                dict(zip(names, s.symbolic[:n])) if s.symbolic else None,
                                lm, stability(lm) if lm is not None else None))
     return out

@@ -201,8 +201,22 @@ def linearize(system: CompiledSystem, point: Point, independent=()) -> LinearMod
         speed_rates=qdd[si],
         dependent=tuple([names[0][k] for k in partition.dependent_coordinates]
                         + [names[1][k] for k in partition.dependent_speeds]),
-        energy_conserved=d.jacobi_integral is not None,
+        energy_conserved=_jacobi_conserved_at(d, point),
     )
+
+
+def _jacobi_conserved_at(d, point: Point) -> bool:
+    """h = T2 - T0 + V is conserved at the point's parameter values: decided from the
+    values, not the spec's structure (dampers set to 0 with --at leave Q' = 0)."""
+    if d.jacobi_integral is not None:
+        return True
+    if d.no_jacobi_reason != "the non-conservative forces Q' are not zero" or not d.scleronomic:
+        return False
+    from lagcli.model.calculus import numerically_zero
+
+    values = {p.symbol: sp.Float(point.parameters[p.symbol.name])
+              for p in (*d.model.parameters, *d.model.inputs) if p.symbol.name in point.parameters}
+    return numerically_zero([Q.xreplace(values) for Q in d.nonconservative_forces])
 
 
 def _tangent(system: CompiledSystem, point: Point, partition: Partition, J: dict):

@@ -36,16 +36,41 @@ def parse_assignments(d, items, sweep_name: str | None = None) -> Assignments:
     """`("theta=0", "phi_dot=Omega")` -> Assignments; names checked against the model."""
     from lagcli.run.options import parse_assignments as assignments
 
+    scope, sweep = _scope(d, sweep_name)
+    values = assignments(tuple(items), "--at", _names(d), "name", "coordinates, velocities, parameters and inputs",
+                         parse=lambda text, where: _parse(text, scope, where))
+    return Assignments(values, sweep)
+
+
+def assignments_of(d, given: dict, sweep_name: str | None = None, argument: str = "at=") -> Assignments:
+    """The Python API's `{name: number or expression text}` -> Assignments (as `parse_assignments`)."""
+    from lagcli.run.options import _hint
+
+    scope, sweep = _scope(d, sweep_name)
+    allowed = _names(d)
+    values = {}
+    for name, value in given.items():
+        if name not in allowed:
+            raise UsageError(f"{argument}: unknown name {name!r}"
+                             + _hint(name, allowed, "coordinates, velocities, parameters and inputs"))
+        values[name] = (_parse(value, scope, f"{argument} {name}") if isinstance(value, str)
+                        else sp.Float(float(value)))
+    return Assignments(values, sweep)
+
+
+def _names(d) -> list[str]:
     model = d.model
-    allowed = [s.name for s in (*model.q, *model.qd, *model.parameter_symbols, *model.input_symbols)] + ["t"]
-    scope_names = {"pi": sp.pi, **{p.name: p for p in model.parameter_symbols}}
+    return [s.name for s in (*model.q, *model.qd, *model.parameter_symbols, *model.input_symbols)] + ["t"]
+
+
+def _scope(d, sweep_name: str | None) -> tuple[dict, sp.Symbol | None]:
+    """The names an `--at` value may use, and the sweep variable's symbol (a parameter's own, or a new one)."""
+    scope = {"pi": sp.pi, **{p.name: p for p in d.model.parameter_symbols}}
     sweep = None
     if sweep_name is not None:
-        sweep = scope_names.get(sweep_name) or sp.Symbol(sweep_name, real=True)
-        scope_names[sweep_name] = sweep
-    values = assignments(tuple(items), "--at", allowed, "name", "coordinates, velocities, parameters and inputs",
-                         parse=lambda text, where: _parse(text, scope_names, where))
-    return Assignments(values, sweep)
+        sweep = scope.get(sweep_name) or sp.Symbol(sweep_name, real=True)
+        scope[sweep_name] = sweep
+    return scope, sweep
 
 
 def _parse(text: str, names: dict, where: str) -> sp.Expr:

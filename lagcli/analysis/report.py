@@ -10,6 +10,7 @@ from __future__ import annotations
 import json
 
 import numpy as np
+import sympy as sp
 
 
 def number(x: float, digits: int = 10) -> str:
@@ -34,37 +35,39 @@ def _pair(s: complex) -> list[float]:
 
 # -- content ------------------------------------------------------------------
 
-def linear_content(d, lm, st) -> dict:
-    point = lm.point
+def linear_content(lin) -> dict:
+    """The JSON of a `results.Linearization`."""
+    point = lin.point
     return {
-        "name": d.model.name,
-        "operating_point": {s.name: float(v) for s, v in zip(d.model.q + d.model.qd, [*point.q, *point.qd])},
+        "name": lin.name,
+        "operating_point": point.state,
         "t": point.t,
-        "parameters": {p.symbol.name: point.parameters[p.symbol.name] for p in d.model.parameters},
-        "input_values": {u.symbol.name: point.parameters[u.symbol.name] for u in d.model.inputs},
+        "parameters": point.parameters,
+        "input_values": point.inputs,
         "notes": list(point.notes),
-        "states": list(lm.states), "inputs": list(lm.inputs), "dependent": list(lm.dependent),
-        "A": _matrix(lm.A), "B": _matrix(lm.B),
-        "second_order": {"coordinates": list(lm.coordinates), "speeds": list(lm.speeds),
-                         "M": _matrix(lm.M), "C": _matrix(lm.C), "K": _matrix(lm.K), "B": _matrix(lm.B2),
-                         "gyroscopic": _matrix(lm.gyroscopic), "damping": _matrix(lm.damping)},
-        "speed_rates": [float(x) for x in lm.speed_rates],
-        "eigenvalues": [_pair(s) for s in st.eigenvalues],
+        "states": list(lin.states), "inputs": list(lin.inputs), "dependent": list(lin.dependent),
+        "A": _matrix(lin.A), "B": _matrix(lin.B),
+        "second_order": {"coordinates": list(lin.coordinates), "speeds": list(lin.speeds),
+                         "M": _matrix(lin.M), "C": _matrix(lin.C), "K": _matrix(lin.K), "B": _matrix(lin.B_second),
+                         "gyroscopic": _matrix(lin.gyroscopic), "damping": _matrix(lin.damping)},
+        "speed_rates": [float(x) for x in lin.speed_rates],
+        "eigenvalues": [_pair(s) for s in lin.eigenvalues],
         "modes": [{"eigenvalue": _pair(m.eigenvalue), "natural_frequency": m.natural_frequency,
-                   "damping_ratio": m.damping_ratio} for m in st.modes],
-        "neutral_states": list(st.neutral),
-        "negative_stiffness": st.negative_stiffness,
-        "verdict": st.verdict,
+                   "damping_ratio": m.damping_ratio} for m in lin.modes],
+        "neutral_states": list(lin.neutral),
+        "negative_stiffness": lin.negative_stiffness,
+        "verdict": lin.verdict,
     }
 
 
-def sweep_content(name: str, points, critical) -> dict:
+def sweep_content(result) -> dict:
+    """The JSON of a `sweep.LinearizationSweep`."""
     return {
-        "variable": name,
+        "variable": result.variable,
         "points": [{"value": p.value, "verdict": p.stability.verdict,
-                    "eigenvalues": [_pair(s) for s in p.stability.eigenvalues]} for p in points],
+                    "eigenvalues": [_pair(s) for s in p.stability.eigenvalues]} for p in result.points],
         "critical": [{"value": c.value, "unstable_below": c.unstable_below,
-                      "unstable_above": c.unstable_above} for c in critical],
+                      "unstable_above": c.unstable_above} for c in result.critical],
     }
 
 
@@ -153,7 +156,7 @@ def sweep_text(c: dict) -> str:
 
 # -- LaTeX --------------------------------------------------------------------
 
-def _bmatrix(a: np.ndarray) -> str:
+def bmatrix(a: np.ndarray) -> str:
     if a.size == 0:
         return r"\varnothing"
     rows = [" & ".join(number(x, 6) for x in row) for row in a]
@@ -167,10 +170,10 @@ def linear_latex(c: dict, printer) -> str:
 
     s = c["second_order"]
     out = [r"\begin{align*}",
-           rf"x &= {vec(c['states'])}, & A &= {_bmatrix(np.array(c['A']))}"
-           + (rf", & B &= {_bmatrix(np.array(c['B']))}" if c["inputs"] else "") + r" \\",
-           rf"M &= {_bmatrix(np.array(s['M']))}, & C &= {_bmatrix(np.array(s['C']))}, "
-           rf"& K &= {_bmatrix(np.array(s['K']))}",
+           rf"x &= {vec(c['states'])}, & A &= {bmatrix(np.array(c['A']))}"
+           + (rf", & B &= {bmatrix(np.array(c['B']))}" if c["inputs"] else "") + r" \\",
+           rf"M &= {bmatrix(np.array(s['M']))}, & C &= {bmatrix(np.array(s['C']))}, "
+           rf"& K &= {bmatrix(np.array(s['K']))}",
            r"\end{align*}",
            "Eigenvalues: $" + ", ".join(complex_text(complex(*e), 6).replace("i", r"\,i")
                                          for e in c["eigenvalues"]) + "$; verdict: "
@@ -178,19 +181,18 @@ def linear_latex(c: dict, printer) -> str:
     return "\n".join(out)
 
 
-def equilibria_content(d, found, printer) -> dict:
+def equilibria_content(found, printer) -> dict:
+    """The JSON of `results.Equilibria`; closed forms printed by `printer`."""
     def one(e) -> dict:
-        st = e.stability
         return {
-            "coordinates": e.coordinates,
-            "closed_form": {k: printer(v) for k, v in e.symbolic.items()} if e.symbolic else None,
-            "eigenvalues": [_pair(s) for s in st.eigenvalues] if st else None,
-            "frequencies": sorted({round(m.natural_frequency, 12) for m in st.modes if m.eigenvalue.imag > 0})
-            if st else [],
-            "verdict": st.verdict if st else "not linearizable here (singular mass matrix)",
+            "coordinates": e.point,
+            "closed_form": {k: printer(v) for k, v in e.closed_form.items()} if e.closed_form else None,
+            "eigenvalues": [_pair(s) for s in e.eigenvalues] if e.linearization else None,
+            "frequencies": list(e.frequencies),
+            "verdict": e.verdict,
         }
 
-    return {"name": d.model.name, "equilibria": [one(e) for e in found]}
+    return {"name": found.name, "equilibria": [one(e) for e in found]}
 
 
 def equilibria_text(c: dict) -> str:
@@ -210,20 +212,34 @@ def equilibria_text(c: dict) -> str:
     return "\n".join(lines) + "\n"
 
 
-def routh_content(d, routh, motions, printer) -> dict:
+def routh_content(r, printer) -> dict:
+    """The JSON of a `results.Routh`; expressions printed by `printer`."""
     return {
-        "name": d.model.name,
-        "cyclic": [c.name for c in routh.cyclic],
-        "momenta": [p.name for p in routh.momenta],
-        "routhian": printer(routh.R),
-        "effective_potential": printer(routh.effective_potential),
-        "cyclic_velocities": {d.model.qd[d.model.q.index(c)].name: printer(e)
-                              for c, e in zip(routh.cyclic, routh.cyclic_velocities)},
-        "reduced_equations": [printer(e) for e in routh.equations],
+        "name": r.name,
+        "cyclic": list(r.cyclic),
+        "momenta": list(r.momenta),
+        "routhian": printer(r.R),
+        "effective_potential": printer(r.effective_potential),
+        "cyclic_velocities": {name: printer(e) for name, e in r.cyclic_velocities.items()},
+        "reduced_equations": [printer(e) for e in r.reduced_equations],
         "steady_motions": [{"coordinates": m.coordinates, "cyclic_rates": m.cyclic_rates,
                             "eigenvalues": [_pair(s) for s in m.eigenvalues],
-                            "frequencies": list(m.frequencies)} for m in motions],
+                            "frequencies": list(m.frequencies)} for m in r.steady_motions],
     }
+
+
+def routh_rows(r, d) -> list[str]:
+    """`lhs &= rhs` LaTeX rows of a `results.Routh` (the notebook's display)."""
+    from lagcli.report.latex import latex_printer
+
+    printer = latex_printer(d)
+    model = d.model
+    printer._settings["symbol_names"].update({sp.Symbol(p, real=True): f"p_{{{printer.doprint(model.symbol(c))}}}"
+                                              for p, c in zip(r.momenta, r.cyclic)})
+    rows = [rf"R &= {printer.doprint(r.R)}", rf"V_{{\mathrm{{eff}}}} &= {printer.doprint(r.effective_potential)}"]
+    rows += [rf"{printer.doprint(model.symbol(name))} &= {printer.doprint(e)}"
+             for name, e in r.cyclic_velocities.items()]
+    return rows + [rf"0 &= {printer.doprint(e)}" for e in r.reduced_equations]
 
 
 def routh_text(c: dict) -> str:
@@ -243,16 +259,14 @@ def routh_text(c: dict) -> str:
     return "\n".join(lines) + "\n"
 
 
-def hamilton_content(d, form, printer) -> dict:
-    model = d.model
+def hamilton_content(h, printer) -> dict:
+    """The JSON of a `results.Hamiltonian`; expressions printed by `printer`."""
     return {
-        "name": model.name,
-        "momenta": {p.name: printer(e) for p, e in zip(form.momenta, form.momentum_exprs)},
-        "hamiltonian": printer(form.H) if form.H is not None else None,
-        "equations": ({**{q.name + "_dot": printer(e) for q, e in zip(model.q, form.qdot)},
-                       **{p.name + "_dot": printer(e) for p, e in zip(form.momenta, form.pdot)}}
-                      if form.H is not None else None),
-        "solved_form": form.H is None,
+        "name": h.name,
+        "momenta": {name: printer(e) for name, e in h.momenta.items()},
+        "hamiltonian": printer(h.H) if h.H is not None else None,
+        "equations": {name: printer(e) for name, e in h.equations.items()} if h.H is not None else None,
+        "solved_form": h.H is None,
     }
 
 
@@ -268,16 +282,31 @@ def hamilton_text(c: dict) -> str:
     return "\n".join(lines) + "\n"
 
 
-def hamilton_latex(c_form, d, latex_printer) -> str:
+SOLVED_H = r"H &= \tfrac12 (p - a)^\mathsf{T} M^{-1} (p - a) - T_0 + V"
+
+
+def hamilton_rows(form, d) -> list[str]:
+    """`lhs &= rhs` LaTeX rows: H and Hamilton's equations (H alone, solved, when M is large)."""
+    from lagcli.report.latex_printer import LatexPrinter
+
+    if form.H is None:
+        return [SOLVED_H]
     model = d.model
-    if c_form.H is None:
+    printer = LatexPrinter(model)
+    printer._settings["symbol_names"].update({p: f"p_{{{printer.doprint(q)}}}" for p, q in zip(form.momenta, model.q)})
+    rows = [rf"H &= {printer.doprint(form.H)}"]
+    for q, qd, pd in zip(model.q, form.qdot, form.pdot):
+        rows.append(rf"\dot{{{printer.doprint(q)}}} &= {printer.doprint(qd)}")
+        rows.append(rf"\dot p_{{{printer.doprint(q)}}} &= {printer.doprint(pd)}")
+    return rows
+
+
+def hamilton_latex(form, d) -> str:
+    """The command's LaTeX fragment (amsmath align*)."""
+    if form.H is None:
         return ("% M is full and larger than 2 x 2: H is kept in its solved form\n"
                 r"\[ H = \tfrac12 (p - a)^\mathsf{T} M^{-1} (p - a) - T_0 + V \]" + "\n")
-    rows = [rf"H &= {latex_printer.doprint(c_form.H)}"]
-    for q, p, qd, pd in zip(model.q, c_form.momenta, c_form.qdot, c_form.pdot):
-        rows.append(rf"\dot{{{latex_printer.doprint(q)}}} &= {latex_printer.doprint(qd)}")
-        rows.append(rf"\dot p_{{{latex_printer.doprint(q)}}} &= {latex_printer.doprint(pd)}")
-    return "\\begin{align*}\n" + " \\\\\n".join(rows) + "\n\\end{align*}\n"
+    return "\\begin{align*}\n" + " \\\\\n".join(hamilton_rows(form, d)) + "\n\\end{align*}\n"
 
 
 def symbolic_content(d, lin, printer) -> dict:

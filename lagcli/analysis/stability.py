@@ -48,12 +48,14 @@ class Stability:
     negative_stiffness: bool
 
     @property
-    def modes(self) -> list[Mode]:
-        out = []
-        for s in self.eigenvalues:
-            size = abs(s)
-            out.append(Mode(complex(s), float(size), float(-s.real / size) if size > 0 else None))
-        return out
+    def modes(self) -> tuple[Mode, ...]:
+        return modes_of(self.eigenvalues)
+
+
+def modes_of(eigenvalues: np.ndarray) -> tuple[Mode, ...]:
+    """Each eigenvalue's natural frequency |s| and damping ratio -Re(s)/|s|."""
+    return tuple(Mode(complex(s), float(abs(s)), float(-s.real / abs(s)) if abs(s) > 0 else None)
+                 for s in eigenvalues)
 
 
 def essential(A: np.ndarray, states) -> tuple[np.ndarray, list[str], list[str]]:

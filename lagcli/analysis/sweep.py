@@ -50,6 +50,45 @@ class Critical:
     unstable_above: int
 
 
+@dataclass(frozen=True, eq=False)
+class LinearizationSweep:
+    """`System.linearize_sweep`: the stability at each value of `variable`, and the
+    critical values found between them (when asked for)."""
+
+    variable: str
+    points: tuple[SweepPoint, ...]
+    critical: tuple[Critical, ...]
+
+    @property
+    def values(self) -> np.ndarray:
+        return np.array([p.value for p in self.points])
+
+    @property
+    def verdicts(self) -> tuple[str, ...]:
+        return tuple(p.stability.verdict for p in self.points)
+
+    @property
+    def eigenvalues(self) -> tuple[np.ndarray, ...]:
+        return tuple(p.stability.eigenvalues for p in self.points)
+
+    def __repr__(self) -> str:
+        found = "; ".join(f"critical {self.variable} = {c.value:.10g}" for c in self.critical)
+        return f"<LinearizationSweep over {self.variable}: {len(self.points)} points" + (f"; {found}" if found else "") + ">"
+
+    def _repr_html_(self) -> str:
+        from html import escape
+
+        from lagcli.analysis.report import complex_text, number
+
+        rows = "".join(f"<tr><td>{number(p.value)}</td><td>{escape(p.stability.verdict)}</td><td>"
+                       + escape(", ".join(complex_text(s, 8) for s in p.stability.eigenvalues)) + "</td></tr>"
+                       for p in self.points)
+        critical = "".join(f"<p>critical {escape(self.variable)} = {c.value:.15g}: unstable eigenvalues "
+                           f"{c.unstable_below} &#8594; {c.unstable_above}</p>" for c in self.critical)
+        return (f"<div><table><tr><th>{escape(self.variable)}</th><th>verdict</th><th>eigenvalues</th></tr>"
+                f"{rows}</table>{critical}</div>")
+
+
 def sweep(system: CompiledSystem, at: Assignments, values, independent=()) -> list[SweepPoint]:
     return [SweepPoint(float(v), _stability_at(system, at, v, independent)) for v in values]
 

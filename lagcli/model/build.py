@@ -263,13 +263,29 @@ class _ModelBuilder:
         return AppliedForce(point, vector, body_name if torque is not None else None, torque, force.loc)
 
     def _spring(self, spring, where) -> LinearSpring:
-        ends = [where[e] if isinstance(e, str) else self.vector(e, self.no_velocities) for e in spring.ends]
+        ends = self._ends(spring, where, "spring")
         return LinearSpring(ends[0], ends[1], self.expr(spring.stiffness, check=self.constant_in_motion),
                             self.expr(spring.rest_length, sp.S.Zero, self.constant_in_motion), spring.loc)
 
     def _damper(self, damper, where) -> LinearDamper:
-        ends = [where[e] if isinstance(e, str) else self.vector(e, self.no_velocities) for e in damper.ends]
+        ends = self._ends(damper, where, "damper")
         return LinearDamper(ends[0], ends[1], self.expr(damper.damping, check=self.constant_in_motion), damper.loc)
+
+    def _ends(self, item, where, what: str) -> list:
+        """The ends of a spring or damper: a particle, a body, or a point whose position may
+        move with the coordinates (a point of a body off its centre). Refused when neither end
+        moves (it does nothing) or both are the same point (no direction: 0/0)."""
+        ends = [where[e] if isinstance(e, str) else self.vector(e, self.no_velocities) for e in item.ends]
+        loc = item.loc.child("between") if item.loc else None
+        moving = {self.t, *self.q}
+        if not any(sp.ImmutableMatrix(end).free_symbols & moving for end in ends):
+            self.problems.append(Problem(loc, f"a {what} between two fixed points does nothing",
+                                         "one end must be a particle or body, or a point that moves "
+                                         "with the coordinates, e.g. [x + l*cos(theta), l*sin(theta)]"))
+        elif numerically_zero(list(sp.ImmutableMatrix(ends[0]) - sp.ImmutableMatrix(ends[1]))):
+            self.problems.append(Problem(loc, f"the two ends of this {what} are the same point: it has no "
+                                         "length and no direction", "attach its ends to two different points"))
+        return ends
 
     def _generalized_forces(self) -> tuple[sp.Expr, ...]:
         given = {g.name: self.expr(g.expr, check=self.no_accelerations) for g in self.spec.generalized_forces}

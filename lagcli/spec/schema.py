@@ -326,9 +326,6 @@ class _SpecChecker(FrameChecks, Checker):
             return None
         ends = [self.reference(path + (i,), end, ("particle", "body")) if self.names_a_point(end)
                 else self.vector(path + (i,), end) for i, end in enumerate(value)]
-        if all(isinstance(end, tuple) and not isinstance(end[0], VectorSrc) for end in ends):
-            self.fail(path, "a spring between two fixed points does nothing",
-                      "one end must be a particle or body")
         return None if None in ends else (ends[0], ends[1])
 
     def names_a_point(self, end: Any) -> bool:

@@ -17,11 +17,10 @@ trajectory (the CSV of `lagcli simulate`, or a run made on the spot).
 
 Planar specs are drawn in the x-y plane, spatial ones in 3-D (matplotlib's mplot3d).
 The time is shown in the corner. Output: .gif (pillow), .mp4 (needs ffmpeg), or
-.png with `--frame T` (the frame at time T: the row nearest to T).
+.png, .svg or .pdf with `--frame T` (the frame at time T: the row nearest to T).
 """
 from __future__ import annotations
 
-import io
 import os
 import shutil
 import tempfile
@@ -35,7 +34,8 @@ from lagcli.render.output import write_output
 
 ORIGIN = "origin"
 MAX_FRAMES = 600                 # a long run is thinned (every k-th row) to at most this many
-FORMATS = (".gif", ".mp4", ".png")
+FORMATS = (".gif", ".mp4", ".png", ".svg", ".pdf")
+FRAME_FORMATS = (".png", ".svg", ".pdf")       # one frame (--frame T), as lagcli.viz.plot writes it
 
 
 @dataclass(frozen=True)
@@ -206,12 +206,12 @@ class Drawing:
 
 def animate(system, times, states, parameters: dict, path: str | None, request: Request):
     """Draw the trajectory (times, states [q, q'] per row) of `system`; write `path`
-    (.gif, .mp4, or .png with request.frame) when given. Returns the `Drawing`."""
+    (.gif, .mp4, or .png, .svg, .pdf with request.frame) when given. Returns the `Drawing`."""
     suffix = os.path.splitext(str(path))[1].lower() if path is not None else None
     if path is not None and suffix not in FORMATS:
-        raise UsageError(f"animate -o {path}: expected a .gif, .mp4 or .png file name")
-    if suffix == ".png" and request.frame is None:
-        raise UsageError("animate: a .png output is one frame: give --frame T")
+        raise UsageError(f"animate -o {path}: expected a .gif, .mp4, or a .png, .svg or .pdf (one frame) file name")
+    if suffix in FRAME_FORMATS and request.frame is None:
+        raise UsageError(f"animate: a {suffix} output is one frame: give --frame T")
     if suffix == ".mp4" and shutil.which("ffmpeg") is None:
         raise UsageError("animate: .mp4 needs ffmpeg, which is not installed; write a .gif instead "
                          "(or install ffmpeg)")
@@ -221,12 +221,12 @@ def animate(system, times, states, parameters: dict, path: str | None, request: 
     drawing = Drawing(scene, np.asarray(times, dtype=float), np.asarray(states, dtype=float), p, request,
                       system.name)
     rows = frame_rows(drawing.times, request)
-    if path is None or suffix == ".png":
+    if path is None or suffix in FRAME_FORMATS:
         drawing.draw(rows[0])
         if path is not None:
-            buffer = io.BytesIO()
-            drawing.figure.savefig(buffer, format="png")
-            write_output(path, buffer.getvalue())
+            from lagcli.viz.plot import figure_bytes, figure_format
+
+            write_output(path, figure_bytes(drawing.figure, figure_format(path, "animate -o")))
         return drawing
     _save_movie(drawing, rows, path, suffix, request.fps)
     return drawing

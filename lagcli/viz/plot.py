@@ -1,4 +1,4 @@
-"""`--plot FILE.png`: the coordinates and the drift of what should stay constant.
+"""`--plot FILE.png` (or .svg, .pdf): the coordinates and the drift of what should stay constant.
 
 Top panel: every coordinate against t.  Bottom panel (log scale), only the
 columns that are *conserved* by the equations, so that any visible growth is
@@ -35,11 +35,13 @@ Choosing what is drawn (`PlotOptions`, `lagcli simulate --columns/--phase`):
   the legend and the axes: "x [m]", "t [s]" (`axis_label`).
 
 matplotlib is optional (the `plot` extra); `build_figure` makes a pyplot-free
-`Figure` (drawn by the Agg renderer), `plot_png` writes it as a PNG (like `-o`).
+`Figure` (drawn by the Agg renderer), `plot_file` writes it as the PNG, SVG or PDF its file name's extension names
+(like `-o`).
 """
 from __future__ import annotations
 
 import io
+import os
 from dataclasses import dataclass, field
 
 from lagcli.render.escape import plot_text
@@ -51,6 +53,8 @@ from lagcli.run.rows import Trajectory, parse_csv
 
 FLOOR = 1e-17
 ABSOLUTE_BELOW = 1e-12
+FIGURE_FORMATS = {".png": "png", ".svg": "svg", ".pdf": "pdf"}
+_NO_DATE = {"svg": {"metadata": {"Date": None}}, "pdf": {"metadata": {"CreationDate": None}}}
 PANELS = (("angle", "angle (rad)"), ("length", "coordinates"), ("velocity", "velocities"),
           ("multiplier", "multipliers"), ("invariant", "invariants"))
 
@@ -89,13 +93,37 @@ def drift_series(header: list[str], energy_conserved: bool) -> list[tuple[str, s
     return chosen
 
 
-def plot_png(traj: Trajectory, coordinates, energy_conserved: bool, path: str, title: str,
-             options: PlotOptions = PlotOptions()) -> None:
-    """Write the figure of `build_figure` to `path` as a PNG (lagcli.render.output.write_output)."""
+def plot_file(traj: Trajectory, coordinates, energy_conserved: bool, path: str, title: str,
+              options: PlotOptions = PlotOptions()) -> None:
+    """Write the figure of `build_figure` to `path` in the format its extension names
+    (`figure_format`), through lagcli.render.output.write_output."""
     figure = build_figure(traj, coordinates, energy_conserved, title, options)
+    write_output(path, figure_bytes(figure, figure_format(path), dpi=110))
+
+
+def figure_format(path, option: str = "--plot") -> str:
+    """"png", "svg" or "pdf", as the extension of `path` names it ("-": PNG on stdout);
+    any other extension is refused with a hint, before any work is done."""
+    if str(path) == "-":
+        return "png"
+    stem, suffix = os.path.splitext(str(path))
+    if suffix.lower() not in FIGURE_FORMATS:
+        raise UsageError(f"{option} {path}: the file's extension names the picture's format: "
+                         f"{', '.join(FIGURE_FORMATS)}\n  hint: e.g. {option} {stem or 'plot'}.png or "
+                         f"{option} {stem or 'plot'}.svg")
+    return FIGURE_FORMATS[suffix.lower()]
+
+
+def figure_bytes(figure, format: str, dpi: float | None = None) -> bytes:
+    """The bytes of a matplotlib Figure in `format`, the same for the same figure: no date
+    in SVG or PDF, SVG element ids from a fixed salt (not a random one). `dpi`: None for
+    matplotlib's default."""
+    import matplotlib
+
     buffer = io.BytesIO()
-    figure.savefig(buffer, format="png", dpi=110)
-    write_output(path, buffer.getvalue())
+    with matplotlib.rc_context({"svg.hashsalt": "lagcli"}):
+        figure.savefig(buffer, format=format, dpi=dpi, **_NO_DATE.get(format, {}))
+    return buffer.getvalue()
 
 
 def build_figure(traj: Trajectory, coordinates, energy_conserved: bool, title: str,

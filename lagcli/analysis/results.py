@@ -1,0 +1,237 @@
+"""What the System's analyses return: typed values holding numpy arrays.
+
+    lin = system.linearize(at={"theta": 0})        # Linearization: A, B, M, C, K, eigenvalues, point
+    found = system.equilibria()                    # Equilibria: a sequence of Equilibrium
+    system.hamiltonian(); system.routh(momenta={"p_phi": 0.5})
+
+Each value shows itself in Jupyter (`_repr_latex_` and/or `_repr_html_`) and in a
+console (a one-line `__repr__`); the commands `lagcli linearize`, `equilibria`,
+`hamiltonian` and `routh` print the same values (`lagcli.analysis.report`). Symbolic
+results (the Hamiltonian, the Routhian) hold sympy expressions; their LaTeX is made
+by the reports' printer of the derivation they came from, kept for that only.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from html import escape
+
+import numpy as np
+
+from lagcli.analysis.report import bmatrix, complex_text, number
+from lagcli.analysis.stability import Mode, modes_of
+
+_HTML_DIGITS = 6
+
+
+@dataclass(frozen=True)
+class OperatingPoint:
+    """The point a linearization is about, by name (dependent values solved for)."""
+
+    coordinates: dict[str, float]
+    velocities: dict[str, float]
+    t: float
+    parameters: dict[str, float]        # every parameter's value used
+    inputs: dict[str, float]            # every declared input's value held
+    notes: tuple[str, ...] = ()         # what was solved for
+
+    @property
+    def state(self) -> dict[str, float]:
+        return {**self.coordinates, **self.velocities}
+
+
+@dataclass(frozen=True, eq=False)
+class Linearization:
+    """x' = A x + B u about `point`, x = `states` (independent coordinates, then
+    independent speeds), u = `inputs`; the second-order form
+    M u' + C u + K q = B_second u_in over `speeds` and `coordinates`.
+    `eigenvalues` are A's without the zero modes there by structure (`neutral` names
+    their states); `verdict` as docs/analysis.md, "Stability verdict"."""
+
+    name: str
+    point: OperatingPoint
+    states: tuple[str, ...]
+    inputs: tuple[str, ...]
+    coordinates: tuple[str, ...]
+    speeds: tuple[str, ...]
+    dependent: tuple[str, ...]          # eliminated by the constraints
+    A: np.ndarray
+    B: np.ndarray
+    M: np.ndarray
+    C: np.ndarray
+    K: np.ndarray
+    B_second: np.ndarray
+    speed_rates: np.ndarray             # u' at the point: 0 at an equilibrium or steady motion
+    eigenvalues: np.ndarray
+    neutral: tuple[str, ...]
+    negative_stiffness: bool
+    verdict: str
+    latex_names: dict = field(default_factory=dict, repr=False)   # state/input name -> LaTeX
+
+    @property
+    def gyroscopic(self) -> np.ndarray:
+        return (self.C - self.C.T) / 2
+
+    @property
+    def damping(self) -> np.ndarray:
+        return (self.C + self.C.T) / 2
+
+    @property
+    def modes(self) -> tuple[Mode, ...]:
+        return modes_of(self.eigenvalues)
+
+    def __repr__(self) -> str:
+        where = ", ".join(f"{k} = {number(v, 6)}" for k, v in self.point.state.items())
+        values = ", ".join(complex_text(s, 6) for s in self.eigenvalues) or "none"
+        return f"<Linearization of {self.name} about {where}: {self.verdict}; eigenvalues {values}>"
+
+    def _repr_latex_(self) -> str:
+        name = self.latex_names.get
+        vector = ", ".join(name(s, _texttt(s)) for s in self.states)
+        rows = [rf"x &= \left({vector}\right)^\mathsf{{T}}"
+                + (r", \quad u = \left(" + ", ".join(name(u, _texttt(u)) for u in self.inputs) + r"\right)"
+                   if self.inputs else ""),
+                rf"A &= {bmatrix(self.A)}" + (rf", \quad B = {bmatrix(self.B)}" if self.inputs else ""),
+                rf"M &= {bmatrix(self.M)}, \quad C = {bmatrix(self.C)}, \quad K = {bmatrix(self.K)}",
+                r"\text{eigenvalues} &: " + (", ".join(complex_text(s, 6).replace("i", r"\,i")
+                                                       for s in self.eigenvalues) or r"\text{none}"),
+                rf"\text{{verdict}} &: \text{{{self.verdict}}}"]
+        return r"$$\begin{aligned}" + r" \\ ".join(rows) + r"\end{aligned}$$"
+
+    def _repr_html_(self) -> str:
+        where = ", ".join(f"{k} = {number(v, _HTML_DIGITS)}" for k, v in self.point.state.items())
+        parts = [f"<p><b>{escape(self.name)}</b> linearized about {escape(where)}</p>",
+                 _html_matrix("A", self.A, self.states, self.states)]
+        if self.inputs:
+            parts.append(_html_matrix("B", self.B, self.states, self.inputs))
+        parts += [_html_matrix("M", self.M, self.speeds, self.speeds),
+                  _html_matrix("C", self.C, self.speeds, self.speeds),
+                  _html_matrix("K", self.K, self.speeds, self.coordinates),
+                  f"<p>eigenvalues: {escape(', '.join(complex_text(s, _HTML_DIGITS) for s in self.eigenvalues))}"
+                  f"<br/>verdict: <b>{escape(self.verdict)}</b></p>"]
+        return "<div>" + "".join(parts) + "</div>"
+
+
+@dataclass(frozen=True, eq=False)
+class Equilibrium:
+    """A point of rest (q' = 0): `point` {coordinate: value}, `closed_form` {coordinate:
+    sympy expression of the parameters} when solved symbolically, and its linearization
+    (None where the mass matrix is singular)."""
+
+    point: dict[str, float]
+    closed_form: dict | None
+    linearization: Linearization | None
+
+    @property
+    def eigenvalues(self) -> np.ndarray:
+        return self.linearization.eigenvalues if self.linearization else np.zeros(0, dtype=complex)
+
+    @property
+    def verdict(self) -> str:
+        return self.linearization.verdict if self.linearization else "not linearizable here (singular mass matrix)"
+
+    @property
+    def frequencies(self) -> tuple[float, ...]:
+        """Small-oscillation frequencies (rad/s): |s| of each eigenvalue pair on the imaginary axis side."""
+        return tuple(sorted({round(m.natural_frequency, 12) for m in modes_of(self.eigenvalues)
+                             if m.eigenvalue.imag > 0}))
+
+    def __repr__(self) -> str:
+        where = ", ".join(f"{k} = {number(v, 6)}" for k, v in self.point.items())
+        return f"<Equilibrium {where}: {self.verdict}>"
+
+
+@dataclass(frozen=True, eq=False)
+class Equilibria:
+    """The equilibria found (a sequence of `Equilibrium`, in order of their coordinates)."""
+
+    name: str
+    parameters: dict[str, float]        # the parameter and input values they are for
+    found: tuple[Equilibrium, ...]
+
+    def __len__(self) -> int:
+        return len(self.found)
+
+    def __iter__(self):
+        return iter(self.found)
+
+    def __getitem__(self, k: int) -> Equilibrium:
+        return self.found[k]
+
+    def __repr__(self) -> str:
+        return (f"<Equilibria of {self.name}: {len(self)} found" + "".join(
+            f"; {', '.join(f'{k} = {number(v, 6)}' for k, v in e.point.items())} {e.verdict}" for e in self) + ">")
+
+    def _repr_html_(self) -> str:
+        names = list(self.found[0].point) if self.found else []
+        head = "".join(f"<th>{escape(n)}</th>" for n in ["", *names, "verdict", "eigenvalues"])
+        rows = "".join(
+            f"<tr><td>{k}</td>" + "".join(f"<td>{number(v, _HTML_DIGITS)}</td>" for v in e.point.values())
+            + f"<td>{escape(e.verdict)}</td>"
+            + f"<td>{escape(', '.join(complex_text(s, _HTML_DIGITS) for s in e.eigenvalues))}</td></tr>"
+            for k, e in enumerate(self, 1))
+        caption = f"equilibria of {self.name} (q' = 0): {len(self)} found"
+        return f"<table><caption>{escape(caption)}</caption><tr>{head}</tr>{rows}</table>"
+
+
+@dataclass(frozen=True, eq=False)
+class Hamiltonian:
+    """p = M q' + a (`momenta`, expressions of q and q'), H(q, p, t) and Hamilton's
+    equations (`equations`: q_dot and p_<q>_dot by name); `H` and `equations` are None
+    when M is full and larger than 2 x 2 (the solved form of docs/analysis.md)."""
+
+    name: str
+    momenta: dict
+    H: object
+    equations: dict | None
+    derivation: object = field(repr=False, default=None)
+    form: object = field(repr=False, default=None)
+
+    def __repr__(self) -> str:
+        from lagcli.render.spec_printer import spec_str
+
+        return f"<Hamiltonian of {self.name}: H = {spec_str(self.H) if self.H is not None else '(solved form)'}>"
+
+    def _repr_latex_(self) -> str:
+        from lagcli.analysis.report import hamilton_rows
+
+        return r"$$\begin{aligned}" + r" \\ ".join(hamilton_rows(self.form, self.derivation)) + r"\end{aligned}$$"
+
+
+@dataclass(frozen=True, eq=False)
+class Routh:
+    """The Routhian R over the `cyclic` coordinates at momenta `momenta` (symbols
+    p_<q>), the effective potential, the cyclic velocities, the reduced equations
+    (each = 0) and, when momenta were given, the steady motions
+    (`lagcli.analysis.routh.SteadyMotion`: coordinates, cyclic rates, eigenvalues)."""
+
+    name: str
+    cyclic: tuple[str, ...]
+    momenta: tuple[str, ...]
+    R: object
+    effective_potential: object
+    cyclic_velocities: dict
+    reduced_equations: tuple
+    steady_motions: tuple
+    derivation: object = field(repr=False, default=None)
+
+    def __repr__(self) -> str:
+        return (f"<Routh reduction of {self.name} over {', '.join(self.cyclic)}: "
+                f"{len(self.steady_motions)} steady motions>")
+
+    def _repr_latex_(self) -> str:
+        from lagcli.analysis.report import routh_rows
+
+        return r"$$\begin{aligned}" + r" \\ ".join(routh_rows(self, self.derivation)) + r"\end{aligned}$$"
+
+
+def _texttt(name: str) -> str:
+    return r"\mathtt{" + name.replace("_", r"\_") + "}"
+
+
+def _html_matrix(label: str, a: np.ndarray, rows, cols) -> str:
+    if a.size == 0:
+        return f"<p>{escape(label)} = (empty)</p>"
+    head = "".join(f"<th>{escape(c)}</th>" for c in cols)
+    body = "".join(f"<tr><th>{escape(r)}</th>" + "".join(f"<td>{number(x, _HTML_DIGITS)}</td>" for x in row)
+                   + "</tr>" for r, row in zip(rows, a))
+    return f"<table><caption>{escape(label)}</caption><tr><th></th>{head}</tr>{body}</table>"
