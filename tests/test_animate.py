@@ -137,7 +137,7 @@ def test_simulate_plot_groups_the_chosen_columns_by_kind(tmp_path):
                           PlotOptions(("theta_dot", "x", "theta", "energy"), ("theta",), frozenset({"theta"}),
                                       {"x": "m"}))
     labels = [ax.get_ylabel() for ax in figure.axes]
-    assert labels == ["angle (rad)", "coordinates", "velocities", "invariants", "drift / residual", "theta_dot"]
+    assert labels == ["angle (rad)", "x [m]", "velocities", "invariants", "drift / residual", "theta_dot"]
     assert [t.get_text() for t in figure.axes[1].get_legend().get_texts()] == ["x [m]"]
     assert figure.axes[-1].get_xlabel() == "theta"
     bad = CliRunner().invoke(cli, ["simulate", str(spec_path("cart_pole")), "--t-end", "0.1", "-o",

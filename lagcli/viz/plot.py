@@ -192,7 +192,7 @@ def _phase_names(phase, coordinates) -> list[tuple[str, str]]:
 def axis_label(label: str, names, units: dict) -> str:
     """The y label of a panel: its one column with its unit (`x [m]`), else the panel's
     name with the unit its columns share (`coordinates [m]`), else the name alone."""
-    if len(names) == 1:
+    if len(names) == 1 and units.get(names[0]):
         return _with_unit(names[0], units)
     shared = {units.get(name) for name in names}
     return f"{label} [{shared.pop()}]" if len(shared) == 1 and None not in shared else label
