@@ -8,7 +8,7 @@ A `Layout` says, in spec order, what a run of a system is made of:
     multipliers   lambda_<j> (1-based) or lambda_<name>, one per constraint row
     columns       the CSV columns, each with its kind and unit:
                     t                        time             s
-                    <q>                      coordinate       the spec's unit of q
+                    <q>                      coordinate       the spec's unit of q (none: dimensionless)
                     <q>_dot                  velocity         unit of q per s
                     lambda_<k>               multiplier       (constrained)
                     energy                   energy           J  (T + V)
@@ -317,7 +317,7 @@ def layout_of(d, start: Start | None = None, angles=frozenset()) -> Layout:
     from lagcli import __version__
 
     model = d.model
-    unit = units_of(model, angles)
+    unit = units_of(model)
     coordinates = [q.name for q in model.q]
     states = ([State(q, "coordinate", q, unit.get(q), q in angles) for q in coordinates]
               + [State(velocity_name(q), "velocity", q, unit.get(velocity_name(q)), q in angles)
@@ -343,20 +343,20 @@ def layout_of(d, start: Start | None = None, angles=frozenset()) -> Layout:
     return layout
 
 
-def units_of(model, angles=frozenset()) -> dict[str, str]:
+def units_of(model) -> dict[str, str]:
     """{name: unit} from the spec's `unit:`s (docs/spec.md, "Units"): parameters and
     coordinates as given, velocities per second, t in s, energies in J, the momentum of
-    q in J*s/(unit of q); angles without a unit in rad. Empty when the spec gives none."""
+    q in J*s/(unit of q). Empty when the spec gives none; a name without one is
+    dimensionless (angles too) and has none."""
     given = {name: text for name, (text, _) in model.units.items() if text}
     if not given:
         return {}
     units = {TIME: "s", ENERGY: "J", **given}
     for q in model.q:
-        u = given.get(q.name) or ("rad" if q.name in angles else None)
+        u = given.get(q.name)
         if u:
-            units[q.name] = u
             units[velocity_name(q.name)] = _per(u, "s")
-        units[momentum_name(q.name)] = _per("J*s", given[q.name]) if q.name in given else "J*s"
+        units[momentum_name(q.name)] = _per("J*s", u) if u else "J*s"
     return units
 
 

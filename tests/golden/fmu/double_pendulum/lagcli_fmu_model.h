@@ -15,7 +15,7 @@
 #include "double_pendulum.h"
 
 #define LAGCLI_FMU_MODEL double_pendulum_model
-#define LAGCLI_FMU_GUID "{c2cf76b1-e392-67ba-e0a9-71abbef255cc}"
+#define LAGCLI_FMU_GUID "{9145e2e8-fa9e-eb18-86e6-cb67db399b1e}"
 #define LAGCLI_FMU_NINPUT 0u
 #define LAGCLI_FMU_ALPHA 10.0        /* Baumgarte stabilisation (constrained systems) */
 #define LAGCLI_FMU_BETA 10.0
