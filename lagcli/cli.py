@@ -51,21 +51,21 @@ def _run(ctx: click.Context, action) -> None:
 @contextlib.contextmanager
 def _spec_warnings_on_stderr():
     """Show each `SpecWarning` raised while running a command once, on stderr (even when
-    the command then fails); other warnings go their usual way."""
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always", SpecWarning)
-        try:
+    the command then fails); other warnings go their usual way, once the recording has
+    ended (shown while recording, each would be recorded again: a loop without end)."""
+    caught: list = []
+    try:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", SpecWarning)
             yield
-        finally:
-            shown = set()
-            for item in caught:
-                if quiet() and isinstance(item.message, SpecWarning):
-                    continue
-                if not isinstance(item.message, SpecWarning):
-                    warnings.showwarning(item.message, item.category, item.filename, item.lineno)
-                elif str(item.message) not in shown:
-                    shown.add(str(item.message))
-                    click.echo(terminal_text(item.message.render()), err=True)
+    finally:
+        shown = set()
+        for item in caught:
+            if not isinstance(item.message, SpecWarning):
+                warnings.showwarning(item.message, item.category, item.filename, item.lineno)
+            elif str(item.message) not in shown and not quiet():
+                shown.add(str(item.message))
+                click.echo(terminal_text(item.message.render()), err=True)
 
 
 @cli.command()
@@ -151,6 +151,25 @@ def check(ctx, specs, as_json):
 
 @cli.command()
 @click.argument("spec", type=SPEC)
+@click.option("-o", "--output", default=None, help="The HTML file ('-' or none: stdout).")
+@click.option("--no-pictures", is_flag=True,
+              help="Leave out the simulation's plot and the animation (faster; no matplotlib needed).")
+@quiet_option
+@click.pass_context
+def report(ctx, spec, output, no_pictures):
+    """A page to share: SPEC's equations (MathML), linearization, plot and animation in
+    one self-contained HTML file (no network needed to view it; docs/page.md).
+
+    \b
+    Examples:
+      lagcli report specs/double_pendulum.yaml -o double_pendulum.html
+      lagcli report specs/benchmark_bicycle.yaml --no-pictures -o bicycle.html
+    """
+    _run(ctx, lambda: commands.page(spec, output, not no_pictures, note=note))
+
+
+@cli.command()
+@click.argument("spec", type=SPEC)
 @click.option("--lang", required=True, type=LanguageChoice(LANGUAGES),
               help="python: one module (numpy); c: <name>.h, <name>.c, <name>_main.c; "
                    "octave: MATLAB/Octave functions and an ode45 script; rust: a crate; "
@@ -187,7 +206,7 @@ def generate(ctx, spec, lang, output, form):
 @click.option("--t-end", type=float, help="End time (default: the spec's simulate.t_end, else 10).")
 @click.option("--dt", type=float, help="Output interval (default: simulate.dt, else 0.01).")
 @click.option("--method", type=click.Choice(list(METHODS)),
-              help="scipy's integrator name (default: simulate.method, else DOP853).")
+              help="scipy's integrator name, or variational (default: simulate.method, else DOP853).")
 @click.option("--rtol", type=float, help="Relative tolerance (default: simulate.rtol, else 1e-9).")
 @click.option("--atol", type=float, help="Absolute tolerance (default: simulate.atol, else 1e-12).")
 @click.option("--set", "sets", multiple=True, metavar="NAME=VALUE",
@@ -204,6 +223,8 @@ def generate(ctx, spec, lang, output, form):
               help="Constraint stabilisation gains (default 10 10).")
 @click.option("--max-steps", type=int, metavar="N",
               help="Stop with an error after N integrator steps (default 20000 + 1000 per output interval).")
+@click.option("--steps-per-row", type=int, metavar="K",
+              help="--method variational: K fixed steps of DT/K between rows (default 1).")
 @click.option("-o", "--output", default=None, help="CSV file ('-' or none: stdout).")
 @click.option("--events", "events_path", default=None, metavar="FILE.csv",
               help="Write one row per event (t, event, action, state before and after, impulse).")
@@ -217,8 +238,8 @@ def generate(ctx, spec, lang, output, form):
               help="Print each CSV column with its kind and unit (from the spec's unit:s) and exit.")
 @quiet_option
 @click.pass_context
-def simulate(ctx, spec, t_end, dt, method, rtol, atol, sets, inits, inputs, backend, baumgarte, max_steps, output,
-             events_path, plot, columns, phase, show_units):
+def simulate(ctx, spec, t_end, dt, method, rtol, atol, sets, inits, inputs, backend, baumgarte, max_steps,
+             steps_per_row, output, events_path, plot, columns, phase, show_units):
     """Integrate the equations of motion of SPEC and write the trajectory as CSV.
 
     \b
@@ -226,6 +247,7 @@ def simulate(ctx, spec, t_end, dt, method, rtol, atol, sets, inits, inputs, back
       lagcli simulate specs/double_pendulum.yaml -o traj.csv --plot traj.png
       lagcli simulate specs/cart_pole.yaml --plot p.png --columns x,theta,x_dot --phase theta -o c.csv
       lagcli simulate specs/hybrid/bouncing_ball.yaml --events bounces.csv -o ball.csv
+      lagcli simulate specs/spherical_pendulum.yaml --method variational --dt 0.01 -o sp.csv
       lagcli simulate tests/data/units_cart_pendulum.yaml --units
     """
     from lagcli.run.options import Request
@@ -237,7 +259,7 @@ def simulate(ctx, spec, t_end, dt, method, rtol, atol, sets, inits, inputs, back
     if (columns or phase) and not plot:
         raise click.UsageError("--columns and --phase choose what --plot draws: give --plot FILE.png")
     request = Request(spec, t_end, dt, method, rtol, atol, tuple(sets), tuple(inits), backend,
-                      tuple(baumgarte) if baumgarte else None, tuple(inputs), max_steps)
+                      tuple(baumgarte) if baumgarte else None, tuple(inputs), max_steps, steps_per_row)
     chosen = tuple(c.strip() for c in columns.split(",")) if columns else None
     _run(ctx, lambda: commands.simulate(request, output, plot, note=note,
                                         progress=_progress_bar, columns=chosen, phase=tuple(phase),
@@ -472,6 +494,10 @@ def _format(as_json: bool, as_latex: bool = False) -> str:
 @click.option("--at", "at", multiple=True, metavar="NAME=VALUE",
               help="Operating value of a coordinate, velocity (q_dot) or parameter (repeatable; "
                    "others 0 / the spec's value). VALUE may use the parameters and the sweep variable.")
+@click.option("--set", "sets", multiple=True, metavar="NAME=VALUE",
+              help="A parameter, or an input held at that value (repeatable; as simulate's --set).")
+@click.option("--init", "inits", multiple=True, metavar="NAME=VALUE",
+              help="A coordinate or <q>_dot of the operating point (repeatable; as simulate's --init).")
 @click.option("--independent", multiple=True, metavar="NAME",
               help="An independent coordinate or speed of a constrained system (repeatable; "
                    "default: the best-conditioned choice).")
@@ -490,13 +516,14 @@ def _format(as_json: bool, as_latex: bool = False) -> str:
 @click.option("-o", "--output", default=None, help="Output file ('-' or none: stdout).")
 @quiet_option
 @click.pass_context
-def linearize(ctx, spec, at, independent, inputs, sweep, find_critical, symbolic, closed, as_json, as_latex,
-              output):
+def linearize(ctx, spec, at, sets, inits, independent, inputs, sweep, find_critical, symbolic, closed, as_json,
+              as_latex, output):
     """Linearize SPEC about an operating point: A, B, M, C, K, eigenvalues and a stability verdict.
 
     \b
     Examples:
       lagcli linearize specs/bead_on_spinning_hoop.yaml --at theta=0
+      lagcli linearize specs/cart_pole.yaml --set m=0.2 --set F=1 --init theta=0.1
       lagcli linearize specs/cart_pole.yaml --input F --json
       lagcli linearize specs/cart_pole.yaml --input F --symbolic
       lagcli linearize specs/hybrid/cart_pole_lqr.yaml --closed-loop
@@ -505,12 +532,16 @@ def linearize(ctx, spec, at, independent, inputs, sweep, find_critical, symbolic
     """
     fmt = _format(as_json, as_latex)
     _run(ctx, lambda: write_output(output, commands.linearize(spec, at, independent, inputs, sweep,
-                                                              find_critical, fmt, symbolic, closed)))
+                                                              find_critical, fmt, symbolic, closed, sets, inits)))
 
 
 @cli.command()
 @click.argument("spec", type=SPEC)
-@click.option("--set", "sets", multiple=True, metavar="NAME=VALUE", help="Override a parameter (repeatable).")
+@click.option("--set", "sets", multiple=True, metavar="NAME=VALUE",
+              help="A parameter, or an input held at that value (repeatable; as simulate's --set).")
+@click.option("--init", "inits", multiple=True, metavar="NAME=VALUE",
+              help="A coordinate of one more starting point of the numeric search (repeatable; as "
+                   "simulate's --init: the --init values together are one point, like a --guess).")
 @click.option("--guess", "guesses", multiple=True, metavar="NAME=VALUE[,NAME=VALUE...]",
               help="A starting point of the numeric search (repeatable; default: the spec's "
                    "initial state and the origin).")
@@ -518,7 +549,7 @@ def linearize(ctx, spec, at, independent, inputs, sweep, find_critical, symbolic
 @click.option("-o", "--output", default=None, help="Output file ('-' or none: stdout).")
 @quiet_option
 @click.pass_context
-def equilibria(ctx, spec, sets, guesses, as_json, output):
+def equilibria(ctx, spec, sets, inits, guesses, as_json, output):
     """Equilibria of SPEC (q' = 0: stationary points of V - T0) and their stability.
 
     \b
@@ -527,7 +558,7 @@ def equilibria(ctx, spec, sets, guesses, as_json, output):
       lagcli equilibria specs/bead_on_spinning_hoop.yaml --set Omega=3
       lagcli equilibria specs/cartesian_pendulum.yaml --guess x=0.1,y=-1
     """
-    _run(ctx, lambda: write_output(output, commands.equilibria(spec, sets, guesses, _format(as_json))))
+    _run(ctx, lambda: write_output(output, commands.equilibria(spec, sets, guesses, _format(as_json), inits)))
 
 
 @cli.command()

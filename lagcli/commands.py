@@ -37,6 +37,15 @@ def derive_latex(path: str, simplify: bool = True, standalone: bool = False,
     return load(Path(path)).report("latex-document" if standalone else "latex", simplify, parts)
 
 
+def page(path: str, output: str | None = None, pictures: bool = True, note=lambda text: None) -> None:
+    """`lagcli report`: the page to share (`System.page`), to `output` (stdout for None or '-')."""
+    from lagcli.render.output import write_output
+    from lagcli.system import load
+
+    write_output(output, load(Path(path)).page(pictures=pictures))
+    _wrote(output, note)
+
+
 def check_summary(path: str) -> str:
     """Validate the spec (through the derivation, which classifies constraints) and summarise."""
     from lagcli.report.content import check_content
@@ -138,16 +147,18 @@ def run_request(request, note=lambda text: None, progress=None, sink=None, syste
     receives remarks for stderr; `progress(t_end)` is a context manager yielding
     `update(t)` (or None); `system`: the System of the spec when the caller has it.
     Returns a `lagcli.run.simulate.Outcome`."""
+    from lagcli.run.rows import Trajectory
     from lagcli.run.simulate import Interrupted
 
     try:
-        return _run_request(request, note, progress, sink, system)
+        return _run_request(request, note, progress, Trajectory() if sink is None else sink, system)
     except KeyboardInterrupt:
         raise Interrupted(f"{request.spec}: interrupted before the integration started "
                           "(while deriving, generating or compiling); nothing was written") from None
 
 
 def _run_request(request, note, progress, sink, system):
+    from lagcli.interface import C_METHODS
     from lagcli.run import c_backend, simulate as runs
     from lagcli.run.options import parse_overrides, resolve_settings
     from lagcli.runtime.run_rules import EXPLICIT_METHODS
@@ -157,7 +168,7 @@ def _run_request(request, note, progress, sink, system):
     compiler = c_backend.find_compiler()
     if request.backend == "c":
         c_backend.require_compiler(request.method or EXPLICIT_METHODS[0])   # before any work
-    if compiler and request.backend in (None, "c") and request.method in (None, *EXPLICIT_METHODS) \
+    if compiler and request.backend in (None, "c") and request.method in (None, *C_METHODS) \
             and not request.inputs and system is None:
         driver = runs.cached_driver(request.spec, spec_bytes, compiler)
         if driver is not None:
@@ -172,7 +183,7 @@ def _run_request(request, note, progress, sink, system):
     settings = resolve_settings(request, layout.settings.as_dict())
     overrides = parse_overrides(layout, request.sets, request.inits)
     laws = _laws(request, system)
-    backend = request.backend or ("c" if compiler and settings.method in EXPLICIT_METHODS else "python")
+    backend = request.backend or ("c" if compiler and settings.method in C_METHODS else "python")
     python_only = system.hybrid(overrides.values, laws) is not None \
         and system.compiled_laws(overrides.values, laws) is None
     if python_only and request.backend is None:
@@ -182,27 +193,32 @@ def _run_request(request, note, progress, sink, system):
     start = system.start(overrides.values, overrides.initial)
     for text in runs.at_rest(layout.initial, overrides.initial) + list(start.notes):
         note(text)
+    system._check_method(settings.method, overrides.values, laws)
     program = system.program(backend, settings.method, overrides.values, laws)
+    sink, drift = runs.watched(settings, layout, sink)
     rows = runs.run(program, settings, overrides, start.values, sink, progress)
+    runs.drift_note(drift, settings, note)
     return runs.Outcome(rows, backend, layout, bool(system.model.events))
 
 
 def _warm_run(driver, request, note, progress, sink, spec_bytes):
     """The run on the cached driver alone, or None when the System must solve for the state."""
+    from lagcli.interface import C_METHODS, VARIATIONAL
     from lagcli.run import simulate as runs
     from lagcli.run.options import parse_overrides, resolve_settings
-    from lagcli.runtime.run_rules import EXPLICIT_METHODS
 
     layout = driver.layout
     settings = resolve_settings(request, layout.settings.as_dict())
-    if settings.method not in EXPLICIT_METHODS:
-        return None
+    if settings.method not in C_METHODS or (settings.method == VARIATIONAL and any(
+            m.kind != "holonomic" for m in layout.multipliers)):
+        return None                           # the cold path refuses it, naming the constraint
     overrides = parse_overrides(layout, request.sets, request.inits)
     start = runs.warm_start(layout, overrides)
     if start is None:
         return None
     state, notes, limit = start
-    rows = runs.run(driver, settings, overrides, state, sink, progress, limit)
+    watched, drift = runs.watched(settings, layout, sink)
+    rows = runs.run(driver, settings, overrides, state, watched, progress, limit)
     if rows is None:
         return None
     if overrides.values and rows.failure and rows.rows <= 1:      # --set m=0: say why, as the cold path does
@@ -211,6 +227,7 @@ def _warm_run(driver, request, note, progress, sink, spec_bytes):
         load_file(request.spec, spec_bytes).start(overrides.values, {})
     for text in runs.at_rest(layout.initial, overrides.initial) + list(notes):
         note(text)
+    runs.drift_note(drift, settings, note)
     return runs.Outcome(rows, "c", layout)
 
 
@@ -276,21 +293,26 @@ def _wrote(output: str | None, note) -> None:
 
 def linearize(path: str, at=(), independent=(), inputs=(), sweep: str | None = None,
               find_critical: bool = False, fmt: str = "text", symbolic: bool = False,
-              closed: bool = False) -> str:
+              closed: bool = False, sets=(), inits=()) -> str:
     """`lagcli linearize`: the linear model about `--at`, or the eigenvalue table of a sweep
     (`System.linearize`, `linearize_sweep`, `linearize_symbolic`, formatted); `closed`: with
-    the spec's input laws substituted (lagcli/hybrid/closed_loop.py)."""
+    the spec's input laws substituted (lagcli/hybrid/closed_loop.py). `--set` (parameters,
+    inputs) and `--init` (coordinates, velocities) as every command reads them; they win
+    over `--at` of the same name."""
     from lagcli.analysis import report
     from lagcli.analysis.operating_point import parse_assignments
     from lagcli.analysis.sweep import parse_sweep
     from lagcli.errors import UsageError
+    from lagcli.run.options import parse_overrides
     from lagcli.system import load
 
     system = load(Path(path))
+    overrides = parse_overrides(system.layout, sets, inits)
     span = parse_sweep(sweep) if sweep else None
     if find_critical and span is None:
         raise UsageError("--find-critical needs --sweep NAME=START:STOP:COUNT")
-    points = parse_assignments(system.derivation, at, span.name if span else None)
+    points = parse_assignments(system.derivation, at, span.name if span else None).given(
+        {**overrides.values, **overrides.initial})
     if symbolic:
         return _symbolic_linear(system, points, inputs, fmt, closed)
     if span is not None:
@@ -322,15 +344,15 @@ def _symbolic_linear(system, points, inputs, fmt: str, closed: bool) -> str:
     return report.to_json(content) if fmt == "json" else report.symbolic_text(content)
 
 
-def _constants(system, sets) -> tuple[dict, dict]:
-    """`--set NAME=VALUE` of parameters and inputs -> (parameters, inputs) by name."""
-    from lagcli.run.options import parse_assignments as assignments
+def _constants(system, sets, inits=()) -> tuple[dict, dict, dict]:
+    """`--set NAME=VALUE` (parameters and inputs) and `--init` (coordinates and velocities),
+    read by the one parser of every command -> (parameters, inputs, initial values) by name."""
+    from lagcli.run.options import parse_overrides
 
     layout = system.layout
-    given = assignments(tuple(sets), "--set", [*layout.parameter_names, *layout.input_names],
-                        "parameter or input", "parameters and inputs")
-    return ({k: v for k, v in given.items() if k in layout.parameter_names},
-            {k: v for k, v in given.items() if k in layout.input_names})
+    overrides = parse_overrides(layout, sets, inits)
+    return ({k: v for k, v in overrides.values.items() if k in layout.parameter_names},
+            {k: v for k, v in overrides.values.items() if k in layout.input_names}, overrides.initial)
 
 
 def _guesses(system, guesses) -> list[dict]:
@@ -342,15 +364,17 @@ def _guesses(system, guesses) -> list[dict]:
     return [assignments(tuple(g.split(",")), "--guess", names, "coordinate", "coordinates") for g in guesses]
 
 
-def equilibria(path: str, sets=(), guesses=(), fmt: str = "text") -> str:
-    """`lagcli equilibria`: static and relative equilibria with their stability (`System.equilibria`)."""
+def equilibria(path: str, sets=(), guesses=(), fmt: str = "text", inits=()) -> str:
+    """`lagcli equilibria`: static and relative equilibria with their stability (`System.equilibria`);
+    the `--init` values of coordinates are one starting point of the search, as a `--guess`."""
     from lagcli.analysis import report
     from lagcli.render.spec_printer import spec_str
     from lagcli.system import load
 
     system = load(Path(path))
-    parameters, inputs = _constants(system, sets)
-    found = system.equilibria(parameters, inputs, _guesses(system, guesses))
+    parameters, inputs, initial = _constants(system, sets, inits)
+    start = {k: v for k, v in initial.items() if k in system.layout.coordinates}
+    found = system.equilibria(parameters, inputs, _guesses(system, guesses) + ([start] if start else []))
     content = report.equilibria_content(found, spec_str)
     return report.to_json(content) if fmt == "json" else report.equilibria_text(content)
 
@@ -366,7 +390,7 @@ def routh(path: str, momenta=(), sets=(), guesses=(), fmt: str = "text") -> str:
     system = load(Path(path))
     names = [momentum_name(q.name) for q in system.derivation.ignorable]
     given = assignments(tuple(momenta), "--momentum", names, "momentum", "momenta") if names else {}
-    parameters, inputs = _constants(system, sets)
+    parameters, inputs, _ = _constants(system, sets)
     reduction = system.routh(given, parameters, inputs, _guesses(system, guesses))
     content = report.routh_content(reduction, spec_str)
     return report.to_json(content) if fmt == "json" else report.routh_text(content)

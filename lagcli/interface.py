@@ -41,12 +41,16 @@ import math
 from dataclasses import asdict, dataclass, field, fields
 from pathlib import PurePath
 
+from lagcli.runtime.run_rules import EXPLICIT_METHODS
+
 # --- the numbers every stage shares ---------------------------------------------------
 # (the spec schema, the command line, the run layer and the code targets; the rules the
 # generated code carries too -- EXPLICIT_METHODS, output_times, max_step -- are code:
 # lagcli/runtime/run_rules.py)
 
-METHODS = ("RK45", "DOP853", "Radau", "BDF", "LSODA")    # scipy's integrators `simulate` accepts
+VARIATIONAL = "variational"       # lagcli's own fixed-step integrator (lagcli/derive/discrete.py)
+METHODS = ("RK45", "DOP853", "Radau", "BDF", "LSODA", VARIATIONAL)   # scipy's integrators, and lagcli's
+C_METHODS = (*EXPLICIT_METHODS, VARIATIONAL)                         # the ones the compiled driver implements
 DEFAULT_BAUMGARTE = (10.0, 10.0)                         # (alpha, beta) of the constraint stabilisation
 CONSTRAINT_TOLERANCE = 1e-8                              # largest |constraint| of a consistent initial state
 STEP_BUDGET_BASE = 20_000         # a run takes at most this many integrator steps, plus
@@ -189,6 +193,7 @@ class RunSettings(Settings):
     alpha: float = DEFAULT_BAUMGARTE[0]
     beta: float = DEFAULT_BAUMGARTE[1]
     max_steps: int = 0                   # integrator steps allowed (0: `default_max_steps(t_end, dt)`)
+    steps_per_row: int = 1               # --method variational: the step is dt / steps_per_row
 
     @property
     def step_budget(self) -> int:

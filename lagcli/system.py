@@ -143,6 +143,18 @@ class System:
             write_output(path, text)
         return files
 
+    def page(self, path: str | Path | None = None, pictures: bool = True) -> str:
+        """The page to share (`lagcli report -o page.html`, docs/page.md): one self-contained
+        HTML file with the spec, its equations in MathML, the linearization at the initial
+        state, the simulation's plot (inline SVG) and the animation (`pictures`: the last
+        two, which need matplotlib). Written atomically to `path` when given."""
+        from lagcli.report.page import page_html
+
+        html = page_html(self, pictures)
+        if path is not None:
+            write_output(path, html)
+        return html
+
     # --- simulation ---------------------------------------------------------------------
 
     @property
@@ -187,11 +199,13 @@ class System:
     def simulate(self, t_end: float | None = None, dt: float | None = None, method: str | None = None,
                  rtol: float | None = None, atol: float | None = None, parameters: dict | None = None,
                  initial: dict | None = None, baumgarte: tuple[float, float] | None = None,
-                 inputs: dict | None = None, backend: str = "python"):
+                 inputs: dict | None = None, backend: str = "python", steps_per_row: int | None = None):
         """Integrate as `lagcli simulate --backend BACKEND` does: "python" (scipy's
         `solve_ivp` methods on the generated module) or "c" (the compiled driver, built
-        once and cached, RK45 and DOP853). None takes the spec's `simulate:` value, else
-        lagcli's default. `inputs`: {name: value} of the spec's `inputs:`: a number (held
+        once and cached, RK45, DOP853 and variational). None takes the spec's `simulate:`
+        value, else lagcli's default. `method="variational"`: lagcli's variational
+        integrator (docs/simulate.md), `steps_per_row` fixed steps of dt / steps_per_row
+        between rows (default 1). `inputs`: {name: value} of the spec's `inputs:`: a number (held
         constant), an expression string (a law of t, q, q', parameters: "-k*x - c*x_dot")
         or a Python callable u(t, y) returning a number; missing ones follow the spec's
         law or sit at their default. Laws and the spec's `events:` run on the Python
@@ -201,7 +215,8 @@ class System:
         from lagcli.trajectory import from_rows
 
         settings = resolve_settings(Request(self.model.source, t_end, dt, method, rtol, atol,
-                                            baumgarte=baumgarte), self.layout.settings.as_dict())
+                                            baumgarte=baumgarte, steps_per_row=steps_per_row),
+                                    self.layout.settings.as_dict())
         start = self.initial_state(parameters, initial)
         constants, laws = self._inputs(inputs)
         rows = self.run(settings, {**self._parameters(parameters), **constants}, start, backend, laws=laws)
@@ -252,6 +267,7 @@ class System:
         from lagcli.run import simulate
         from lagcli.run.options import Overrides
 
+        self._check_method(settings.method, values, laws)
         program = self.program(backend, settings.method, values, laws)
         return simulate.run(program, settings, Overrides(values), start.values, sink, progress)
 
@@ -320,6 +336,18 @@ class System:
         return animate(self, trajectory.t, trajectory.states,
                        {**self.layout.parameter_defaults, **self._parameters(parameters)}, path, request)
 
+    def _check_method(self, method: str, values: dict, laws: dict | None) -> None:
+        """A usage error (before any work) when `method` cannot integrate this run."""
+        from lagcli.derive.discrete import METHOD, refusal
+
+        if method != METHOD:
+            return
+        reason = refusal(self.derivation)
+        if reason is None and self.hybrid(values, laws) is not None:
+            reason = (f"--method {METHOD} does not run events or input laws (yet)\n"
+                      "  hint: use --method DOP853 (or Radau) for this run")
+        if reason is not None:
+            raise UsageError(f"{self.model.source}: {reason}")
     # --- analyses (docs/analysis.md; lagcli/analysis/methods.py) -------------------------
 
     def linearize(self, at: dict | None = None, parameters: dict | None = None, inputs: dict | None = None,

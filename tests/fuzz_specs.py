@@ -5,7 +5,8 @@ and tools/fuzz_campaign.py (a long run, one subprocess per input).
 
 A spec is built as data first: a random subset of the top-level keys, each value
 usually well-formed (expressions of the spec's grammar over the declared names)
-and sometimes of the wrong type. Expressions mix every allowed function and
+and sometimes of the wrong type (frames, rolling, dampers, units, inputs, input laws and
+events included). Expressions mix every allowed function and
 operator with numbers that are huge, tiny, negative or zero, names that exist
 and names that do not, and wrong argument counts. The YAML text is then
 sometimes mutated: a YAML tag put in front of a value, or the text cut short.
@@ -103,8 +104,18 @@ rolling_item = st.fixed_dictionaries(
               "surface": usually(st.fixed_dictionaries({}, optional={
                   "normal": usually(st.lists(expressions, min_size=3, max_size=3)),
                   "height": usually(expressions), "angular_velocity": usually(expressions)}))})
-simulate_block = st.dictionaries(st.sampled_from(["t_end", "dt", "method", "rtol", "atol"]),
-                                 usually(st.one_of(expressions, st.sampled_from(["RK45", "Radau", "nope"]))))
+simulate_block = st.one_of(
+    st.dictionaries(st.sampled_from(["t_end", "dt", "method", "rtol", "atol"]),
+                    usually(st.one_of(expressions, st.sampled_from(["RK45", "Radau", "nope"])))),
+    st.fixed_dictionaries({"inputs": usually(st.dictionaries(st.sampled_from(["F", "u", "x"]), usually(expressions),
+                                                             max_size=2))}))
+event = st.fixed_dictionaries(
+    {"when": usually(expressions), "action": usually(st.sampled_from(["impact", "reset", "stop", "nope"]))},
+    optional={"name": st.sampled_from(["hit", "x", "stop"]),
+              "direction": st.sampled_from(["falling", "rising", "either", "up"]),
+              "restitution": usually(expressions),
+              "reset": usually(st.dictionaries(st.sampled_from(["x", "x_dot", "y_dot", "m"]), usually(expressions),
+                                               max_size=2))})
 
 spec_data = st.fixed_dictionaries({
     "coordinates": usually(st.one_of(st.sampled_from([["x", "y"], ["x"], ["y", "x"]]),
@@ -131,6 +142,7 @@ spec_data = st.fixed_dictionaries({
     "inputs": usually(inputs_block),
     "frames": usually(frames_block),
     "rolling": usually(st.lists(usually(rolling_item), max_size=2)),
+    "events": usually(st.lists(usually(event), max_size=2)),
 })
 # the same, in the units dialect: coordinates and parameters with `unit:`
 unit_spec_data = st.tuples(spec_data, unit_coordinates, unit_parameters).map(

@@ -20,7 +20,8 @@ from lagcli.cli import cli
 from conftest import spec_path
 
 pytest.importorskip("matplotlib")
-BLUE = np.array([31, 119, 180]) / 255          # matplotlib's tab:blue, the particles' markers
+BLUE = np.array([31, 119, 180]) / 255          # matplotlib's tab:blue, the first point's marker
+ORANGE = np.array([255, 127, 14]) / 255        # tab:orange, the second's
 
 
 @pytest.fixture(autouse=True)
@@ -49,10 +50,10 @@ def test_double_pendulum_frame_has_the_bobs_where_the_angles_say(pendulum, tmp_p
     assert drawing.clock.get_text() == f"t = {traj.t[row]:.2f}"
     image = __import__("matplotlib.image", fromlist=["imread"]).imread(png)
     height = image.shape[0]
-    for point in (p1, p2):
+    for point, colour in ((p1, BLUE), (p2, ORANGE)):                     # one colour per bob
         x, y = drawing.ax.transData.transform(point)
         pixel = image[int(round(height - y)), int(round(x)), :3]
-        np.testing.assert_allclose(pixel, BLUE, atol=0.08)
+        np.testing.assert_allclose(pixel, colour, atol=0.08)
     x, y = drawing.ax.transData.transform(p2 + [0.3, 0.3])                # away from every artist
     assert not np.allclose(image[int(round(height - y)), int(round(x)), :3], BLUE, atol=0.08)
 
@@ -143,3 +144,56 @@ def test_simulate_plot_groups_the_chosen_columns_by_kind(tmp_path):
     bad = CliRunner().invoke(cli, ["simulate", str(spec_path("cart_pole")), "--t-end", "0.1", "-o",
                                    str(tmp_path / "c2.csv"), "--plot", str(tmp_path / "q.png"), "--columns", "zz"])
     assert bad.exit_code == 2 and "no column 'zz'" in bad.output
+
+
+def test_rolling_disc_is_drawn_as_its_rim_touching_its_plane():
+    """The wheel of a rolling element is drawn as its rim, of the wheel's radius, about the
+    wheel's axis; at every frame the rim's lowest point is on the ground (the rolling
+    contact, z = 0, the physics the rim must show), the plane is drawn, and the centre's
+    path is traced."""
+    system = lagcli.load(spec_path("rolling_disc_frames"))
+    traj = system.simulate(t_end=0.5)
+    drawing = system.animate(trajectory=traj, frame=0.4)
+    r = system.layout.parameter_defaults["r"]
+    for k in range(0, len(traj.t), 10):
+        rim = drawing.scene.rim("disc", traj.t[k], traj.states[k], drawing.p)
+        centre = np.array([traj["x"][k], traj["y"][k], r * math.cos(traj["theta"][k])])
+        np.testing.assert_allclose(np.linalg.norm(rim - centre, axis=1), r, rtol=1e-12)
+        assert abs(rim[:, 2].min()) < r * (1 - math.cos(math.pi / 24)) + 1e-12   # to the rim's polygon
+    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+    assert any(isinstance(c, Poly3DCollection) for c in drawing.ax.collections)
+    assert drawing.trace_names == ("disc",)
+
+
+def test_dampers_are_drawn_between_their_ends(tmp_path):
+    spec = tmp_path / "damped.yaml"
+    spec.write_text("coordinates: [x]\nparameters: {m: 1.0, k: 4.0, c: 0.5}\n"
+                    "particles: {P: {mass: m, position: [x, 0]}}\n"
+                    "springs: [{between: [P, [0, 0]], stiffness: k, rest_length: 0}]\n"
+                    "dampers: [{between: [P, [0, 0]], damping: c}]\ninitial: {x: 1.0}\n")
+    system = lagcli.load(spec)
+    traj = system.simulate(t_end=1.0)
+    drawing = system.animate(trajectory=traj, frame=0.5)
+    row = int(np.argmin(np.abs(traj.t - 0.5)))
+    (line,) = drawing.dampers
+    np.testing.assert_allclose(np.array(line.get_data()).T, [[traj["x"][row], 0], [0, 0]], atol=1e-12)
+    assert line.get_linestyle() == "--"
+
+
+def test_a_fast_spinning_angle_gets_its_own_panel():
+    """The rolling disc's spin angle phi grows to tens of rad while the tilt theta moves
+    by hundredths: they are drawn on separate axes (each panel's columns within a factor
+    SCALE_SPLIT of each other's range), not one flattening the other."""
+    from lagcli.viz.plot import SCALE_SPLIT, by_scale
+
+    column = {"a": np.array([0.0, 0.1]), "b": np.array([0.0, 0.5]), "c": np.array([0.0, 500.0])}
+    assert by_scale([("angle (rad)", ["c", "a", "b"])], column) == [("angle (rad)", ["a", "b"]),
+                                                                    ("angle (rad)", ["c"])]
+    system = lagcli.load(spec_path("rolling_disc_frames"))
+    figure = system.simulate(t_end=3.0).plot()
+    lines = {line.get_label(): ax for ax in figure.axes for line in ax.get_lines()}
+    assert lines["phi"] is not lines["theta"]
+    for ax in figure.axes[:-1]:
+        spans = [float(np.ptp(line.get_ydata())) for line in ax.get_lines()]
+        if len(spans) > 1 and min(spans) > 0:
+            assert max(spans) <= SCALE_SPLIT * min(spans)

@@ -145,7 +145,7 @@ def test_the_c_backend_of_the_api_agrees_with_the_python_backend():
     assert np.max(np.abs(compiled.data - scipy_run.data)) < 1e-7
     x, y = compiled["x"], compiled["y"]
     assert np.max(np.abs(x ** 2 + y ** 2 - 4.0)) < 1e-8 and compiled.failure is None
-    with pytest.raises(UsageError, match="RK45 and DOP853"):
+    with pytest.raises(UsageError, match="RK45, DOP853 and variational only"):
         system.simulate(method="Radau", backend="c")
 
 

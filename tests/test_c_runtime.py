@@ -142,7 +142,7 @@ def test_driver_numbers_are_those_of_numerics():
     assert value["END_TOLERANCE"] == run_rules.END_TOLERANCE
     assert value["CONSTRAINT_TOLERANCE"] == interface.CONSTRAINT_TOLERANCE
     assert (value["BAUMGARTE"], value["BAUMGARTE"]) == interface.DEFAULT_BAUMGARTE
-    assert re.search(r'#define LAGCLI_METHODS "(.*)"', text).group(1) == "|".join(run_rules.EXPLICIT_METHODS)
+    assert re.search(r'#define LAGCLI_METHODS "(.*)"', text).group(1) == "|".join(interface.C_METHODS)
 
 
 def test_spec_named_like_a_runtime_file_is_refused(tmp_path):

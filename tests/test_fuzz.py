@@ -56,3 +56,29 @@ def test_random_expressions_work_or_are_refused(workdir, potential, value, row, 
                "particles:\n  P: {mass: m, position: [x, y]}\n"
                f"potential: {potential!r}\ngeneralized_forces: {{y: {force!r}}}\n"
                f"constraints: [{row!r}]\n", workdir)
+
+
+CORPUS = sorted(p for folder in ("bad", "warn", "fuzz") for p in (Path(__file__).parent / "data" / folder).iterdir()
+                if p.suffix in (".yaml", ".toml"))
+
+
+@pytest.mark.parametrize("case", CORPUS, ids=lambda p: f"{p.parent.name}/{p.name}")
+def test_check_and_derive_json_refuse_or_work_within_ten_seconds(case):
+    # every spec of the corpora (bad, warnings, fuzz findings and issue 25's reproductions):
+    # `check` and `derive --json` end with a result or a LagcliError (exit 0 or 2), never
+    # another exception (a traceback), each within 10 s of CPU time
+    import time
+    import warnings
+
+    from lagcli.commands import check_summary, derive_json
+
+    for command in (check_summary, derive_json):
+        start = time.process_time()
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            try:
+                command(str(case))
+            except LagcliError as exc:
+                assert exc.exit_code == 2, exc.render()
+                exc.render()
+        assert time.process_time() - start < 10, f"{command.__name__} took more than 10 s"

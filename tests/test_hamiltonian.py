@@ -14,7 +14,7 @@ from scipy.integrate import solve_ivp
 
 from lagcli.analysis.hamiltonian import HamiltonRhs, hamilton_form
 
-from conftest import SPECS
+from conftest import SPECS, spec_path
 
 UNCONSTRAINED = sorted(p.stem for p in SPECS.glob("*.yaml")
                        if "\nconstraints:" not in p.read_text(encoding="utf-8")
@@ -145,3 +145,17 @@ def test_cli_hamiltonian_formats():
     assert r"\begin{align*}" in runner.invoke(cli, ["hamiltonian", path, "--latex"]).output
     bad = runner.invoke(cli, ["hamiltonian", str(spec_path("cartesian_pendulum"))])
     assert bad.exit_code == 2 and "unconstrained" in bad.output
+
+
+@pytest.mark.parametrize("name", ["bead_on_spinning_hoop", "spherical_pendulum", "cart_pole"])
+def test_momenta_are_shown_tidy(name):
+    """The momenta p = M q' + a get the reports' tidying (issue 21): the bead on the
+    spinning hoop's p_theta is m R**2 theta_dot, not m*(R**2*sin(theta)**2 + ...)."""
+    import re
+
+    from lagcli.commands import hamiltonian
+
+    text = hamiltonian(str(spec_path(name)))
+    assert not re.search(r"sin\((\w+(?:\*\w+)?)\)\*\*2(\*\w+\(\w+(?:\*\w+)?\)\*\*2)?\s*\+\s*\S*cos\(\1\)\*\*2", text), text
+    if name == "bead_on_spinning_hoop":
+        assert "p_theta = m*R**2*theta_dot" in text

@@ -18,6 +18,8 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
+from lagcli.render.tidy import display_form
+
 from lagcli.errors import UsageError
 
 SYMBOLIC_SIZE = 2
@@ -40,7 +42,7 @@ def hamilton_form(d) -> HamiltonForm:
     M, a = sp.Matrix(d.mass_matrix), sp.Matrix(d.t1_coefficients)
     qd = sp.Matrix(model.qd)
     p = sp.Matrix([sp.Symbol(f"p_{q.name}", real=True) for q in model.q])
-    momentum = M * qd + a
+    momentum = (M * qd + a).applyfunc(display_form)        # p = M q' + a, tidied as the reports do
     if not (M.is_diagonal() or M.rows <= SYMBOLIC_SIZE):
         return HamiltonForm(tuple(p), tuple(momentum), None, None, None)
     velocity = M.LUsolve(p - a).applyfunc(sp.cancel)

@@ -12,6 +12,21 @@ import json
 import numpy as np
 import sympy as sp
 
+from lagcli.analysis.stability import on_imaginary_axis
+
+
+ROUND_OFF = 1000 * float(np.finfo(float).eps)   # relative size below which an entry is round-off
+ROUND_OFF_RULE = ("text and LaTeX show an entry as 0 when |entry| <= round_off x max|entry| of its matrix "
+                  "(of G: of C); the JSON keeps every float as computed")
+
+
+def shown(a, scale: float | None = None) -> np.ndarray:
+    """`a` as text, LaTeX and the notebook show it: entries within round-off of 0 relative
+    to their matrix (or to `scale`) are 0, so 7e-17 next to 0.49 is not read as data."""
+    a = np.asarray(a, dtype=float)
+    size = np.max(np.abs(a), initial=0.0) if scale is None else scale
+    return np.where(np.abs(a) <= ROUND_OFF * size, 0.0, a)
+
 
 def number(x: float, digits: int = 10) -> str:
     x = float(x)
@@ -57,6 +72,7 @@ def linear_content(lin) -> dict:
         "neutral_states": list(lin.neutral),
         "negative_stiffness": lin.negative_stiffness,
         "verdict": lin.verdict,
+        "round_off": {"relative": ROUND_OFF, "rule": ROUND_OFF_RULE},
     }
 
 
@@ -80,7 +96,7 @@ def to_json(content: dict) -> str:
 def _matrix_text(label: str, rows_named, cols_named, a: np.ndarray) -> list[str]:
     if a.size == 0:
         return [f"{label} = (empty)"]
-    cells = [[number(x) for x in row] for row in a]
+    cells = [[number(x) for x in row] for row in shown(a)]
     width = max(len(c) for row in cells for c in row + list(cols_named))
     head = max(len(r) for r in rows_named)
     out = [f"{label} =", " " * (head + 4) + " ".join(c.rjust(width) for c in cols_named)]
@@ -115,8 +131,9 @@ def linear_text(c: dict) -> str:
                  + "), q = (" + ", ".join(s["coordinates"]) + ")")
     lines += _matrix_text("M", s["speeds"], s["speeds"], np.array(s["M"]))
     lines += _matrix_text("C", s["speeds"], s["speeds"], np.array(s["C"]))
-    if np.any(np.array(s["gyroscopic"])):
-        lines += _matrix_text("G = (C - C^T)/2 (gyroscopic)", s["speeds"], s["speeds"], np.array(s["gyroscopic"]))
+    gyroscopic = shown(s["gyroscopic"], np.max(np.abs(np.array(s["C"])), initial=0.0))
+    if np.any(gyroscopic):       # not round-off of a symmetric C printed as a physical effect
+        lines += _matrix_text("G = (C - C^T)/2 (gyroscopic)", s["speeds"], s["speeds"], gyroscopic)
     lines += _matrix_text("K", s["speeds"], s["coordinates"], np.array(s["K"]))
     if c["inputs"]:
         lines += _matrix_text("B", s["speeds"], c["inputs"], np.array(s["B"]))
@@ -138,7 +155,11 @@ def _modes_text(c: dict) -> list[str]:
     elif verdict == "stable":
         verdict += " (at rest on a strict minimum of the conserved h = T2 - T0 + V: Lagrange-Dirichlet)"
     elif verdict == "marginally stable":
-        verdict += " (all eigenvalues on the imaginary axis: the linear model does not decide)"
+        values = np.array([complex(*e) for e in c["eigenvalues"]], dtype=complex)
+        axis = on_imaginary_axis(values)
+        where = ("all eigenvalues on the imaginary axis" if axis == len(values)
+                 else f"{axis} of {len(values)} eigenvalues on the imaginary axis, the others to its left")
+        verdict += f" ({where}: the linear model does not decide)"
     lines.append(f"verdict: {verdict}")
     return lines
 
@@ -159,7 +180,7 @@ def sweep_text(c: dict) -> str:
 def bmatrix(a: np.ndarray) -> str:
     if a.size == 0:
         return r"\varnothing"
-    rows = [" & ".join(number(x, 6) for x in row) for row in a]
+    rows = [" & ".join(number(x, 6) for x in row) for row in shown(a)]
     return r"\begin{bmatrix}" + r" \\ ".join(rows) + r"\end{bmatrix}"
 
 

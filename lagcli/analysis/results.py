@@ -17,7 +17,7 @@ from html import escape
 
 import numpy as np
 
-from lagcli.analysis.report import bmatrix, complex_text, number
+from lagcli.analysis.report import bmatrix, complex_text, number, shown
 from lagcli.analysis.stability import Mode, modes_of
 
 _HTML_DIGITS = 6
@@ -233,5 +233,5 @@ def _html_matrix(label: str, a: np.ndarray, rows, cols) -> str:
         return f"<p>{escape(label)} = (empty)</p>"
     head = "".join(f"<th>{escape(c)}</th>" for c in cols)
     body = "".join(f"<tr><th>{escape(r)}</th>" + "".join(f"<td>{number(x, _HTML_DIGITS)}</td>" for x in row)
-                   + "</tr>" for r, row in zip(rows, a))
+                   + "</tr>" for r, row in zip(rows, shown(a)))
     return f"<table><caption>{escape(label)}</caption><tr><th></th>{head}</tr>{body}</table>"

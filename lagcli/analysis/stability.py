@@ -123,6 +123,12 @@ def _energy_minimum(model: LinearModel, K: np.ndarray | None) -> bool:
     return symmetric and np.min(np.linalg.eigvalsh((K + K.T) / 2)) > MARGIN * scale
 
 
+def on_imaginary_axis(values: np.ndarray) -> int:
+    """How many of `values` lie on the imaginary axis (|Re s| within the verdict's margin)."""
+    scale = max(1.0, np.max(np.abs(values), initial=0.0))
+    return int(np.sum(np.abs(values.real) <= MARGIN * scale))
+
+
 def unstable_count(values: np.ndarray) -> int:
     scale = max(1.0, np.max(np.abs(values), initial=0.0))
     return int(np.sum(values.real > MARGIN * scale))

@@ -23,7 +23,8 @@ from lagcli.model.model_types import (AppliedForce, ConstraintSpec, InputInfo, L
                                 Model, ParameterInfo, PointMass, RigidBody, Settings)
 from lagcli.hybrid.hybrid_model import hybrid_fields
 from lagcli.model.kinematics import AXES, Entity, Vector, frame_chains
-from lagcli.model.rolling import rolling_constraints
+from lagcli.model.redundancy import independent_rows
+from lagcli.model.rolling import rolling_constraints, rolling_contact
 from lagcli.spec.types import Body, Spec, Src, VectorSrc
 from lagcli.model.symbols import Acceleration, Velocity
 from lagcli.model.vectors import VectorBuilder
@@ -159,9 +160,10 @@ class _ModelBuilder:
             potential=self.expr(spec.potential, sp.S.Zero, self.no_velocities),
             kinetic=self.expr(spec.kinetic, sp.S.Zero, self.at_most_quadratic),
             generalized_forces=self._generalized_forces(),
-            constraints=tuple(ConstraintSpec(c.name, self.expr(c.expr, check=self.constraint_expr), c.loc)
-                              for c in spec.constraints)
-                        + tuple(row for item in spec.rolling for row in rolling_constraints(item, self)),
+            constraints=self._independent(
+                tuple(ConstraintSpec(c.name, self.expr(c.expr, check=self.constraint_expr), c.loc)
+                      for c in spec.constraints)
+                + tuple(row for item in spec.rolling for row in rolling_constraints(item, self))),
             initial=self._initial(parameters),
             settings=self._settings(),
             dampers=tuple(self._damper(d, where) for d in spec.dampers),
@@ -172,10 +174,17 @@ class _ModelBuilder:
             locs=_item_locs(spec),
             inputs=inputs,
             **hybrid_fields(self),
+            rolling=tuple(rolling_contact(item, self) for item in spec.rolling),
         )
         if self.problems:
             raise SpecError(self.problems)
         return model
+
+    def _independent(self, constraints: tuple) -> tuple:
+        """The constraint rows without those that repeat earlier ones (lagcli/model/redundancy.py)."""
+        if self.problems:
+            return constraints
+        return independent_rows(constraints, self.q, self.qd, self.t, dict(self.parameter_values), self.spec.file)
 
     def _parameters(self) -> tuple[ParameterInfo, ...]:
         return tuple(ParameterInfo(sp.Symbol(p.name, real=True), self.constant(p.value, 0.0, None,

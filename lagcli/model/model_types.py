@@ -99,6 +99,18 @@ class LinearDamper:
 
 
 @dataclass(frozen=True)
+class RollingContact:
+    """What pictures need of a `rolling:` element: the body, the wheel's radius and axis
+    (None for a `contact:` offset) and the plane n . X = height it rolls on (n a unit vector)."""
+
+    body: str
+    radius: sp.Expr | None
+    axis: str | None
+    normal: sp.ImmutableMatrix
+    height: sp.Expr
+
+
+@dataclass(frozen=True)
 class ConstraintSpec:
     label: str | None
     expr: sp.Expr
@@ -163,6 +175,7 @@ class Model:
     inputs: tuple[InputInfo, ...] = ()
     laws: tuple[InputLaw, ...] = ()              # spec `simulate: inputs:`
     events: tuple[EventSpec, ...] = ()           # spec `events:`
+    rolling: tuple[RollingContact, ...] = ()     # the `rolling:` elements, for pictures
 
     def symbol(self, name: str) -> sp.Symbol:
         """The symbol called `name`: t, a coordinate, velocity, acceleration or parameter."""

@@ -27,9 +27,11 @@ from __future__ import annotations
 
 import sympy as sp
 
+from lagcli.errors import Problem
 from lagcli.model.calculus import numerically_zero
+from lagcli.model.constants import ConstantError, value_at
 from lagcli.model.kinematics import AXES, ZERO, Vector
-from lagcli.model.model_types import ConstraintSpec
+from lagcli.model.model_types import ConstraintSpec, RollingContact
 from lagcli.spec.frames import rolling_row_prefix
 from lagcli.spec.types import Rolling, Src, Surface
 
@@ -42,8 +44,18 @@ def rolling_constraints(item: Rolling, model) -> tuple[ConstraintSpec, ...]:
     surface = item.surface or GROUND
     body = model.scope.names[item.body]
     reference = reference_state(model)
-    normal = _unit(Vector.of(model.vector(surface.normal, model.constant_in_motion)), reference)
-    height = model.expr(surface.height, sp.S.Zero, model.constant_in_motion)
+    problem = _normal_problem(model.vector(surface.normal, model.constant_in_motion), model.parameter_values, item)
+    if problem:
+        model.problems.append(problem)
+        return ()
+    normal, height = _plane(surface, model, reference)
+    if item.wheel and _lies_flat(body.unit(item.wheel[1]), normal, reference):
+        model.problems.append(Problem(item.loc.child("wheel") if item.loc else None,
+                                      f"the wheel's axis '{item.wheel[1]}' is along the surface normal at the "
+                                      "initial state: a wheel lying flat has no lowest rim point to roll on",
+                                      "choose the axis about which the wheel turns (e.g. axis: y for a disc "
+                                      "standing on the ground), or start it upright"))
+        return ()
     offset = (_wheel_offset(body, model.expr(item.wheel[0], check=model.constant_in_motion), item.wheel[1],
                             normal, reference)
               if item.wheel else Vector.of(model.vector(item.contact, model.no_velocities)))
@@ -57,6 +69,48 @@ def rolling_constraints(item: Rolling, model) -> tuple[ConstraintSpec, ...]:
     if not numerically_zero([gap]):
         rows.insert(0, ConstraintSpec(prefix + normal_axis, gap, item.loc))
     return tuple(rows)
+
+
+def _lies_flat(axis: Vector, normal: Vector, reference: dict) -> bool:
+    """The wheel's axis is (numerically) the normal at `reference`: 1 - (n.a)^2 = 0."""
+    try:
+        return abs(value_at(sp.sympify(1 - normal.dot(axis) ** 2), reference, {})) < 1e-12
+    except (ConstantError, TypeError, ValueError, ArithmeticError):
+        return False
+
+
+def _normal_problem(normal, values: dict, item: Rolling) -> Problem | None:
+    """A surface normal that is not a finite, real, non-zero vector at the parameters' values
+    (sqrt(1 - a) with a = 2 is complex there): no plane to roll on."""
+    try:
+        numbers = [value_at(c, values, {}) for c in normal]
+    except (ConstantError, TypeError, ValueError, ArithmeticError):
+        numbers = None
+    loc = item.loc.child("surface").child("normal") if item.loc else None
+    if numbers is None:
+        return Problem(loc, "the surface normal is not a finite real vector at the parameters' values",
+                       "the normal must be a real direction: check the parameters it uses")
+    if not any(numbers):
+        return Problem(loc, "the surface normal is the zero vector at the parameters' values",
+                       "give the direction out of the surface, e.g. normal: [0, 0, 1]")
+    return None
+
+
+def rolling_contact(item: Rolling, model) -> RollingContact:
+    """The element as pictures need it (`lagcli.viz.animate` draws the wheel and the plane)."""
+    surface = item.surface or GROUND
+    if _normal_problem(model.vector(surface.normal, model.constant_in_motion), model.parameter_values, item):
+        surface = GROUND        # refused by rolling_constraints: the model is not built
+    normal, height = _plane(surface, model, reference_state(model))
+    radius = model.expr(item.wheel[0], check=model.constant_in_motion) if item.wheel else None
+    return RollingContact(item.body, radius, item.wheel[1] if item.wheel else None,
+                          sp.ImmutableMatrix(normal.components), height)
+
+
+def _plane(surface: Surface, model, reference: dict) -> tuple[Vector, sp.Expr]:
+    """The surface's unit normal n and height h (the plane n . X = h)."""
+    normal = _unit(Vector.of(model.vector(surface.normal, model.constant_in_motion)), reference)
+    return normal, model.expr(surface.height, sp.S.Zero, model.constant_in_motion)
 
 
 def _wheel_offset(body, radius: sp.Expr, axis: str, normal: Vector, reference: dict) -> Vector:

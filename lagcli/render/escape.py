@@ -21,6 +21,7 @@ through exactly one of these functions, chosen by where it lands:
     xml_comment(text)      inside <!-- ... -->, one line      FMI model description header
     terminal_text(text)    what a terminal prints             text reports, error messages
     plot_text(text)        a matplotlib title or label        --plot
+    html_text(text)        element content or an attribute     the shared page (report -o page.html)
 
 Each defends the rule of its grammar that would let text end its context (a
 comment's terminator, a string's quote, a line end) or change how the rest of the
@@ -304,6 +305,17 @@ def plot_text(text: str) -> str:
     (`\\$`), since text between two `$` is parsed as mathtext (a parse error
     would stop the plot)."""
     return _one_line(text).replace("$", r"\$")
+
+
+# -- HTML ------------------------------------------------------------------------------
+
+def html_text(text: str) -> str:
+    """`text` inside an HTML element or a quoted attribute: &, <, >, both quotes as
+    character references (no markup, no end of the attribute), control and invisible
+    format characters dropped (newlines and tabs kept)."""
+    import html
+
+    return html.escape(terminal_text(text), quote=True)
 
 
 # The Jinja filters of the template environment (lagcli.render.templates).

@@ -23,11 +23,10 @@ import tempfile
 from dataclasses import dataclass
 
 from lagcli.errors import SimulationError, UsageError
-from lagcli.interface import Layout, RunSettings
+from lagcli.interface import C_METHODS, VARIATIONAL, Layout, RunSettings
 from lagcli.run import cache
 from lagcli.run.rows import RowSink, Trajectory
 from lagcli.runtime import toolchain
-from lagcli.runtime.run_rules import EXPLICIT_METHODS
 
 BINARY, META = "sim", "meta.json"
 READ_SIZE = 1 << 16                   # bytes of driver output read at a time
@@ -41,9 +40,9 @@ def find_compiler() -> toolchain.Compiler | None:
 
 def require_compiler(method: str) -> toolchain.Compiler:
     """The C compiler for a run with `method`, or the error saying why there is none."""
-    if method not in EXPLICIT_METHODS:
+    if method not in C_METHODS:
         raise UsageError(f"--method {method}: the C backend implements "
-                         f"{' and '.join(EXPLICIT_METHODS)} only; use --backend python for {method}")
+                         f"{', '.join(C_METHODS[:-1])} and {C_METHODS[-1]} only; use --backend python for {method}")
     compiler = find_compiler()
     if compiler is None:
         raise SimulationError("--backend c needs a C compiler, but 'cc' was not found on PATH "
@@ -119,6 +118,8 @@ def driver_arguments(s: RunSettings, sets: dict[str, float], state: dict[str, fl
     args = ["--t-end", _num(s.t_end), "--dt", _num(s.dt), "--method", s.method,
             "--rtol", _num(s.rtol), "--atol", _num(s.atol), "--baumgarte", _num(s.alpha), _num(s.beta),
             "--max-steps", str(s.step_budget)]
+    if s.method == VARIATIONAL:
+        args += ["--steps-per-row", str(s.steps_per_row)]
     for option, values in (("--set", sets), ("--init", state)):
         for name, value in values.items():
             args += [option, f"{name}={_num(value)}"]

@@ -13,7 +13,7 @@ import math
 from dataclasses import dataclass, field
 
 from lagcli.errors import LagcliError, UsageError
-from lagcli.interface import DEFAULT_BAUMGARTE, METHODS, RunSettings
+from lagcli.interface import DEFAULT_BAUMGARTE, METHODS, VARIATIONAL, RunSettings
 
 HINT_CUTOFF = 0.5                       # difflib similarity for "did you mean": 'mm' -> 'm1'
 
@@ -34,6 +34,7 @@ class Request:
     baumgarte: tuple[float, float] | None = None
     inputs: tuple[str, ...] = ()        # raw "NAME=EXPR" items of --input (input laws)
     max_steps: int | None = None        # the step budget (None: `default_max_steps`)
+    steps_per_row: int | None = None    # --method variational: steps per output interval
 
 
 def resolve_settings(request: Request, spec_settings: dict) -> RunSettings:
@@ -45,11 +46,17 @@ def resolve_settings(request: Request, spec_settings: dict) -> RunSettings:
     alpha, beta = request.baumgarte or DEFAULT_BAUMGARTE
     if request.max_steps is not None and not 1 <= request.max_steps <= 10**15:
         raise UsageError(f"--max-steps: must be a whole number of steps from 1 to 1e15, got {request.max_steps}")
+    steps = 1 if request.steps_per_row is None else request.steps_per_row
     s = RunSettings(pick("t_end"), pick("dt"), pick("method"), pick("rtol"), pick("atol"),
-                    float(alpha), float(beta), request.max_steps or 0)
+                    float(alpha), float(beta), request.max_steps or 0, steps)
     if s.method not in METHODS:
         raise UsageError(f"--method: unknown integration method {s.method!r}"
                          + _hint(s.method, METHODS, "methods"))
+    if request.steps_per_row is not None and s.method != VARIATIONAL:
+        raise UsageError(f"--steps-per-row: only --method {VARIATIONAL} takes fixed steps "
+                         f"(--method {s.method} chooses its own)")
+    if not (isinstance(steps, int) and 1 <= steps <= 10**9):
+        raise UsageError(f"--steps-per-row: must be a whole number from 1 to 1e9, got {steps!r}")
     for key, low_ok in (("t_end", True), ("dt", False), ("rtol", False), ("atol", False)):
         value = getattr(s, key)
         if not math.isfinite(value) or value < 0 or (value == 0 and not low_ok):

@@ -27,7 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import integrate
 
-from lagcli.interface import STEP_BUDGET_TEXT
+from lagcli.interface import STEP_BUDGET_TEXT, VARIATIONAL
 from lagcli.runtime.run_rules import max_step, output_time_windows
 from lagcli.run import cache
 from lagcli.interface import Layout, RunSettings
@@ -117,6 +117,10 @@ def integrate_module(module, p: list[float], y0: list[float], s: RunSettings,
     in-memory `Trajectory` when None) and returning it; never raises for run-time
     failures (see lagcli.run.rows). `u`: the inputs, held constant (a module
     of a spec with `inputs:` only; None: their defaults)."""
+    if s.method == VARIATIONAL:
+        from lagcli.run.variational import integrate_variational
+
+        return integrate_variational(module, p, y0, s, progress, sink, u)
     n = len(module.COORDINATES)
     inputs = (u,) if u is not None else ()
 

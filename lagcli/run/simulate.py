@@ -24,10 +24,10 @@ import contextlib
 from dataclasses import dataclass
 
 from lagcli.errors import SimulationError
-from lagcli.interface import CONSTRAINT_TOLERANCE, Layout, RunSettings
+from lagcli.interface import CONSTRAINT_TOLERANCE, VARIATIONAL, Layout, RunSettings
 from lagcli.run import c_backend
 from lagcli.run.options import Overrides
-from lagcli.run.rows import RowSink, Trajectory
+from lagcli.run.rows import RowSink, Tee, Trajectory
 
 
 class Interrupted(SimulationError):
@@ -96,3 +96,19 @@ AT_REST = ("initial state: the spec has no initial: values and no --init was giv
 def at_rest(initial: dict, inits: dict) -> list[str]:
     """The note that a run starts from the all-zero state only because nothing was given."""
     return [] if initial or inits else [AT_REST]
+
+
+def watched(settings, layout, sink: RowSink):
+    """`sink`, and for --method variational also the drift of the integrals
+    (`lagcli.run.variational.IntegralDrift`, the end-of-run line)."""
+    if settings.method != VARIATIONAL:
+        return sink, None
+    from lagcli.run.variational import IntegralDrift
+
+    drift = IntegralDrift(layout)
+    return Tee(sink, drift), drift
+
+
+def drift_note(drift, settings, note) -> None:
+    if drift is not None and drift.rows:
+        note(drift.summary(settings.dt, settings.steps_per_row))

@@ -17,7 +17,8 @@ import ast
 import functools
 from importlib import resources
 
-C_RUNTIME = ("lagcli_model.h", "lagcli_ode.h", "lagcli_ode.c", "lagcli_driver.h", "lagcli_driver.c")
+C_RUNTIME = ("lagcli_model.h", "lagcli_ode.h", "lagcli_ode.c", "lagcli_driver.h", "lagcli_driver.c",
+             "lagcli_variational.h", "lagcli_variational.c")
 FMI2_RUNTIME = ("fmi2Functions.h", "fmi2FunctionTypes.h", "fmi2TypesPlatform.h", "lagcli_fmi2.c")
 FMI2_LICENSE = "LICENSE.txt"
 RUST_RUNTIME = ("ode.rs", "driver.rs")
@@ -44,11 +45,21 @@ def fmi2_license() -> str:
     return _texts("fmi2", (FMI2_LICENSE,))[0][1]
 
 
-@functools.lru_cache(maxsize=1)
 def python_run_rules() -> str:
     """The code of `run_rules.py` without its module docstring: what the generated
     Python module pastes after its imports."""
-    text = resources.files(__name__).joinpath("run_rules.py").read_text(encoding="utf-8")
+    return _python_code("run_rules.py")
+
+
+def python_variational() -> str:
+    """The code of `variational.py` (the variational integrator) without its module
+    docstring: what the generated Python module pastes after the run rules."""
+    return _python_code("variational.py")
+
+
+@functools.lru_cache(maxsize=None)
+def _python_code(name: str) -> str:
+    text = resources.files(__name__).joinpath(name).read_text(encoding="utf-8")
     first_statement = ast.parse(text).body[1].lineno      # body[0] is the docstring
     lines = text.splitlines(keepends=True)
     start = first_statement - 1

@@ -102,7 +102,22 @@ def parse_text(name: str, text: str, toml: bool = False) -> RawDoc:
     """Parse spec `text` (YAML, or TOML), located as `name`; the size limit of a file holds."""
     if len(text.encode()) > MAX_BYTES:
         raise SpecError(Problem(Loc(name), f"spec text is too large (the limit is {MAX_BYTES >> 20} MiB)"))
-    return _read_toml(name, text) if toml else _read_yaml(name, text)
+    raw = _read_toml(name, text) if toml else _read_yaml(name, text)
+    _within_budget(raw)
+    return raw
+
+
+MAX_COORDINATES = 1_000   # the budget of one spec: n coordinates cost n^2 mass-matrix entries and more
+
+
+def _within_budget(raw: RawDoc) -> None:
+    """Refuse, before any work and alone, a spec beyond what one spec may cost (docs/robustness.md)."""
+    coordinates = raw.data.get("coordinates") if isinstance(raw.data, dict) else None
+    if isinstance(coordinates, list) and len(coordinates) > MAX_COORDINATES:
+        raise SpecError(Problem(raw.loc(("coordinates",)), f"too many coordinates: {len(coordinates)}, the bound "
+                                f"is {MAX_COORDINATES} (the derivation's cost grows with the {len(coordinates)}^2 "
+                                "entries of the mass matrix)", "a system this large is beyond lagcli's budget "
+                                "for one spec; split it, or reduce it"))
 
 
 def looks_like_toml(text: str) -> bool:

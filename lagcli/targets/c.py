@@ -23,7 +23,7 @@ from lagcli.targets import codegen
 from lagcli.targets.slots import SlotPrinter
 from lagcli.render.templates import render
 from lagcli.errors import Loc, Problem, SpecError
-from lagcli.interface import layout_of
+from lagcli.interface import C_METHODS, layout_of
 from lagcli.runtime.run_rules import EXPLICIT_METHODS
 from lagcli.runtime import c_runtime_files
 
@@ -77,7 +77,10 @@ def model_sources(context: dict) -> dict[str, str]:
 
 def c_context(d: Derivation, initial=None, initial_notes=()) -> dict:
     """Everything the C templates need, pre-printed."""
+    from lagcli.targets.discrete_code import variational_context
+
     context = codegen.generated_context(d, CPrinter, initial, initial_notes)
+    context.update(variational_context(d, CPrinter))     # the variational integrator's functions
     name = d.model.name
     layout = layout_of(d)
     settings = layout.settings
@@ -85,4 +88,5 @@ def c_context(d: Derivation, initial=None, initial_notes=()) -> dict:
     return dict(context, prefix=name, PREFIX=name.upper(), nsys=context["n"] + context["m"],
                 settings=settings,
                 driver_method=settings.method if settings.method in EXPLICIT_METHODS else EXPLICIT_METHODS[-1],
+                table_method=settings.method if settings.method in C_METHODS else EXPLICIT_METHODS[-1],
                 residual_column=kinds.index("residual") if "residual" in kinds else -1)

@@ -16,7 +16,7 @@ from lagcli.targets import codegen
 from lagcli.render.escape import python_string
 from lagcli.targets.slots import SlotPrinter
 from lagcli.render.templates import render
-from lagcli.runtime import python_run_rules
+from lagcli.runtime import python_run_rules, python_variational
 
 
 class PythonPrinter(SlotPrinter, PythonCodePrinter):
@@ -52,5 +52,12 @@ class PythonPrinter(SlotPrinter, PythonCodePrinter):
 def python_module(d: Derivation, initial=None, initial_notes=()) -> str:
     """The text of the generated module for `d`; `initial` (the default state, made
     consistent by the caller) and `initial_notes`: see `lagcli.targets.about.interface`."""
-    return render("python/module.py.jinja", **codegen.generated_context(d, PythonPrinter, initial, initial_notes),
-                  run_rules=python_run_rules())   # lagcli's own run rules, pasted verbatim
+    from lagcli.targets.discrete_code import merged_imports, variational_context
+
+    context = codegen.generated_context(d, PythonPrinter, initial, initial_notes)
+    variational = variational_context(d, PythonPrinter)      # the variational integrator's functions
+    if variational["variational"] is not None:
+        context["imports"] = merged_imports(context["imports"], variational["variational"].imports)
+    return render("python/module.py.jinja", **context, **variational,
+                  run_rules=python_run_rules(),               # lagcli's own run rules, pasted verbatim
+                  variational_runtime=python_variational())   # and its variational integrator

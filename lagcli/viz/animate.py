@@ -10,13 +10,18 @@ trajectory (the CSV of `lagcli simulate`, or a run made on the spot).
                         its x axis) drawn as segments +-a_i, the half-extents of the
                         uniform box with the body's inertia (a_i^2 = 3 (I_jj + I_kk - I_ii)
                         / (2 m); planar: a_x^2 = 3 I_zz / m, a rod's half-length)
-    spring              a line between its ends
+    disc                a body that is a wheel of a `rolling:` element (its radius and
+                        axis), or whose inertia is a thin disc's (I_a = I_b + I_c, I_b = I_c:
+                        radius sqrt(2 I_a / m)), is also drawn as its rim, a circle about that axis
+    spring              a line between its ends; damper: a dashed line
+    plane               the plane a `rolling:` element rolls on, translucent (3-D)
     --link A:B          a line between two points (particle or body names, or `origin`):
                         the massless rods of a pendulum, which the model does not hold
-    --trace P           the path of a point so far
+    --trace P           the path of a point so far (by default, each disc's centre's)
 
 Planar specs are drawn in the x-y plane, spatial ones in 3-D (matplotlib's mplot3d).
-The time is shown in the corner. Output: .gif (pillow), .mp4 (needs ffmpeg), or
+Each particle and body has its own colour (a fixed palette in spec order); the title is
+the spec's name, as in `simulate --plot`. The time is shown in the corner. Output: .gif (pillow), .mp4 (needs ffmpeg), or
 .png, .svg or .pdf with `--frame T` (the frame at time T: the row nearest to T).
 """
 from __future__ import annotations
@@ -36,6 +41,9 @@ ORIGIN = "origin"
 MAX_FRAMES = 600                 # a long run is thinned (every k-th row) to at most this many
 FORMATS = (".gif", ".mp4", ".png", ".svg", ".pdf")
 FRAME_FORMATS = (".png", ".svg", ".pdf")       # one frame (--frame T), as lagcli.viz.plot writes it
+PALETTE = ("tab:blue", "tab:orange", "tab:purple", "tab:red", "tab:cyan", "tab:olive", "tab:pink",
+           "tab:brown", "tab:gray", "tab:green")
+RIM_POINTS = 49                  # points of a drawn disc's rim (the first repeated)
 
 
 @dataclass(frozen=True)
@@ -46,11 +54,23 @@ class Scene:
     points: dict          # name -> f(t, y, p) -> (3,)   particles and body centres of mass
     bodies: dict          # name -> (f(t, y, p) -> (3, 3) rotation, half-extents f(p) -> (3,))
     springs: tuple        # (f_a, f_b) per spring
+    dampers: tuple = ()   # (f_a, f_b) per damper
+    discs: dict = None    # body name -> (axis index 0..2, radius f(p)) of the bodies drawn as discs
+    planes: tuple = ()    # (unit normal f(p) -> (3,), height f(p)) of each rolling element's plane
 
     def position(self, name: str, t: float, y, p) -> np.ndarray:
         if name == ORIGIN:
             return np.zeros(3)
         return np.asarray(self.points[name](t, y, p), dtype=float).reshape(3)
+
+    def rim(self, name: str, t: float, y, p) -> np.ndarray:
+        """The points of a disc's rim (RIM_POINTS x 3)."""
+        axis, radius = self.discs[name]
+        R = np.asarray(self.bodies[name][0](t, y, p), dtype=float).reshape(3, 3)
+        e1, e2 = R[:, (axis + 1) % 3], R[:, (axis + 2) % 3]
+        s = np.linspace(0.0, 2 * np.pi, RIM_POINTS)
+        r = float(np.asarray(radius(p), dtype=float).reshape(-1)[0])
+        return self.position(name, t, y, p) + r * (np.outer(np.cos(s), e1) + np.outer(np.sin(s), e2))
 
     def axes(self, name: str, t: float, y, p) -> list[tuple[np.ndarray, np.ndarray]]:
         """The body's axis segments (start, end) through its centre of mass."""
@@ -77,7 +97,32 @@ def scene_of(model) -> Scene:
         bodies[body.name] = (numeric(body.rotation),
                              sp.lambdify([list(model.parameter_symbols)], _half_extents(body, model.dimension)))
     springs = tuple((numeric(s.end_a), numeric(s.end_b)) for s in model.springs)
-    return Scene(model.dimension, points, bodies, springs)
+    dampers = tuple((numeric(d.end_a), numeric(d.end_b)) for d in model.dampers)
+    constant = lambda expr: sp.lambdify([list(model.parameter_symbols)], sp.Matrix([expr]), "numpy")
+    discs = {name: (axis, constant(radius)) for name, (axis, radius) in _discs(model).items()}
+    planes = tuple((constant(sp.Matrix(r.normal).T), constant(r.height)) for r in model.rolling)
+    return Scene(model.dimension, points, bodies, springs, dampers, discs, planes)
+
+
+def _discs(model) -> dict:
+    """{body name: (axis index, radius)} of the bodies drawn as discs: the wheels of the
+    `rolling:` elements, then the bodies whose inertia is a thin disc's about a body axis."""
+    import sympy as sp
+
+    if model.dimension != 3:
+        return {}
+    found = {r.body: ("xyz".index(r.axis), r.radius) for r in model.rolling if r.radius is not None}
+    values = model.parameter_values
+    for body in model.bodies:
+        if body.name in found:
+            continue
+        I = [float(sp.sympify(body.inertia[k, k]).xreplace(values)) if body.inertia[k, k].free_symbols
+             <= set(values) else 0.0 for k in range(3)]
+        for a in range(3):
+            b, c = I[(a + 1) % 3], I[(a + 2) % 3]
+            if I[a] > 0 and abs(I[a] - b - c) <= 1e-9 * I[a] and abs(b - c) <= 1e-9 * I[a]:
+                found[body.name] = (a, sp.sqrt(2 * body.inertia[a, a] / body.mass))
+    return found
 
 
 def _half_extents(body, dimension: int):
@@ -145,16 +190,41 @@ class Drawing:
         self.ax.set_title(plot_text(title), usetex=False)
         self._limits(three)
         plot = self.ax.plot
+        colours = {name: PALETTE[k % len(PALETTE)] for k, name in enumerate(scene.points)}
+        if three:
+            self._planes()
         self.links = [plot(*self._xyz([]), "-", color="0.35", lw=2)[0] for _ in request.links]
         self.springs = [plot(*self._xyz([]), "-", color="tab:green", lw=1.5)[0] for _ in scene.springs]
+        self.dampers = [plot(*self._xyz([]), "--", color="0.2", lw=1.5)[0] for _ in scene.dampers]
+        self.rims = {name: plot(*self._xyz([]), "-", color=colours[name], lw=2)[0] for name in (scene.discs or {})}
         self.axes = {name: [plot(*self._xyz([]), "-", color=c, lw=2)[0] for c in ("tab:red", "tab:green",
                                                                                  "tab:blue")[:1 + 2 * three]]
                      for name in scene.bodies}
-        self.traces = [plot(*self._xyz([]), "-", lw=1, alpha=0.6)[0] for _ in request.traces]
-        self.markers = {name: plot(*self._xyz([]), "o", ms=8, color="tab:blue" if name not in scene.bodies
-                                   else "black")[0] for name in scene.points}
+        # a disc's path is what explains a rolling motion: traced unless the caller chose traces
+        self.trace_names = tuple(request.traces) or tuple(scene.discs or ())
+        self.traces = [plot(*self._xyz([]), "-", lw=1, alpha=0.6, color=colours.get(name))[0]
+                       for name in self.trace_names]
+        self.markers = {name: plot(*self._xyz([]), "o", ms=8, color=colours[name])[0] for name in scene.points}
         self.clock = self.ax.text2D(0.02, 0.95, "", transform=self.ax.transAxes) if three else \
             self.ax.text(0.02, 0.95, "", transform=self.ax.transAxes)
+
+    def _planes(self) -> None:
+        """Each rolling element's plane as a translucent square over the view (fixed: it
+        does not move; a turntable's rotation is not drawn)."""
+        from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+        low, high = (np.array([getattr(self.ax, f"get_{a}lim")()[k] for a in "xyz"]) for k in (0, 1))
+        centre, half = (low + high) / 2, float((high - low).max()) / 2
+        for normal_of, height_of in self.scene.planes:
+            n = np.asarray(normal_of(self.p), dtype=float).reshape(3)
+            h = float(np.asarray(height_of(self.p), dtype=float).reshape(-1)[0])
+            foot = centre - (n @ centre - h) * n              # the view's centre projected on the plane
+            u = np.cross(n, np.eye(3)[int(np.argmin(np.abs(n)))])
+            u /= np.linalg.norm(u)
+            v = np.cross(n, u)
+            corners = [foot + half * (a * u + b * v) for a, b in ((-1, -1), (1, -1), (1, 1), (-1, 1))]
+            self.ax.add_collection3d(Poly3DCollection([corners], alpha=0.15, facecolor="tab:gray",
+                                                      edgecolor="0.6"))
 
     def _xyz(self, points):
         data = np.array(points, dtype=float).reshape(-1, 3)
@@ -174,6 +244,8 @@ class Drawing:
             every += [self.scene.position(n, self.times[k], self.states[k], self.p) for n in self.scene.points]
             every += [end for b in self.scene.bodies for seg in self.scene.axes(b, self.times[k], self.states[k],
                                                                                  self.p) for end in seg]
+            every += [point for b in (self.scene.discs or {}) for point in
+                      self.scene.rim(b, self.times[k], self.states[k], self.p)[::12]]
         box = np.array(every)
         centre, half = (box.max(0) + box.min(0)) / 2, max(float((box.max(0) - box.min(0)).max()) / 2, 1e-9) * 1.1
         for k, axis in enumerate("xyz"[:3 if three else 2]):
@@ -194,13 +266,19 @@ class Drawing:
         for (fa, fb), line in zip(scene.springs, self.springs):
             self._set(line, [np.asarray(fa(t, y, p), dtype=float).reshape(3),
                              np.asarray(fb(t, y, p), dtype=float).reshape(3)])
+        for (fa, fb), line in zip(scene.dampers, self.dampers):
+            self._set(line, [np.asarray(fa(t, y, p), dtype=float).reshape(3),
+                             np.asarray(fb(t, y, p), dtype=float).reshape(3)])
+        for name, line in self.rims.items():
+            self._set(line, list(scene.rim(name, t, y, p)))
         for name, lines in self.axes.items():
             for line, segment in zip(lines, scene.axes(name, t, y, p)):
                 self._set(line, list(segment))
-        for name, line in zip(self.request.traces, self.traces):
+        for name, line in zip(self.trace_names, self.traces):
             self._set(line, [scene.position(name, self.times[k], self.states[k], p) for k in range(row + 1)])
         self.clock.set_text(f"t = {t:.2f}")
-        return [*self.markers.values(), *self.links, *self.springs, *self.traces, self.clock,
+        return [*self.markers.values(), *self.links, *self.springs, *self.dampers, *self.rims.values(),
+                *self.traces, self.clock,
                 *(line for lines in self.axes.values() for line in lines)]
 
 

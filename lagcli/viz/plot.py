@@ -140,7 +140,7 @@ def build_figure(traj: Trajectory, coordinates, energy_conserved: bool, title: s
     header, rows = parse_csv(traj.csv_text())
     data = np.array(rows, dtype=float).reshape(len(rows), len(header))
     column = {name: data[:, i] for i, name in enumerate(header)}
-    panels = _panels(header, coordinates, options)
+    panels = by_scale(_panels(header, coordinates, options), column)
     series = drift_series(header, energy_conserved)
     phase = _phase_names(options.phase, coordinates)
     count = len(panels) + bool(series)
@@ -180,6 +180,27 @@ def _panels(header, coordinates, options: PlotOptions) -> list[tuple[str, list[s
     kinds = {name: column_kind(name, coordinates, options.angles) for name in chosen}
     return [(label, [n for n in chosen if kinds[n] == kind]) for kind, label in PANELS
             if any(kinds[n] == kind for n in chosen)]
+
+
+SCALE_SPLIT = 20.0     # columns whose ranges differ by more than this share no panel
+
+
+def by_scale(panels, column) -> list[tuple[str, list[str]]]:
+    """Each panel split by scale: columns sorted by their range (max - min) start a new
+    panel (same label) when their range exceeds SCALE_SPLIT times the range of the
+    panel's smallest, so that a fast-spinning wheel's angle (hundreds of rad) does not
+    flatten the tilt (tenths) to a line. Spec order is kept within a panel."""
+    out = []
+    for label, names in panels:
+        spans = {n: float(column[n].max() - column[n].min()) if len(column[n]) else 0.0 for n in names}
+        groups: list[list[str]] = []
+        for name in sorted(names, key=lambda n: spans[n]):
+            if groups and spans[name] <= SCALE_SPLIT * max(spans[groups[-1][0]], 1e-300):
+                groups[-1].append(name)
+            else:
+                groups.append([name])
+        out += [(label, [n for n in names if n in group]) for group in groups]
+    return out
 
 
 def _phase_names(phase, coordinates) -> list[tuple[str, str]]:

@@ -2,8 +2,8 @@
  * of `lagcli simulate`. Shipped with lagcli (lagcli/runtime/c/) and copied next to every
  * generated C model; C99 + libm. The model is a lagcli_model (lagcli_model.h).
  *
- *   ./<name> [--t-end T] [--dt DT] [--method RK45|DOP853] [--rtol R] [--atol A]
- *       [--set NAME=VALUE]... [--init NAME=VALUE]... [--baumgarte ALPHA BETA]
+ *   ./<name> [--t-end T] [--dt DT] [--method RK45|DOP853|variational] [--rtol R] [--atol A]
+ *       [--set NAME=VALUE]... [--init NAME=VALUE]... [--baumgarte ALPHA BETA] [--steps-per-row K]
  *
  * Defaults: the model's (the spec's simulate: and initial: blocks), Baumgarte
  * alpha = beta = LAGCLI_BAUMGARTE. Integrates from t = 0 and prints a header (t, state,
@@ -17,6 +17,10 @@
  * Constrained models: the step is capped at 1/|lambda| of the Baumgarte-damped
  * constraint error (max_step), and an initial state that violates the constraints by
  * more than LAGCLI_CONSTRAINT_TOLERANCE is integrated as given, with a warning on stderr.
+ * --method variational: lagcli_variational.c, K = --steps-per-row fixed steps of (the interval
+ * between output times) / K, carrying (q, p) from row to row; the rows' multipliers are those of
+ * the exact equations (alpha = beta = 0). A model without the variational functions
+ * (nonholonomic constraints) refuses it with exit status 2.
  *
  * The numbers below are the C side of lagcli/interface.py (tests/test_c_runtime.py
  * checks that both say the same).
@@ -29,13 +33,14 @@
 
 #include "lagcli_driver.h"
 #include "lagcli_ode.h"
+#include "lagcli_variational.h"
 
 #define LAGCLI_OUTPUT_SLACK 1e-9          /* t_end/dt this close below an integer reaches it */
 #define LAGCLI_END_TOLERANCE 1e-12        /* relative: a last t_k this close to t_end is t_end */
 #define LAGCLI_CONSTRAINT_TOLERANCE 1e-08 /* largest |constraint| of a consistent initial state */
 #define LAGCLI_CONSTRAINT_TOLERANCE_TEXT "1e-08"
 #define LAGCLI_BAUMGARTE 10.0             /* default alpha = beta of the constraint stabilisation */
-#define LAGCLI_METHODS "RK45|DOP853"      /* the explicit methods lagcli_ode implements */
+#define LAGCLI_METHODS "RK45|DOP853|variational"   /* lagcli_ode's explicit methods, lagcli_variational */
 #define LAGCLI_WINDOW 65536               /* output times per integration (see the top) */
 #define LAGCLI_MAX_EXCEED 16              /* --exceed options of a batch */
 #define LAGCLI_STEP_BUDGET_BASE 20000     /* default --max-steps: this many steps ... */
@@ -58,6 +63,7 @@ typedef struct {
     const char *method;
     double max_steps; /* --max-steps: accepted steps a run may take (0: the default rule) */
     long bench;    /* --bench-integration N: time N silent integrations instead of printing */
+    long steps_per_row;   /* --steps-per-row K (variational) */
     int batch;     /* --batch: many runs read from stdin (batch_main); 2 with --batch-rows */
     int nexceed;   /* --exceed NAME=VALUE: first time |NAME| > VALUE, in the batch summaries */
     int exceed_index[LAGCLI_MAX_EXCEED];
@@ -128,7 +134,7 @@ static int usage(const char *program, const char *problem)
     fprintf(problem != NULL ? stderr : stdout,
             "usage: %s [--t-end T] [--dt DT] [--method " LAGCLI_METHODS "] [--rtol R] [--atol A]\n"
             "       [--set NAME=VALUE]... [--init NAME=VALUE]... [--baumgarte ALPHA BETA]\n"
-            "       [--max-steps N]\n",
+            "       [--max-steps N] [--steps-per-row K]   (variational: K fixed steps between rows)\n",
             program);
     return problem != NULL ? 2 : 0;
 }
@@ -207,9 +213,14 @@ static int parse(int argc, char **argv, run_settings *s, run_state *run, double 
             if (!number(v, &s->atol) || !(s->atol > 0))
                 return usage(argv[0], "--atol: expected a positive number");
         } else if ((v = option(argc, argv, &i, "--method", &missing)) != NULL) {
-            if (strcmp(v, "RK45") != 0 && strcmp(v, "DOP853") != 0)
-                return usage(argv[0], "--method: the C driver implements RK45 and DOP853");
+            if (strcmp(v, "RK45") != 0 && strcmp(v, "DOP853") != 0 && strcmp(v, "variational") != 0)
+                return usage(argv[0], "--method: the C driver implements RK45, DOP853 and variational");
             s->method = v;
+        } else if ((v = option(argc, argv, &i, "--steps-per-row", &missing)) != NULL) {
+            double count;
+            if (!number(v, &count) || count < 1 || count > 1e9 || count != floor(count))
+                return usage(argv[0], "--steps-per-row: expected a whole number from 1 to 1000000000");
+            s->steps_per_row = (long)count;
         } else if ((v = option(argc, argv, &i, "--set", &missing)) != NULL) {
             if (!assign("--set", v, run->model->parameter_names, "parameter", run->p, message))
                 return usage(argv[0], message);
@@ -369,11 +380,15 @@ static int bench(const run_settings *s, run_state *run, const double *y0)
     return 0;
 }
 
+static int variational(const run_settings *s, run_state *run, const double *y0);
+
 /* Integrate from y0 and print the rows; the exit status. */
 static int integrate(const run_settings *s, run_state *run, const double *y0)
 {
     lagcli_ode_stats stats;
     int rc;
+    if (strcmp(s->method, "variational") == 0)
+        return variational(s, run, y0);
     if (s->bench > 0)
         return bench(s, run, y0);
     setvbuf(stdout, NULL, _IOFBF, 1 << 16);
@@ -430,11 +445,17 @@ int lagcli_driver_main(const lagcli_model *model, int argc, char **argv)
     s.atol = model->atol;
     s.max_steps = 0;
     s.bench = 0;
+    s.steps_per_row = 1;
     s.batch = 0;
     s.nexceed = 0;
     if ((rc = parse(argc, argv, &s, &run, y0)) == 0) {
         if (s.t_end / s.dt > 1e8) {
             rc = usage(argv[0], "--dt: more than 1e8 output rows");
+        } else if (strcmp(s.method, "variational") == 0 && model->discrete_momenta == NULL) {
+            fprintf(stderr, "error: %s\n", model->variational_refusal);
+            rc = 2;
+        } else if (s.batch && strcmp(s.method, "variational") == 0) {
+            rc = usage(argv[0], "--batch: runs RK45 or DOP853");
         } else if (s.batch) {
             rc = batch_main(&s, &run, y0);
         } else {
@@ -711,4 +732,71 @@ static int batch_main(const run_settings *s, run_state *run, const double *y0)
     }
     free(work);
     return rc;
+}
+
+/* ---- --method variational (lagcli_variational.c) -------------------------------------- */
+
+/* The rows (or, with --bench-integration, nothing) of one variational run from y0. */
+static int variational_run(const run_settings *s, run_state *run, const double *y0, int rows,
+                           long *steps, long *iterations)
+{
+    lagcli_variational v;
+    output_times times = times_of(s->t_end, s->dt);
+    double t_row = 0.0;
+    size_t k;
+    long j;
+    int rc = lagcli_variational_start(&v, run->model, run->p, y0);
+    for (k = 1; rc == LAGCLI_VARIATIONAL_OK && k < times.count; ++k) {
+        double t_next = time_at(&times, k), h = (t_next - t_row) / (double)s->steps_per_row;
+        if ((double)k * (double)s->steps_per_row > (double)step_budget(s)) {
+            lagcli_variational_free(&v);
+            fprintf(stderr, "error: at t = %.10g: " STEP_BUDGET_TEXT "\n", t_row, step_budget(s));
+            return 1;
+        }
+        for (j = 0; rc == LAGCLI_VARIATIONAL_OK && j < s->steps_per_row; ++j)
+            rc = lagcli_variational_step(&v, t_row + (double)j * h, h);
+        t_row = t_next;
+        if (rc == LAGCLI_VARIATIONAL_OK && rows && row(t_next, v.y, run) != 0) {
+            lagcli_variational_free(&v);
+            fprintf(stderr, "error: at t = %.10g: %s\n", run->when, reason(run->code));
+            return 1;
+        }
+    }
+    if (rc != LAGCLI_VARIATIONAL_OK)
+        fprintf(stderr, "error: at t = %.10g: %s\n", v.t_fail, v.message);
+    *steps = v.steps;
+    *iterations = v.iterations;
+    lagcli_variational_free(&v);
+    return rc == LAGCLI_VARIATIONAL_OK ? 0 : 1;
+}
+
+/* --method variational: the rows, or --bench-integration's timing (steps and Newton
+ * iterations in place of nfev). */
+static int variational(const run_settings *s, run_state *run, const double *y0)
+{
+    long steps = 0, iterations = 0, k;
+    double best = HUGE_VAL, total = 0.0, seconds;
+    clock_t start;
+    run->alpha = run->beta = 0.0;     /* the rows' multipliers: the exact equations' */
+    if (s->bench == 0) {
+        setvbuf(stdout, NULL, _IOFBF, 1 << 16);
+        header(run->model);
+        if (row(0.0, y0, run) != 0) {
+            fprintf(stderr, "error: at t = %.10g: %s\n", run->when, reason(run->code));
+            return 1;
+        }
+        return variational_run(s, run, y0, 1, &steps, &iterations);
+    }
+    for (k = 0; k < s->bench; ++k) {
+        start = clock();
+        if (variational_run(s, run, y0, 0, &steps, &iterations) != 0)
+            return 1;
+        seconds = (double)(clock() - start) / CLOCKS_PER_SEC;
+        total += seconds;
+        if (seconds < best)
+            best = seconds;
+    }
+    fprintf(stderr, "integration: method variational, runs %ld, mean_s %.9g, min_s %.9g, steps %ld, "
+            "iterations %ld\n", s->bench, total / (double)s->bench, best, steps, iterations);
+    return 0;
 }

@@ -13,6 +13,14 @@ extern "C" {
 typedef int (*lagcli_rhs_stabilized_fn)(double t, const double *y, const double *p, double alpha,
                                         double beta, double *dydt, double *lambda);
 typedef int (*lagcli_invariants_fn)(double t, const double *y, const double *p, double *out);
+/* The variational integrator's (lagcli_variational.c): g = dL/dq', f = dL/dq + Q'; their
+ * Jacobians (n x n each); phi, A = dphi/dq, phi_t of the holonomic rows; M. */
+typedef int (*lagcli_discrete_momenta_fn)(double t, const double *y, const double *p, double *g, double *f);
+typedef int (*lagcli_discrete_jacobian_fn)(double t, const double *y, const double *p, double *gq,
+                                           double *gv, double *fq, double *fv);
+typedef int (*lagcli_holonomic_fn)(double t, const double *y, const double *p, double *phi, double *A,
+                                   double *phit);
+typedef int (*lagcli_matrix_fn)(double t, const double *y, const double *p, double *M);
 
 typedef struct {
     const char *name;                       /* the spec's name */
@@ -28,9 +36,15 @@ typedef struct {
     int residual_column;                    /* index of constraint_residual in the invariants, or -1 */
     const double *initial_state;            /* nstate values: the spec's initial: block */
     double t_end, dt, rtol, atol;           /* the spec's simulate: block (with lagcli's defaults) */
-    const char *method;                     /* an explicit method the C integrator implements */
+    const char *method;                     /* a method the C driver implements */
     lagcli_rhs_stabilized_fn rhs_stabilized;
     lagcli_invariants_fn invariants;
+    int nholonomic;                         /* holonomic constraint rows */
+    lagcli_discrete_momenta_fn discrete_momenta;    /* NULL (and the next two) when the */
+    lagcli_discrete_jacobian_fn discrete_jacobian;  /* variational integrator cannot run: */
+    lagcli_holonomic_fn holonomic;                  /* variational_refusal says why */
+    lagcli_matrix_fn mass_matrix;
+    const char *variational_refusal;       /* NULL, or why --method variational is refused */
 } lagcli_model;
 
 #ifdef __cplusplus

@@ -222,6 +222,91 @@ int double_pendulum_constraint_bias(double t, const double *y, const double *p, 
     return double_pendulum_all_finite(DOUBLE_PENDULUM_NLAMBDA, b) ? 0 : 2;
 }
 
+/* The variational integrator's (lagcli_variational.c): g = dL/dq' = M q' + a and
+ * f = dL/dq + Q' at (t, y = [q, q']). */
+static int double_pendulum_discrete_momenta(double t, const double *y, const double *p, double *g, double *f)
+{
+(void)t;
+    (void)y;
+    (void)p;
+    const double x0 = p[0] + p[1];
+    const double x1 = sin(y[0]);
+    const double x2 = cos(y[0]);
+    const double x3 = p[2]*y[2];
+    const double x4 = sin(y[1]);
+    const double x5 = cos(y[1]);
+    const double x6 = x1*x4 + x2*x5;
+    const double x7 = p[3]*y[3];
+    const double x8 = x7*p[1];
+    const double x9 = x6*x8;
+    const double x10 = x3*x6;
+    const double x11 = p[3]*p[1];
+    const double x12 = x0*p[4];
+    const double x13 = x1*x5 - x2*x4;
+    const double x14 = x13*x8;
+
+    g[0] = p[2]*(x0*x3*((x1*x1) + (x2*x2)) + x9);
+    g[1] = x11*(x10 + x7*((x4*x4) + (x5*x5)));
+
+    f[0] = -p[2]*(x1*x12 + x14*y[2]);
+    f[1] = x11*(x13*p[2]*y[2]*y[3] - x4*p[4]);
+
+    return double_pendulum_all_finite(2, g) && double_pendulum_all_finite(2, f) ? 0 : 2;
+}
+
+/* dg/dq, dg/dq', df/dq, df/dq' (2 x 2, row-major): the Newton iteration's Jacobian. */
+static int double_pendulum_discrete_jacobian(double t, const double *y, const double *p, double *gq, double *gv,
+                        double *fq, double *fv)
+{
+(void)t;
+    (void)y;
+    (void)p;
+    const double x0 = p[0] + p[1];
+    const double x1 = sin(y[0]);
+    const double x2 = cos(y[0]);
+    const double x3 = p[2]*y[2];
+    const double x4 = sin(y[1]);
+    const double x5 = cos(y[1]);
+    const double x6 = x1*x4 + x2*x5;
+    const double x7 = p[3]*y[3];
+    const double x8 = x7*p[1];
+    const double x9 = x6*x8;
+    const double x10 = x3*x6;
+    const double x11 = p[3]*p[1];
+    const double x12 = x0*p[4];
+    const double x13 = x1*x5 - x2*x4;
+    const double x14 = x13*x8;
+    const double x15 = x14*p[2];
+    const double x16 = -x15;
+    const double x17 = x11*x13*x3;
+    const double x18 = -x17;
+    const double x19 = x11*x6*p[2];
+    const double x20 = x10*x8;
+
+    gq[0] = x16;
+    gq[1] = x15;
+    gq[2] = x18;
+    gq[3] = x17;
+
+    gv[0] = x0*(p[2]*p[2]);
+    gv[1] = x19;
+    gv[2] = x19;
+    gv[3] = (p[3]*p[3])*p[1];
+
+    fq[0] = -p[2]*(x12*x2 + x9*y[2]);
+    fq[1] = x20;
+    fq[2] = x20;
+    fq[3] = -x11*(x10*y[3] + x5*p[4]);
+
+    fv[0] = x16;
+    fv[1] = x18;
+    fv[2] = x15;
+    fv[3] = x17;
+
+    return double_pendulum_all_finite(4, gq) && double_pendulum_all_finite(4, gv)
+        && double_pendulum_all_finite(4, fq) && double_pendulum_all_finite(4, fv) ? 0 : 2;
+}
+
 const lagcli_model double_pendulum_model = {
     "double_pendulum",
     DOUBLE_PENDULUM_NQ, DOUBLE_PENDULUM_NSTATE, DOUBLE_PENDULUM_NPARAM, DOUBLE_PENDULUM_NLAMBDA, DOUBLE_PENDULUM_NINV,
@@ -235,4 +320,8 @@ const lagcli_model double_pendulum_model = {
     10.0, 0.01, 1e-10, 1e-12,
     "DOP853",
     double_pendulum_rhs_stabilized,
-    double_pendulum_invariants};
+    double_pendulum_invariants,
+    0, double_pendulum_discrete_momenta, double_pendulum_discrete_jacobian,
+    NULL,
+    double_pendulum_mass_matrix,
+    NULL};

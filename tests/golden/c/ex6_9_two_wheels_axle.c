@@ -251,4 +251,7 @@ const lagcli_model ex6_9_two_wheels_axle_model = {
     10.0, 0.01, 1e-09, 1e-12,
     "DOP853",
     ex6_9_two_wheels_axle_rhs_stabilized,
-    ex6_9_two_wheels_axle_invariants};
+    ex6_9_two_wheels_axle_invariants,
+    0, NULL, NULL, NULL,
+    ex6_9_two_wheels_axle_mass_matrix,
+    "--method variational: constraint 1 (x_dot*sin(phi) - y_dot*cos(phi) = 0) is nonholonomic; the variational integrator enforces holonomic constraints only\012  hint: use --method DOP853 (or Radau) for this system"};

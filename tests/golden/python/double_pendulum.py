@@ -16,7 +16,8 @@
     accelerations(t, y, p, alpha=0.0, beta=0.0) -> (q'', lambda)    Baumgarte-stabilised
     mass_matrix, forcing, constraint_matrix, constraint_bias, invariants (t, y, p)
     simulate(t_end=None, dt=None, method=None, rtol=None, atol=None, p=None, y0=None,
-             baumgarte=BAUMGARTE) -> (header, rows)
+             baumgarte=BAUMGARTE, steps_per_row=1) -> (header, rows)
+             method="variational": lagcli's variational integrator, step dt / steps_per_row
 """
 from math import cos, sin
 
@@ -64,6 +65,123 @@ def max_step(method, alpha, beta, constrained):
     return 1.0 / rate if rate > 0 else math.inf
 
 
+# --- lagcli's variational integrator (lagcli/runtime/variational.py) ---
+import numpy as np
+
+NEWTON_TOLERANCE = 1e-12      # relative size of the last Newton update
+NEWTON_MAX_ITERATIONS = 30    # Newton converges quadratically: far fewer when dt suits the motion
+
+
+class VariationalFailure(ArithmeticError):
+    """A step of the variational integrator failed at time `t` for `reason`."""
+
+    def __init__(self, t, reason):
+        super().__init__(f"at t = {t:.10g}: {reason}")
+        self.t, self.reason = t, reason
+
+
+class VariationalStats:
+    """Counts of a run: steps, Newton iterations (each one evaluation of the momenta
+    and of their Jacobian)."""
+
+    def __init__(self):
+        self.steps = 0
+        self.iterations = 0
+
+
+def variational_step(f, t, h, q, v, p, stats=None):
+    """One step from (q, v, p) at t to t + h: (q1, v1, p1). Raises VariationalFailure."""
+    n, t1, half = len(q), t + h, 0.5 * h
+    qdd, lam = f.accelerations(t, q, v)
+    q1 = q + h * v + half * h * np.asarray(qdd, dtype=float)
+    _, A0, _ = f.holonomic(t, q)
+    mu = np.array(lam, dtype=float)
+    d = len(mu)
+    for iteration in range(1, NEWTON_MAX_ITERATIONS + 1):
+        qm, vm = 0.5 * (q + q1), (q1 - q) / h
+        g, rate = f.momenta(t + half, qm, vm)
+        gq, gv, fq, fv = f.jacobian(t + half, qm, vm)
+        J = np.zeros((n + d, n + d))
+        J[:n, :n] = 0.5 * (gq - half * fq) + (gv - half * fv) / h
+        R = np.empty(n + d)
+        R[:n] = g - half * rate - p
+        if d:
+            phi, A1, _ = f.holonomic(t1, q1)
+            R[:n] -= half * (A0.T @ mu)
+            R[n:] = phi
+            J[:n, n:] = -half * A0.T
+            J[n:, :n] = A1
+        dx = _solve(J, -R, t, "the Newton iteration's Jacobian is singular")
+        q1, mu = q1 + dx[:n], mu + dx[n:]
+        if stats is not None:
+            stats.iterations += 1
+        if not (np.all(np.isfinite(q1)) and np.all(np.isfinite(mu))):
+            raise VariationalFailure(t, "the Newton iteration diverged (inf/nan); reduce dt")
+        if _small(dx[:n], q1) and _small(dx[n:], mu):
+            break
+    else:
+        raise VariationalFailure(t, f"the Newton iteration did not converge in {NEWTON_MAX_ITERATIONS} "
+                                 f"iterations (step {h:.6g}); reduce dt")
+    rate = f.momenta(t + half, 0.5 * (q + q1), (q1 - q) / h)[1]
+    # p1 = g + h/2 f (+ the constraint impulses), written as the momentum balance over the
+    # step: a momentum whose force is zero (f_s = 0, no constraint on q_s) is kept exactly
+    P = p + h * rate
+    if d:
+        P = P + half * (A0.T @ mu)
+    v1, p1 = _legendre(f, t1, q1, P, t)
+    if stats is not None:
+        stats.steps += 1
+    return q1, v1, p1
+
+
+def _legendre(f, t1, q1, P, t):
+    """(v1, p1) at (t1, q1) from the momentum P before the constraint impulse: M v1 = P - a
+    + A^T s with A v1 + phi_t = 0 (the velocity-level constraint), p1 = P + A^T s."""
+    n = len(q1)
+    a = f.momenta(t1, q1, np.zeros(n))[0]
+    M = f.mass(t1, q1)
+    _, A, rate = f.holonomic(t1, q1)
+    d = len(rate)
+    K = np.zeros((n + d, n + d))
+    K[:n, :n] = M
+    K[:n, n:] = -A.T
+    K[n:, :n] = A
+    x = _solve(K, np.concatenate((P - a, -np.asarray(rate, dtype=float))), t,
+               "the mass matrix (with the constraints) is singular at the new point")
+    return x[:n], P + A.T @ x[n:]
+
+
+def _solve(K, r, t, reason):
+    try:
+        x = np.linalg.solve(K, r)
+    except np.linalg.LinAlgError:
+        raise VariationalFailure(t, f"{reason}; reduce dt") from None
+    if not np.all(np.isfinite(x)):
+        raise VariationalFailure(t, "the Newton iteration diverged (inf/nan); reduce dt")
+    return x
+
+
+def _small(dx, x):
+    return not len(dx) or float(np.max(np.abs(dx))) <= NEWTON_TOLERANCE * (1.0 + float(np.max(np.abs(x))))
+
+
+def variational_rows(f, y0, windows, steps_per_row=1, stats=None):
+    """(t, y) at each output time of `windows` (output_time_windows: the first time is 0),
+    y = [q..., q'...], taking `steps_per_row` equal steps between consecutive output times."""
+    n = len(y0) // 2
+    q, v = np.array(y0[:n], dtype=float), np.array(y0[n:], dtype=float)
+    p = np.asarray(f.momenta(0.0, q, v)[0], dtype=float)
+    t_row = None
+    for window in windows:
+        for t_next in window:
+            if t_row is not None:
+                h = (t_next - t_row) / steps_per_row
+                for j in range(steps_per_row):
+                    q, v, p = variational_step(f, t_row + j * h, h, q, v, p, stats)
+            t_row = t_next
+            yield t_next, np.concatenate((q, v))
+
+
 NAME = 'double_pendulum'
 SPEC_FILE = 'double_pendulum.yaml'
 LAGCLI_VERSION = '0.1.0'
@@ -81,6 +199,7 @@ INVARIANTS = ['energy', 'jacobi']
 INITIAL = [1.0, 0.5, 0.0, 0.0]
 SETTINGS = {'t_end': 10.0, 'dt': 0.01, 'method': 'DOP853', 'rtol': 1e-10, 'atol': 1e-12}
 BAUMGARTE = (10.0, 10.0)
+VARIATIONAL_REFUSAL = None
 
 _N = 2
 _DEFAULTS = list(PARAMETERS.values())
@@ -208,10 +327,116 @@ def invariants(t, y, p):
     }
 
 
+def _discrete_momenta(t, y, p, u):
+    """(g, f): g = dL/dq' = M q' + a and f = dL/dq + Q' (the variational integrator's)."""
+    x0 = p[0] + p[1]
+    x1 = sin(y[0])
+    x2 = cos(y[0])
+    x3 = p[2]*y[2]
+    x4 = sin(y[1])
+    x5 = cos(y[1])
+    x6 = x1*x4 + x2*x5
+    x7 = p[3]*y[3]
+    x8 = x7*p[1]
+    x9 = x6*x8
+    x10 = x3*x6
+    x11 = p[3]*p[1]
+    x12 = x0*p[4]
+    x13 = x1*x5 - x2*x4
+    x14 = x13*x8
+    return (np.array([p[2]*(x0*x3*((x1*x1) + (x2*x2)) + x9), x11*(x10 + x7*((x4*x4) + (x5*x5)))], dtype=float),
+            np.array([-p[2]*(x1*x12 + x14*y[2]), x11*(x13*p[2]*y[2]*y[3] - x4*p[4])], dtype=float))
+
+
+def _discrete_jacobian(t, y, p, u):
+    """(dg/dq, dg/dq', df/dq, df/dq'), each (2, 2): the Newton iteration's Jacobian."""
+    x0 = p[0] + p[1]
+    x1 = sin(y[0])
+    x2 = cos(y[0])
+    x3 = p[2]*y[2]
+    x4 = sin(y[1])
+    x5 = cos(y[1])
+    x6 = x1*x4 + x2*x5
+    x7 = p[3]*y[3]
+    x8 = x7*p[1]
+    x9 = x6*x8
+    x10 = x3*x6
+    x11 = p[3]*p[1]
+    x12 = x0*p[4]
+    x13 = x1*x5 - x2*x4
+    x14 = x13*x8
+    x15 = x14*p[2]
+    x16 = -x15
+    x17 = x11*x13*x3
+    x18 = -x17
+    x19 = x11*x6*p[2]
+    x20 = x10*x8
+    return (np.array([x16, x15, x18, x17], dtype=float).reshape(2, 2),
+            np.array([x0*(p[2]*p[2]), x19, x19, (p[3]*p[3])*p[1]], dtype=float).reshape(2, 2),
+            np.array([-p[2]*(x12*x2 + x9*y[2]), x20, x20, -x11*(x10*y[3] + x5*p[4])], dtype=float).reshape(2, 2),
+            np.array([x16, x18, x15, x17], dtype=float).reshape(2, 2))
+
+
+def _holonomic(t, y, p, u):
+    """(phi, A, phi_t) of the 0 holonomic constraint rows."""
+    return (np.array([], dtype=float),
+            np.array([], dtype=float).reshape(0, 2),
+            np.array([], dtype=float))
+
+
+class _VariationalModel:
+    """The model as the variational integrator's callables of (t, q, v), at p (and u)."""
+
+    def __init__(self, p, u):
+        self.p, self.u = p, u
+
+    def momenta(self, t, q, v):
+        return _discrete_momenta(t, q.tolist() + v.tolist(), self.p, self.u)
+
+    def jacobian(self, t, q, v):
+        return _discrete_jacobian(t, q.tolist() + v.tolist(), self.p, self.u)
+
+    def holonomic(self, t, q):
+        return _holonomic(t, q.tolist() + [0.0] * _N, self.p, self.u)
+
+    def mass(self, t, q):
+        return mass_matrix(t, q.tolist() + [0.0] * _N, self.p)
+
+    def accelerations(self, t, q, v):
+        return accelerations(t, q.tolist() + v.tolist(), self.p)
+
+
+def variational_model(p=None):
+    """The model as lagcli's variational integrator takes it (`variational_rows`), at the
+    parameters p; ValueError when the system has nonholonomic constraints."""
+    if VARIATIONAL_REFUSAL is not None:
+        raise ValueError(VARIATIONAL_REFUSAL)
+    return _VariationalModel(_parameters(p), None)
+
+
+def _simulate_variational(t_end, dt, p, y0, steps_per_row, u=None):
+    """`simulate(method="variational")`: the rows at the output times (multipliers of the
+    exact equations at each row's state)."""
+    f = variational_model(p)
+    if steps_per_row != int(steps_per_row) or steps_per_row < 1:
+        raise ValueError(f"steps_per_row must be a whole number >= 1, got {steps_per_row!r}")
+    rows = []
+    try:
+        for t, y in variational_rows(f, y0, output_time_windows(t_end, dt), int(steps_per_row)):
+            lam = accelerations(t, y, p)[1]
+            values = invariants(t, y, p)
+            rows.append([t, *y, *lam, *(values[name] for name in INVARIANTS)])
+    except VariationalFailure as exc:
+        raise RuntimeError(str(exc)) from None
+    return ["t", *STATE, *MULTIPLIERS, *INVARIANTS], np.array(rows)
+
+
 def simulate(t_end=None, dt=None, method=None, rtol=None, atol=None, p=None, y0=None,
-             baumgarte=BAUMGARTE):
-    """Integrate from t = 0 with scipy's solve_ivp; returns (header, rows) like the CSV of
-    `lagcli simulate` (rows: t, state, multipliers, invariants). Raises RuntimeError on failure."""
+             baumgarte=BAUMGARTE, steps_per_row=1):
+    """Integrate from t = 0 with scipy's solve_ivp, or with method="variational" with lagcli's
+    variational integrator (steps_per_row fixed steps of dt / steps_per_row between rows);
+    returns (header, rows) like the CSV of `lagcli simulate` (rows: t, state, multipliers,
+    invariants). Raises RuntimeError on failure."""
     from scipy.integrate import solve_ivp
 
     s = SETTINGS
@@ -220,12 +445,14 @@ def simulate(t_end=None, dt=None, method=None, rtol=None, atol=None, p=None, y0=
     p = _parameters(p)
     alpha, beta = baumgarte
     y0 = list(INITIAL if y0 is None else y0)
+    method = method or s["method"]
+    if method == "variational":
+        return _simulate_variational(t_end, dt, p, y0, steps_per_row)
 
     def fun(t, y):
         return np.concatenate((y[_N:], accelerations(t, y, p, alpha, beta)[0]))
 
     times = output_times(t_end, dt)
-    method = method or s["method"]
     solution = solve_ivp(fun, (0.0, t_end), y0, method=method, t_eval=times,
                          rtol=s["rtol"] if rtol is None else rtol,
                          atol=s["atol"] if atol is None else atol,

@@ -16,7 +16,8 @@
     accelerations(t, y, p, alpha=0.0, beta=0.0) -> (q'', lambda)    Baumgarte-stabilised
     mass_matrix, forcing, constraint_matrix, constraint_bias, invariants (t, y, p)
     simulate(t_end=None, dt=None, method=None, rtol=None, atol=None, p=None, y0=None,
-             baumgarte=BAUMGARTE) -> (header, rows)
+             baumgarte=BAUMGARTE, steps_per_row=1) -> (header, rows)
+             method="variational": lagcli's variational integrator, step dt / steps_per_row
 """
 from math import cos, sin
 
@@ -78,6 +79,7 @@ INVARIANTS = ['energy', 'jacobi', 'p_phi', 'constraint_residual']
 INITIAL = [0.0, 0.0, 0.0, 1.0, 0.0, 2.0]
 SETTINGS = {'t_end': 10.0, 'dt': 0.01, 'method': 'DOP853', 'rtol': 1e-09, 'atol': 1e-12}
 BAUMGARTE = (10.0, 10.0)
+VARIATIONAL_REFUSAL = '--method variational: constraint 1 (x_dot*sin(phi) - y_dot*cos(phi) = 0) is nonholonomic; the variational integrator enforces holonomic constraints only\n  hint: use --method DOP853 (or Radau) for this system'
 
 _N = 3
 _DEFAULTS = list(PARAMETERS.values())
@@ -191,10 +193,36 @@ def invariants(t, y, p):
     }
 
 
+def variational_model(p=None):
+    """The model as lagcli's variational integrator takes it (`variational_rows`), at the
+    parameters p; ValueError when the system has nonholonomic constraints."""
+    if VARIATIONAL_REFUSAL is not None:
+        raise ValueError(VARIATIONAL_REFUSAL)
+
+
+def _simulate_variational(t_end, dt, p, y0, steps_per_row, u=None):
+    """`simulate(method="variational")`: the rows at the output times (multipliers of the
+    exact equations at each row's state)."""
+    f = variational_model(p)
+    if steps_per_row != int(steps_per_row) or steps_per_row < 1:
+        raise ValueError(f"steps_per_row must be a whole number >= 1, got {steps_per_row!r}")
+    rows = []
+    try:
+        for t, y in variational_rows(f, y0, output_time_windows(t_end, dt), int(steps_per_row)):
+            lam = accelerations(t, y, p)[1]
+            values = invariants(t, y, p)
+            rows.append([t, *y, *lam, *(values[name] for name in INVARIANTS)])
+    except VariationalFailure as exc:
+        raise RuntimeError(str(exc)) from None
+    return ["t", *STATE, *MULTIPLIERS, *INVARIANTS], np.array(rows)
+
+
 def simulate(t_end=None, dt=None, method=None, rtol=None, atol=None, p=None, y0=None,
-             baumgarte=BAUMGARTE):
-    """Integrate from t = 0 with scipy's solve_ivp; returns (header, rows) like the CSV of
-    `lagcli simulate` (rows: t, state, multipliers, invariants). Raises RuntimeError on failure."""
+             baumgarte=BAUMGARTE, steps_per_row=1):
+    """Integrate from t = 0 with scipy's solve_ivp, or with method="variational" with lagcli's
+    variational integrator (steps_per_row fixed steps of dt / steps_per_row between rows);
+    returns (header, rows) like the CSV of `lagcli simulate` (rows: t, state, multipliers,
+    invariants). Raises RuntimeError on failure."""
     from scipy.integrate import solve_ivp
 
     s = SETTINGS
@@ -203,12 +231,14 @@ def simulate(t_end=None, dt=None, method=None, rtol=None, atol=None, p=None, y0=
     p = _parameters(p)
     alpha, beta = baumgarte
     y0 = list(INITIAL if y0 is None else y0)
+    method = method or s["method"]
+    if method == "variational":
+        return _simulate_variational(t_end, dt, p, y0, steps_per_row)
 
     def fun(t, y):
         return np.concatenate((y[_N:], accelerations(t, y, p, alpha, beta)[0]))
 
     times = output_times(t_end, dt)
-    method = method or s["method"]
     solution = solve_ivp(fun, (0.0, t_end), y0, method=method, t_eval=times,
                          rtol=s["rtol"] if rtol is None else rtol,
                          atol=s["atol"] if atol is None else atol,

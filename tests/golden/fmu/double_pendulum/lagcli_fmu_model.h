@@ -15,7 +15,7 @@
 #include "double_pendulum.h"
 
 #define LAGCLI_FMU_MODEL double_pendulum_model
-#define LAGCLI_FMU_GUID "{9145e2e8-fa9e-eb18-86e6-cb67db399b1e}"
+#define LAGCLI_FMU_GUID "{4f1a29cb-3c75-f79e-4683-8f82aaf522cb}"
 #define LAGCLI_FMU_NINPUT 0u
 #define LAGCLI_FMU_ALPHA 10.0        /* Baumgarte stabilisation (constrained systems) */
 #define LAGCLI_FMU_BETA 10.0

@@ -1,0 +1,59 @@
+"""The generated functions of the variational integrator (lagcli/derive/discrete.py),
+printed for a language: its own tidy + ONE cse over `DiscreteGroups` (kept apart from
+the model's functions, whose code stays as it was), in the slots y = [q, q'], p, u.
+
+    variational_context(d, printer_class) -> {"variational": VariationalCode | None,
+                                               "variational_refusal": str | None}
+
+None and the refusal (naming the constraint) for a system with nonholonomic rows:
+then no function is generated and the integrator refuses to run.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+from lagcli.derive.discrete import HOLONOMIC, JACOBIAN, MOMENTA, discrete_groups, refusal
+from lagcli.targets import codegen
+from lagcli.targets.cse import eliminate
+from lagcli.targets.slots import slots
+from lagcli.render.tidy import small, tidy_expression
+
+
+@dataclass(frozen=True)
+class VariationalCode:
+    momenta: codegen.Block       # g, f
+    jacobian: codegen.Block      # dg/dq, dg/dq', df/dq, df/dq'
+    holonomic: codegen.Block     # phi, A, phi_t of the holonomic rows
+    d: int                       # number of holonomic rows
+    imports: tuple               # what the printed code calls (Python: names from math)
+
+
+def variational_context(d, printer_class) -> dict:
+    reason = refusal(d)
+    if reason is not None:
+        return {"variational": None, "variational_refusal": reason}
+    groups = discrete_groups(d)
+    everything = [e for exprs in groups.groups().values() for e in exprs]
+    if small(everything, codegen.TIDY_MAX_TOTAL_NODES):
+        cache: dict = {}
+        groups = replace(groups, **{name: tuple(tidy_expression(e, d.model.qd, cache) for e in exprs)
+                                    for name, exprs in groups.groups().items()})
+    reduced = eliminate(groups)
+    printer = printer_class(slots(d, reduced, printer_class))
+    code = VariationalCode(
+        momenta=codegen.print_block(reduced, printer, MOMENTA),
+        jacobian=codegen.print_block(reduced, printer, JACOBIAN),
+        holonomic=codegen.print_block(reduced, printer, HOLONOMIC),
+        d=len(groups.position),
+        imports=printer.imports(),
+    )
+    return {"variational": code, "variational_refusal": None}
+
+
+def merged_imports(*imports) -> tuple:
+    """(module, sorted names) pairs of several printers, merged."""
+    names: dict = {}
+    for pairs in imports:
+        for module, functions in pairs:
+            names.setdefault(module, set()).update(functions)
+    return tuple((module, tuple(sorted(names[module]))) for module in sorted(names))
