@@ -51,21 +51,21 @@ def _run(ctx: click.Context, action) -> None:
 @contextlib.contextmanager
 def _spec_warnings_on_stderr():
     """Show each `SpecWarning` raised while running a command once, on stderr (even when
-    the command then fails); other warnings go their usual way."""
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always", SpecWarning)
-        try:
+    the command then fails); other warnings go their usual way, once the recording has
+    ended (shown while recording, each would be recorded again: a loop without end)."""
+    caught: list = []
+    try:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", SpecWarning)
             yield
-        finally:
-            shown = set()
-            for item in caught:
-                if quiet() and isinstance(item.message, SpecWarning):
-                    continue
-                if not isinstance(item.message, SpecWarning):
-                    warnings.showwarning(item.message, item.category, item.filename, item.lineno)
-                elif str(item.message) not in shown:
-                    shown.add(str(item.message))
-                    click.echo(terminal_text(item.message.render()), err=True)
+    finally:
+        shown = set()
+        for item in caught:
+            if not isinstance(item.message, SpecWarning):
+                warnings.showwarning(item.message, item.category, item.filename, item.lineno)
+            elif str(item.message) not in shown and not quiet():
+                shown.add(str(item.message))
+                click.echo(terminal_text(item.message.render()), err=True)
 
 
 @cli.command()
@@ -487,6 +487,10 @@ def _format(as_json: bool, as_latex: bool = False) -> str:
 @click.option("--at", "at", multiple=True, metavar="NAME=VALUE",
               help="Operating value of a coordinate, velocity (q_dot) or parameter (repeatable; "
                    "others 0 / the spec's value). VALUE may use the parameters and the sweep variable.")
+@click.option("--set", "sets", multiple=True, metavar="NAME=VALUE",
+              help="A parameter, or an input held at that value (repeatable; as simulate's --set).")
+@click.option("--init", "inits", multiple=True, metavar="NAME=VALUE",
+              help="A coordinate or <q>_dot of the operating point (repeatable; as simulate's --init).")
 @click.option("--independent", multiple=True, metavar="NAME",
               help="An independent coordinate or speed of a constrained system (repeatable; "
                    "default: the best-conditioned choice).")
@@ -505,13 +509,14 @@ def _format(as_json: bool, as_latex: bool = False) -> str:
 @click.option("-o", "--output", default=None, help="Output file ('-' or none: stdout).")
 @quiet_option
 @click.pass_context
-def linearize(ctx, spec, at, independent, inputs, sweep, find_critical, symbolic, closed, as_json, as_latex,
-              output):
+def linearize(ctx, spec, at, sets, inits, independent, inputs, sweep, find_critical, symbolic, closed, as_json,
+              as_latex, output):
     """Linearize SPEC about an operating point: A, B, M, C, K, eigenvalues and a stability verdict.
 
     \b
     Examples:
       lagcli linearize specs/bead_on_spinning_hoop.yaml --at theta=0
+      lagcli linearize specs/cart_pole.yaml --set m=0.2 --set F=1 --init theta=0.1
       lagcli linearize specs/cart_pole.yaml --input F --json
       lagcli linearize specs/cart_pole.yaml --input F --symbolic
       lagcli linearize specs/hybrid/cart_pole_lqr.yaml --closed-loop
@@ -520,12 +525,16 @@ def linearize(ctx, spec, at, independent, inputs, sweep, find_critical, symbolic
     """
     fmt = _format(as_json, as_latex)
     _run(ctx, lambda: write_output(output, commands.linearize(spec, at, independent, inputs, sweep,
-                                                              find_critical, fmt, symbolic, closed)))
+                                                              find_critical, fmt, symbolic, closed, sets, inits)))
 
 
 @cli.command()
 @click.argument("spec", type=SPEC)
-@click.option("--set", "sets", multiple=True, metavar="NAME=VALUE", help="Override a parameter (repeatable).")
+@click.option("--set", "sets", multiple=True, metavar="NAME=VALUE",
+              help="A parameter, or an input held at that value (repeatable; as simulate's --set).")
+@click.option("--init", "inits", multiple=True, metavar="NAME=VALUE",
+              help="A coordinate of one more starting point of the numeric search (repeatable; as "
+                   "simulate's --init: the --init values together are one point, like a --guess).")
 @click.option("--guess", "guesses", multiple=True, metavar="NAME=VALUE[,NAME=VALUE...]",
               help="A starting point of the numeric search (repeatable; default: the spec's "
                    "initial state and the origin).")
@@ -533,7 +542,7 @@ def linearize(ctx, spec, at, independent, inputs, sweep, find_critical, symbolic
 @click.option("-o", "--output", default=None, help="Output file ('-' or none: stdout).")
 @quiet_option
 @click.pass_context
-def equilibria(ctx, spec, sets, guesses, as_json, output):
+def equilibria(ctx, spec, sets, inits, guesses, as_json, output):
     """Equilibria of SPEC (q' = 0: stationary points of V - T0) and their stability.
 
     \b
@@ -542,7 +551,7 @@ def equilibria(ctx, spec, sets, guesses, as_json, output):
       lagcli equilibria specs/bead_on_spinning_hoop.yaml --set Omega=3
       lagcli equilibria specs/cartesian_pendulum.yaml --guess x=0.1,y=-1
     """
-    _run(ctx, lambda: write_output(output, commands.equilibria(spec, sets, guesses, _format(as_json))))
+    _run(ctx, lambda: write_output(output, commands.equilibria(spec, sets, guesses, _format(as_json), inits)))
 
 
 @cli.command()

@@ -181,21 +181,26 @@ def _wrote(output: str | None, note) -> None:
 
 def linearize(path: str, at=(), independent=(), inputs=(), sweep: str | None = None,
               find_critical: bool = False, fmt: str = "text", symbolic: bool = False,
-              closed: bool = False) -> str:
+              closed: bool = False, sets=(), inits=()) -> str:
     """`lagcli linearize`: the linear model about `--at`, or the eigenvalue table of a sweep
     (`System.linearize`, `linearize_sweep`, `linearize_symbolic`, formatted); `closed`: with
-    the spec's input laws substituted (lagcli/hybrid/closed_loop.py)."""
+    the spec's input laws substituted (lagcli/hybrid/closed_loop.py). `--set` (parameters,
+    inputs) and `--init` (coordinates, velocities) as every command reads them; they win
+    over `--at` of the same name."""
     from lagcli.analysis import report
     from lagcli.analysis.operating_point import parse_assignments
     from lagcli.analysis.sweep import parse_sweep
     from lagcli.errors import UsageError
+    from lagcli.run.options import parse_overrides
     from lagcli.system import load
 
     system = load(Path(path))
+    overrides = parse_overrides(system.layout, sets, inits)
     span = parse_sweep(sweep) if sweep else None
     if find_critical and span is None:
         raise UsageError("--find-critical needs --sweep NAME=START:STOP:COUNT")
-    points = parse_assignments(system.derivation, at, span.name if span else None)
+    points = parse_assignments(system.derivation, at, span.name if span else None).given(
+        {**overrides.values, **overrides.initial})
     if symbolic:
         return _symbolic_linear(system, points, inputs, fmt, closed)
     if span is not None:
@@ -227,15 +232,15 @@ def _symbolic_linear(system, points, inputs, fmt: str, closed: bool) -> str:
     return report.to_json(content) if fmt == "json" else report.symbolic_text(content)
 
 
-def _constants(system, sets) -> tuple[dict, dict]:
-    """`--set NAME=VALUE` of parameters and inputs -> (parameters, inputs) by name."""
-    from lagcli.run.options import parse_assignments as assignments
+def _constants(system, sets, inits=()) -> tuple[dict, dict, dict]:
+    """`--set NAME=VALUE` (parameters and inputs) and `--init` (coordinates and velocities),
+    read by the one parser of every command -> (parameters, inputs, initial values) by name."""
+    from lagcli.run.options import parse_overrides
 
     layout = system.layout
-    given = assignments(tuple(sets), "--set", [*layout.parameter_names, *layout.input_names],
-                        "parameter or input", "parameters and inputs")
-    return ({k: v for k, v in given.items() if k in layout.parameter_names},
-            {k: v for k, v in given.items() if k in layout.input_names})
+    overrides = parse_overrides(layout, sets, inits)
+    return ({k: v for k, v in overrides.values.items() if k in layout.parameter_names},
+            {k: v for k, v in overrides.values.items() if k in layout.input_names}, overrides.initial)
 
 
 def _guesses(system, guesses) -> list[dict]:
@@ -247,15 +252,17 @@ def _guesses(system, guesses) -> list[dict]:
     return [assignments(tuple(g.split(",")), "--guess", names, "coordinate", "coordinates") for g in guesses]
 
 
-def equilibria(path: str, sets=(), guesses=(), fmt: str = "text") -> str:
-    """`lagcli equilibria`: static and relative equilibria with their stability (`System.equilibria`)."""
+def equilibria(path: str, sets=(), guesses=(), fmt: str = "text", inits=()) -> str:
+    """`lagcli equilibria`: static and relative equilibria with their stability (`System.equilibria`);
+    the `--init` values of coordinates are one starting point of the search, as a `--guess`."""
     from lagcli.analysis import report
     from lagcli.render.spec_printer import spec_str
     from lagcli.system import load
 
     system = load(Path(path))
-    parameters, inputs = _constants(system, sets)
-    found = system.equilibria(parameters, inputs, _guesses(system, guesses))
+    parameters, inputs, initial = _constants(system, sets, inits)
+    start = {k: v for k, v in initial.items() if k in system.layout.coordinates}
+    found = system.equilibria(parameters, inputs, _guesses(system, guesses) + ([start] if start else []))
     content = report.equilibria_content(found, spec_str)
     return report.to_json(content) if fmt == "json" else report.equilibria_text(content)
 
@@ -271,7 +278,7 @@ def routh(path: str, momenta=(), sets=(), guesses=(), fmt: str = "text") -> str:
     system = load(Path(path))
     names = [momentum_name(q.name) for q in system.derivation.ignorable]
     given = assignments(tuple(momenta), "--momentum", names, "momentum", "momenta") if names else {}
-    parameters, inputs = _constants(system, sets)
+    parameters, inputs, _ = _constants(system, sets)
     reduction = system.routh(given, parameters, inputs, _guesses(system, guesses))
     content = report.routh_content(reduction, spec_str)
     return report.to_json(content) if fmt == "json" else report.routh_text(content)

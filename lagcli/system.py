@@ -249,18 +249,24 @@ class System:
         self._check_method(settings.method, values, laws)
         compiled = self.compiled_laws(values, laws) if backend == "c" else None
         hybrid = self.hybrid(values, laws) if compiled is None else None
-        if hybrid is not None:
-            return self._run_hybrid(settings, values, start, backend, sink, progress, hybrid)
+        if hybrid is not None and backend != "python":
+            raise UsageError(f"{self.model.source}: the {backend} backend does not run events or callable "
+                             "input laws yet\n  hint: use the Python backend (--backend python; the default "
+                             "for such a run)")
         if backend == "python":
+            from lagcli.hybrid.hybrid_run import integrate_hybrid
             from lagcli.run.python_backend import integrate_module
 
             module = self._module()
             params = {**self.layout.parameter_defaults, **values}
             inputs = {**self.layout.input_defaults, **values}
-            u = [inputs[n] for n in self.layout.input_names] or None
+            p = [params[n] for n in self.layout.parameter_names]
+            u = [inputs[n] for n in self.layout.input_names]
             with progress(settings.t_end) as update:
-                return integrate_module(module, [params[n] for n in self.layout.parameter_names],
-                                        list(start.values), settings, update, sink, u)
+                if hybrid is not None:       # events or laws: lagcli/hybrid/hybrid_run.py
+                    return integrate_hybrid(module, p, list(start.values), settings, hybrid, u or None, update,
+                                            sink)
+                return integrate_module(module, p, list(start.values), settings, update, sink, u or None)
         if backend == "c":
             from lagcli.run import c_backend
 
@@ -270,22 +276,6 @@ class System:
             with progress(settings.t_end) as update:
                 return c_backend.run(cached, args, update, sink=sink)
         raise UsageError(f"backend {backend!r}: expected 'python' or 'c'")
-
-    def _run_hybrid(self, settings, values, start, backend, sink, progress, hybrid):
-        """A run with events or input laws: on the Python backend (lagcli/hybrid/hybrid_run.py)."""
-        from lagcli.hybrid.hybrid_run import integrate_hybrid
-
-        if backend != "python":
-            raise UsageError(f"{self.model.source}: the {backend} backend does not run events or callable "
-                             "input laws yet\n  hint: use the Python backend (--backend python; the default "
-                             "for such a run)")
-        module = self._module()
-        params = {**self.layout.parameter_defaults, **values}
-        inputs = {**self.layout.input_defaults, **values}
-        u = [inputs[n] for n in self.layout.input_names] or None
-        with progress(settings.t_end) as update:
-            return integrate_hybrid(module, [params[n] for n in self.layout.parameter_names],
-                                    list(start.values), settings, hybrid, u, update, sink)
 
     def sweep(self, grid: dict | None = None, sample: dict | None = None, count: int | None = None,
               seed: int | None = None, runs=None, output: str | None = None, **options):

@@ -63,6 +63,7 @@ STDIN_RUNS = {       # a command that takes a SPEC -> (spec, options, what it wr
     "equilibria": (CART_POLE, [], None),
     "routh": (str(SPECS / "spherical_pendulum.yaml"), [], None),
     "hamiltonian": (CART_POLE, [], None),
+    "report": (CART_POLE, ["--no-pictures", "-o", "page.html"], "page.html"),
 }
 
 
@@ -191,6 +192,25 @@ def test_quiet_silences_warnings_and_notes_but_not_errors(tmp_path):
     assert copied.exit_code == 0 and copied.stderr == ""
     failed = invoke(["check", tmp_path / "nowhere.yaml", "-q"])
     assert failed.exit_code == 2 and "cannot read the spec" in failed.stderr
+
+
+@pytest.mark.timeout(60)
+def test_other_warnings_are_shown_once_and_the_command_ends(monkeypatch):
+    """A warning that is not lagcli's (a library's DeprecationWarning) is passed on once:
+    shown while warnings were still recorded, it was recorded again, without end."""
+    import warnings
+
+    from lagcli import commands
+
+    def derive_text(*args):
+        warnings.warn("a library's remark", DeprecationWarning)
+        return "report\n"
+    monkeypatch.setattr(commands, "derive_text", derive_text)
+    with warnings.catch_warnings(record=True) as outer:
+        warnings.simplefilter("always")
+        done = invoke(["derive", CART_POLE])
+    assert done.exit_code == 0 and done.stdout == "report\n"
+    assert [str(w.message) for w in outer] == ["a library's remark"]
 
 
 def leaf_commands(group: click.Group = cli, prefix=()):

@@ -8,13 +8,12 @@ import math
 import numpy as np
 import pytest
 import scipy.linalg
-from click.testing import CliRunner
 
 import lagcli
-from lagcli.cli import cli
 from lagcli.errors import LagcliError
 
 from conftest import SPECS
+from test_hybrid_events import run
 
 OSCILLATOR = """
 coordinates: [x]
@@ -30,14 +29,6 @@ simulate:
   dt: 0.1
   inputs: {F: -k*x}
 """
-
-
-def run(*args):
-    try:
-        runner = CliRunner(mix_stderr=False)
-    except TypeError:
-        runner = CliRunner()
-    return runner.invoke(cli, [str(a) for a in args])
 
 
 def cart_pole_lqr(mc=1.0, m=0.1, l=0.5, g=9.81):

@@ -8,8 +8,6 @@ System and set of extra inputs (a notebook's second linearization costs millisec
 """
 from __future__ import annotations
 
-import sympy as sp
-
 from lagcli.analysis.operating_point import Assignments, assignments_of
 from lagcli.analysis.results import Equilibria, Equilibrium, Hamiltonian, Linearization, OperatingPoint, Routh
 from lagcli.errors import UsageError
@@ -21,7 +19,7 @@ def point_of(system, at, parameters=None, inputs=None, sweep: str | None = None)
     fixed = {**system._parameters(parameters), **_held_inputs(system, inputs)}
     if not isinstance(at, Assignments):
         at = assignments_of(system.derivation, dict(at or {}), sweep)
-    return Assignments({**at.values, **{k: sp.Float(v) for k, v in fixed.items()}}, at.sweep)
+    return at.given(fixed)
 
 
 def derivation(system, closed_loop: bool = False):

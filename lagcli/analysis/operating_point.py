@@ -31,6 +31,10 @@ class Assignments:
     values: dict            # name -> sympy expression
     sweep: sp.Symbol | None # the sweep variable's symbol (a parameter's own symbol, or a new one)
 
+    def given(self, numbers: dict) -> "Assignments":
+        """These values with `numbers` {name: float} (names already checked) taking precedence."""
+        return Assignments({**self.values, **{k: sp.Float(float(v)) for k, v in numbers.items()}}, self.sweep)
+
 
 def parse_assignments(d, items, sweep_name: str | None = None) -> Assignments:
     """`("theta=0", "phi_dot=Omega")` -> Assignments; names checked against the model."""

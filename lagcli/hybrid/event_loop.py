@@ -94,7 +94,8 @@ def _segment(solver, hybrid, fired, pending, times, row, sink, progress, check, 
         budget.take(t_old)
         message = solver.step()
         if solver.status == "failed":
-            raise SimulationError(f"at t = {solver.t:.10g}: the {type(solver).__name__} integrator failed: {message}")
+            raise SimulationError(f"at t = {solver.t:.10g}: the {type(solver).__name__} integrator failed: "
+                                  f"{message}")
         check(solver.t, solver.y)
         dense = solver.dense_output()
         g_new = [e.g(solver.t, solver.y) for e in events]

@@ -120,5 +120,6 @@ def _checked_callable(name: str, f: Callable) -> Callable:
         try:
             return float(value)
         except (TypeError, ValueError):
-            raise UsageError(f"inputs={{{name!r}: ...}}: the callable returned {value!r}, not a number") from None
+            raise UsageError(f"inputs={{{name!r}: ...}}: the callable returned {value!r}, "
+                             "not a number") from None
     return call

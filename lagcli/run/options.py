@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import difflib
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from lagcli.errors import LagcliError, UsageError
 from lagcli.interface import DEFAULT_BAUMGARTE, METHODS, VARIATIONAL, default_max_steps
@@ -102,6 +102,40 @@ def parse_assignments(items: tuple[str, ...], option: str, allowed: list[str],
                              + _hint(name, allowed, plural))
         values[name] = parse(text, f"{option} {name}")
     return values
+
+
+@dataclass(frozen=True)
+class Overrides:
+    """What `--set` and `--init` (or the API's dicts) change for a run."""
+
+    values: dict = field(default_factory=dict)     # parameters and inputs: {name: value}
+    initial: dict = field(default_factory=dict)    # coordinates and velocities: {name: value}
+
+
+SET_WHAT = ("--set", "parameter or input", "parameters and inputs")
+INIT_WHAT = ("--init", "coordinate or velocity", "coordinates and velocities")
+
+
+def parse_overrides(layout, sets=(), inits=()) -> Overrides:
+    """THE parser of `--set NAME=VALUE` (a parameter or an input) and `--init NAME=VALUE`
+    (a coordinate or a velocity) of every command that runs or analyses a system:
+    simulate, sweep, animate, linearize, equilibria. Names are checked against
+    `layout` (a lagcli.interface.Layout); a name given to the other option is told so."""
+    values = _assignments(tuple(sets), SET_WHAT, [*layout.parameter_names, *layout.input_names],
+                          layout.state_names, "--init")
+    initial = _assignments(tuple(inits), INIT_WHAT, list(layout.state_names),
+                           (*layout.parameter_names, *layout.input_names), "--set")
+    return Overrides(values, initial)
+
+
+def _assignments(items, what, allowed, other_names, other_option) -> dict:
+    option, name_of, plural = what
+    for item in items:
+        name = item.partition("=")[0].strip()
+        if name in other_names and "=" in item:
+            raise UsageError(f"{option} {item!r}: {name!r} is not a {name_of}\n"
+                             f"  hint: give it with {other_option} {item.strip()}")
+    return parse_assignments(items, option, allowed, name_of, plural)
 
 
 def parse_range(item: str, option: str, smallest: int = 1, largest: int | None = None,

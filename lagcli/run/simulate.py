@@ -170,10 +170,10 @@ def _laws(request: Request, system) -> dict:
 
 def _watched(settings, layout, sink: RowSink):
     """`sink`, and for --method variational also the drift of the integrals
-    (`lagcli.run.variational.IntegralDrift`, the end-of-run line)."""
+    (`lagcli.run.variational_run.IntegralDrift`, the end-of-run line)."""
     if settings.method != VARIATIONAL:
         return sink, None
-    from lagcli.run.variational import IntegralDrift
+    from lagcli.run.variational_run import IntegralDrift
 
     drift = IntegralDrift(layout)
     return Tee(sink, drift), drift

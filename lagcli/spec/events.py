@@ -60,7 +60,8 @@ def _event(checker, path: KeyPath, value: Any, names: set[str]) -> Event | None:
     names.add(name)
     direction = _choice(checker, path + ("direction",), table.get("direction", DIRECTIONS[0]), DIRECTIONS,
                         "direction")
-    action = _choice(checker, path + ("action",), table["action"], ACTIONS, "action") if "action" in table else None
+    action = (_choice(checker, path + ("action",), table["action"], ACTIONS, "action") if "action" in table
+              else None)
     when = checker.expr(path + ("when",), table["when"]) if "when" in table else None
     restitution = _restitution(checker, path, table, action)
     reset = _reset(checker, path, table, action)

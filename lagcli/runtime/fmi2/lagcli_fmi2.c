@@ -401,6 +401,17 @@ fmi2Status fmi2EnterEventMode(fmi2Component c)
     return fmi2OK;
 }
 
+/* No new discrete states, no changed states, no time event: what an event iteration ends with. */
+static void nothing_new(fmi2EventInfo *info)
+{
+    info->newDiscreteStatesNeeded = fmi2False;
+    info->terminateSimulation = fmi2False;
+    info->nominalsOfContinuousStatesChanged = fmi2False;
+    info->valuesOfContinuousStatesChanged = fmi2False;
+    info->nextEventTimeDefined = fmi2False;
+    info->nextEventTime = 0.0;
+}
+
 #ifdef LAGCLI_FMU_NEVENT
 /* --- events (lagcli_fmu_events.c) -------------------------------------------------- */
 
@@ -494,12 +505,7 @@ fmi2Status fmi2NewDiscreteStates(fmi2Component component, fmi2EventInfo *info)
     instance *c = (instance *)component;
     double g[LAGCLI_FMU_NEVENT], y_new[2 * MODEL_NQ_MAX];
     int k = crossing(c, g);
-    info->newDiscreteStatesNeeded = fmi2False;
-    info->terminateSimulation = fmi2False;
-    info->nominalsOfContinuousStatesChanged = fmi2False;
-    info->valuesOfContinuousStatesChanged = fmi2False;
-    info->nextEventTimeDefined = fmi2False;
-    info->nextEventTime = 0.0;
+    nothing_new(info);
     if (k >= 0 && lagcli_fmu_event_actions[k] == 2) {
         info->terminateSimulation = fmi2True;
     } else if (k >= 0 && lagcli_fmu_event_actions[k] == 1 && MODEL->nq <= MODEL_NQ_MAX) {
@@ -523,12 +529,7 @@ fmi2Status fmi2NewDiscreteStates(fmi2Component component, fmi2EventInfo *info)
 fmi2Status fmi2NewDiscreteStates(fmi2Component c, fmi2EventInfo *info)
 {
     (void)c;
-    info->newDiscreteStatesNeeded = fmi2False;
-    info->terminateSimulation = fmi2False;
-    info->nominalsOfContinuousStatesChanged = fmi2False;
-    info->valuesOfContinuousStatesChanged = fmi2False;
-    info->nextEventTimeDefined = fmi2False;
-    info->nextEventTime = 0.0;
+    nothing_new(info);
     return fmi2OK;
 }
 #endif

@@ -15,7 +15,7 @@
 #include "double_pendulum.h"
 
 #define LAGCLI_FMU_MODEL double_pendulum_model
-#define LAGCLI_FMU_GUID "{d60f6e57-b7c5-e545-c552-1756adf0ffe1}"
+#define LAGCLI_FMU_GUID "{79c90fd2-4ea3-e6c3-eac4-be371cec6543}"
 #define LAGCLI_FMU_NINPUT 0u
 #define LAGCLI_FMU_ALPHA 10.0        /* Baumgarte stabilisation (constrained systems) */
 #define LAGCLI_FMU_BETA 10.0
