@@ -256,7 +256,7 @@ def test_generate_c_cli_writes_the_model_and_the_runtime_and_needs_a_directory(t
     assert result.exit_code == 0, result.output
     assert sorted(p.name for p in (tmp_path / "out").iterdir()) == [
         "double_pendulum.c", "double_pendulum.h", "double_pendulum_main.c",
-        "lagcli_driver.c", "lagcli_driver.h", "lagcli_model.h", "lagcli_ode.c", "lagcli_ode.h",
+        "lagcli_driver.c", "lagcli_driver.h", "lagcli_linalg.h", "lagcli_model.h", "lagcli_ode.c", "lagcli_ode.h",
         "lagcli_variational.c", "lagcli_variational.h"]
 
 

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import sympy as sp
 
-from lagcli.model.calculus import TimeDerivative, almost_everywhere, depends_on, derivative, numerically_zero
+from lagcli.model.calculus import TimeDerivative, almost_everywhere, depends_on, gradient, numerically_zero
 from lagcli.derive.constraints import constraint_bias, constraint_matrix, constraint_rows
 from lagcli.derive.dissipation import damper_forces_on
 from lagcli.derive.energy import energies
@@ -29,19 +29,21 @@ def derive(model: Model) -> Derivation:
     e = energies(model, D)
     M, a = e.mass_matrix, e.t1_coefficients
     n = len(model.q)
-    T2 = sp.Add(*(sp.Add(*(qd[i] * M[i, j] for i in range(n))) * qd[j] for j in range(n))) / 2   # q'^T M q' / 2
+    nonzero = _rows_of(M)       # the nonzero entries (M of n uncoupled coordinates has n of n^2)
+    T2 = sp.Add(*(sp.Add(*(qd[i] * M_ij for i, M_ij in nonzero[j])) * qd[j] for j in range(n))) / 2   # q'^T M q' / 2
     T1 = a.dot(qd)
     T = T2 + T1 + e.T0
     L = T - e.V
     Q_applied = almost_everywhere(applied_generalized_forces(model, D))
-    F = almost_everywhere(forcing(model, D, Q_applied, e.V))
+    dV = gradient(e.V, model.q, D.free)
+    F = almost_everywhere(forcing(model, D, Q_applied, dV))
 
+    lhs = [sp.Add(*(M_ij * qdd[j] for j, M_ij in nonzero[i])) - F[i] for i in range(n)]   # M q'' - F
     rows = constraint_rows(model)
     A = constraint_matrix(model, rows)
     multipliers = tuple(r.multiplier for r in rows)
     lam = sp.Matrix(multipliers)
     constraint_force = A.T * lam if rows else sp.zeros(len(model.q), 1)
-    lhs = [sp.Add(*(M[i, j] * qdd[j] for j in range(n))) - F[i] for i in range(n)]   # M q'' - F
     equations = tuple(Equation(qi, lhs[i], constraint_force[i]) for i, qi in enumerate(model.q))
 
     probe = LagrangianProbe(M, a, e.T0, e.V)
@@ -53,7 +55,7 @@ def derive(model: Model) -> Derivation:
     return Derivation(
         model=model, T=T, T2=T2, T1=T1, T0=e.T0, V=e.V, L=L,
         mass_matrix=M, t1_coefficients=a,
-        generalized_forces=almost_everywhere(Q_applied - sp.Matrix([derivative(e.V, qi, D.free) for qi in model.q])),
+        generalized_forces=almost_everywhere(Q_applied - sp.Matrix(dV)),
         nonconservative_forces=Q_applied,
         forcing=F, equations=equations,
         constraints=rows, constraint_matrix=A, constraint_bias=constraint_bias(model, rows, D),
@@ -67,6 +69,14 @@ def derive(model: Model) -> Derivation:
         scleronomic=_is_scleronomic(model),
         events=event_functions(model),
     )
+
+
+def _rows_of(M) -> list[list[tuple[int, sp.Expr]]]:
+    """(j, M_ij) of the nonzero entries of each row i (M is symmetric: also its columns)."""
+    rows: list[list] = [[] for _ in range(M.rows)]
+    for (i, j), entry in sorted(M.todok().items()):
+        rows[i].append((j, entry))
+    return rows
 
 
 def _particle_constraint_forces(model: Model, D: TimeDerivative) -> dict:

@@ -12,11 +12,12 @@ This is the notes' construction (section 6.6) and avoids differentiating T twice
 from __future__ import annotations
 
 import functools
+from collections import defaultdict
 from dataclasses import dataclass
 
 import sympy as sp
 
-from lagcli.model.calculus import TimeDerivative, almost_everywhere, derivative, jacobian
+from lagcli.model.calculus import TimeDerivative, almost_everywhere, derivative, jacobian_columns
 from lagcli.model.model_types import Model, RigidBody, elementary_rotation
 
 AXES = {"x": 0, "y": 1, "z": 2}
@@ -46,27 +47,31 @@ def kinetic_parts(model: Model, D: TimeDerivative) -> tuple[sp.Matrix, sp.Matrix
     """The terms of M, a and T0 from every point and body, each entry summed once at the
     end (adding n x n matrices point by point rebuilt every growing sum n times)."""
     n = len(model.q)
-    M = [[[] for _ in range(n)] for _ in range(n)]     # upper triangle: J^T J is symmetric
+    M: dict = defaultdict(list)     # (i, j) -> terms, upper triangle (J^T J is symmetric)
     a, T0 = [[] for _ in range(n)], []
     dots: dict = {}      # a chain's points share Jacobian columns: each product formed once
     for mass, r in model.mass_points:
-        J, r_t = jacobian(r, model.q, D.free), r.applyfunc(lambda e: derivative(e, model.t, D.free))
+        J, r_t = jacobian_columns(r, model.q, D.free), r.applyfunc(lambda e: derivative(e, model.t, D.free))
         _add_products(M, a, T0, J, None, r_t, mass, dots)
     for body in model.bodies:
         omega = body_angular_velocity(body, D)
-        J_w = jacobian(omega, model.qd, D.free)
+        J_w = jacobian_columns(omega, model.qd, D.free)
         w_t = omega.subs({v: 0 for v in model.qd})
         _add_products(M, a, T0, J_w, body.inertia, w_t, 1, dots)
+    entries = {}
+    for (i, j), terms in sorted(M.items()):
+        entries[i, j] = entries[j, i] = sp.Add(*terms)
+    M, a, T0 = sp.Matrix(sp.SparseMatrix(n, n, entries)), sp.Matrix([sp.Add(*terms) for terms in a]), sp.Add(*T0)
+    if model.kinetic == 0:
+        return M, a, T0
     extra_M, extra_a, extra_T0 = _split_extra_kinetic(model)
-    M = sp.Matrix(n, n, lambda i, j: sp.Add(*M[min(i, j)][max(i, j)]))
-    return M + extra_M, sp.Matrix([sp.Add(*terms) for terms in a]) + extra_a, sp.Add(*T0) + extra_T0
+    return M + extra_M, a + extra_a, T0 + extra_T0
 
 
 def _add_products(M, a, T0, J, inertia, v_t, mass, dots: dict) -> None:
     """The terms of mass * (J^T I J, J^T I v_t, 1/2 v_t^T I v_t) for one point (I = None:
-    the identity) or body."""
-    I_J, I_v = (J, v_t) if inertia is None else (inertia * J, inertia * v_t)
-    rows, n = J.shape
+    the identity) or body; J is given by its nonzero columns (`jacobian_columns`)."""
+    I_v = v_t if inertia is None else inertia * v_t
     moving = any(v_t)
 
     def dot(u, w) -> sp.Expr:
@@ -75,18 +80,15 @@ def _add_products(M, a, T0, J, inertia, v_t, mass, dots: dict) -> None:
             dots[key] = sp.Add(*(x * y for x, y in zip(u, w)))
         return dots[key]
 
-    columns = [tuple(J[:, i]) for i in range(n)]
-    weighted = [tuple(I_J[:, j]) for j in range(n)]
+    weighted = [column if inertia is None else tuple(inertia * sp.Matrix(column)) for _, column in J]
     v_t, I_v = tuple(v_t), tuple(I_v)
-    for i in range(n):
-        if not any(columns[i]):
-            continue
-        for j in range(i, n):
-            entry = dot(columns[i], weighted[j])
+    for k, (i, column) in enumerate(J):
+        for (j, _), other in zip(J[k:], weighted[k:]):
+            entry = dot(column, other)
             if entry != 0:
-                M[i][j].append(mass * entry)
+                M[i, j].append(mass * entry)
         if moving:
-            entry = dot(columns[i], I_v)
+            entry = dot(column, I_v)
             if entry != 0:
                 a[i].append(mass * entry)
     if moving:
@@ -96,8 +98,6 @@ def _add_products(M, a, T0, J, inertia, v_t, mass, dots: dict) -> None:
 def _split_extra_kinetic(model: Model):
     """The `kinetic:` term, split by degree in q' (the model checked it is at most quadratic)."""
     K, qd = model.kinetic, sp.Matrix(model.qd)
-    if K == 0:  # the usual case: skip n^2 substitutions into zeros
-        return sp.zeros(len(qd), len(qd)), sp.zeros(len(qd), 1), sp.S.Zero
     zero = {v: 0 for v in model.qd}
     M = sp.hessian(K, qd)
     a = sp.Matrix([K.diff(v).subs(zero) for v in qd])
@@ -105,17 +105,17 @@ def _split_extra_kinetic(model: Model):
 
 
 def potential_energy(model: Model) -> sp.Expr:
-    """V = -sum m g.r (gravity) + sum 1/2 k (|r_a - r_b| - L0)^2 + potential."""
-    V = model.potential
+    """V = -sum m g.r (gravity) + sum 1/2 k (|r_a - r_b| - L0)^2 + potential, summed once
+    (adding term by term rebuilt the growing sum: n^2 for n springs)."""
+    terms = [model.potential]
     if model.gravity is not None:
-        for mass, r in model.mass_points:
-            V -= mass * model.gravity.dot(r)
+        terms += [-(mass * model.gravity.dot(r)) for mass, r in model.mass_points]
     for spring in model.springs:
         delta = spring.end_a - spring.end_b
         squared = delta.dot(delta)
         stretch = sp.sqrt(squared) - spring.rest_length if spring.rest_length != 0 else None
-        V += spring.stiffness * (stretch ** 2 if stretch is not None else squared) / 2
-    return V
+        terms.append(spring.stiffness * (stretch ** 2 if stretch is not None else squared) / 2)
+    return sp.Add(*terms)
 
 
 def energies(model: Model, D: TimeDerivative) -> Energies:

@@ -18,22 +18,23 @@ from __future__ import annotations
 
 import sympy as sp
 
-from lagcli.model.calculus import TimeDerivative, derivative, jacobian
+from lagcli.model.calculus import TimeDerivative, derivative, jacobian_columns
 from lagcli.derive.energy import body_angular_velocity
 from lagcli.model.model_types import Model
 
 
-def forcing(model: Model, D: TimeDerivative, Q_applied: sp.ImmutableMatrix, V: sp.Expr) -> sp.ImmutableMatrix:
+def forcing(model: Model, D: TimeDerivative, Q_applied: sp.ImmutableMatrix, dV: list) -> sp.ImmutableMatrix:
+    """F of M q'' = F, from the applied forces Q' and the gradient dV of V."""
     q, qd, n = model.q, model.qd, len(model.q)
-    terms = [[Q_applied[i], -derivative(V, qi, D.free)] for i, qi in enumerate(q)]   # each F_i summed once
+    terms = [[Q_applied[i], -dV[i]] for i in range(n)]   # each F_i summed once
     for mass, r in model.mass_points:
         acceleration = D.matrix(D.matrix(r), accelerations=False)
-        _subtract(terms, jacobian(r, q, D.free), acceleration, mass)
+        _subtract(terms, jacobian_columns(r, q, D.free), acceleration, mass)
     for body in model.bodies:
         omega = body_angular_velocity(body, D)
         spin = D.matrix(omega, accelerations=False)
         inertia_torque = body.inertia * spin + omega.cross(body.inertia * omega)
-        _subtract(terms, jacobian(omega, qd, D.free), inertia_torque, 1)
+        _subtract(terms, jacobian_columns(omega, qd, D.free), inertia_torque, 1)
     if model.kinetic != 0:
         K = model.kinetic
         for i, (qi, v) in enumerate(zip(q, qd)):
@@ -42,8 +43,9 @@ def forcing(model: Model, D: TimeDerivative, Q_applied: sp.ImmutableMatrix, V: s
 
 
 def _subtract(terms, J, vector, mass) -> None:
-    """terms_i += -mass * (J^T vector)_i."""
-    for i in range(J.cols):
-        entry = sp.Add(*(J[k, i] * vector[k] for k in range(J.rows)))
+    """terms_i += -mass * (J^T vector)_i, J given by its nonzero columns (`jacobian_columns`)."""
+    vector = tuple(vector)
+    for i, column in J:
+        entry = sp.Add(*(x * y for x, y in zip(column, vector)))
         if entry != 0:
             terms[i].append(-(mass * entry))

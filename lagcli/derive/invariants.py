@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import sympy as sp
 
-from lagcli.model.calculus import DependenceProbe, depends_on, numerically_zero
+from lagcli.model.calculus import DependenceProbe, depends_on, free_symbols, numerically_zero
 from lagcli.derive.result import Conserved
 
 
@@ -30,9 +30,10 @@ class LagrangianProbe:
     """Does L depend on a symbol? Probes T0 - V, then a, then M (each compiled once, lazily)."""
 
     def __init__(self, M, a, T0, V):
-        n = M.rows
-        self.groups = [[T0 - V], list(a), [M[i, j] for i in range(n) for j in range(i, n)]]
-        self.names = [set().union(*(sp.sympify(e).free_symbols for e in g)) for g in self.groups]
+        upper = [entry for (i, j), entry in sorted(M.todok().items()) if i <= j]
+        self.groups = [[T0 - V], [e for e in a if e != 0], upper]
+        memo: dict = {}     # shared subexpressions walked once
+        self.names = [set().union(*(free_symbols(sp.sympify(e), memo) for e in g)) for g in self.groups]
         self.probes: list[DependenceProbe | None] = [None] * len(self.groups)
 
     def depends_on(self, symbol: sp.Symbol) -> bool:
@@ -71,7 +72,7 @@ def jacobi_integral(model, T2, T0, V) -> sp.Expr:
     """h = T2 - T0 + V (at t = 0 when an explicit t cancels out of L but not of h's form);
     conserved only when `jacobi_obstacle` finds nothing."""
     h = T2 - T0 + V
-    return h.subs(model.t, 0) if depends_on(h, (model.t,)) else h
+    return h.subs(model.t, 0) if depends_on(h, (model.t,), {}) else h
 
 
 def jacobi_obstacle(model, probe: LagrangianProbe, Q_applied, rows) -> str | None:

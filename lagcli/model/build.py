@@ -46,12 +46,16 @@ class _ModelBuilder:
         self.qdd = tuple(Acceleration(acceleration_name(n), real=True) for n in names)
         self.u = tuple(sp.Symbol(u.name, real=True) for u in spec.inputs)
         self.D = TimeDerivative(self.t, self.q, self.qd, self.qdd)
+        # the symbol sets every check asks about, formed once (per check they made a spec of
+        # n coordinates cost n^2)
+        self.rates = frozenset(self.qd) | frozenset(self.qdd)
+        self.moving = self.rates | frozenset(self.q) | {self.t}
         self.scope = Scope({"pi": sp.pi}, self.t, self._time_derivative, VectorBuilder)
         self.frames: dict[str, tuple] = {}  # frame name -> its whole rotation chain
 
     # -- helpers ---------------------------------------------------------------
     def _time_derivative(self, expr: sp.Expr) -> sp.Expr:
-        if expr.free_symbols & set(self.qdd):
+        if expr.free_symbols & self.D.accelerations:
             raise SpecError(Problem(self._current_loc, "diff(expr, t) of an expression that "
                                     "already contains accelerations is not supported"))
         return self.D(expr)
@@ -100,14 +104,14 @@ class _ModelBuilder:
 
     def no_velocities(self, value: sp.Expr, src: Src) -> None:
         self.no_inputs(value, src)
-        used = value.free_symbols & (set(self.qd) | set(self.qdd))
+        used = value.free_symbols & self.rates
         if used:
             raise SpecError(Problem(src.loc, f"{src.text!r} must not depend on velocities or "
                                     f"accelerations (uses {', '.join(sorted(map(str, used)))})"))
 
     def constant_in_motion(self, value: sp.Expr, src: Src) -> None:
         self.no_inputs(value, src)
-        used = value.free_symbols & ({self.t} | set(self.q) | set(self.qd) | set(self.qdd))
+        used = value.free_symbols & self.moving
         if used:
             raise SpecError(Problem(src.loc, f"{src.text!r} must be constant (uses "
                                     f"{', '.join(sorted(map(str, used)))}); masses, inertias and "
@@ -126,7 +130,7 @@ class _ModelBuilder:
 
     def no_accelerations(self, value: sp.Expr, src: Src) -> None:
         """Forces, torques and generalized forces: anything but accelerations (inputs too)."""
-        if value.free_symbols & set(self.qdd):
+        if value.free_symbols & self.D.accelerations:
             raise SpecError(Problem(src.loc, f"{src.text!r} must not contain accelerations"))
 
     # -- stages ----------------------------------------------------------------
@@ -209,7 +213,7 @@ class _ModelBuilder:
         self.no_accelerations(value, src)
 
     def _only_time(self, value: sp.Expr, src: Src) -> None:
-        used = value.free_symbols & (set(self.q) | set(self.qd) | set(self.qdd) | set(self.u))
+        used = value.free_symbols & (self.moving - {self.t} | set(self.u))
         if used:
             raise SpecError(Problem(src.loc, f"known function {src.text!r} may depend on t and "
                                     f"parameters only (uses {', '.join(sorted(map(str, used)))})"))

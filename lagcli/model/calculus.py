@@ -7,6 +7,8 @@ derivative, which is much faster than sympy's `Function`/`Derivative` objects:
 """
 from __future__ import annotations
 
+import functools
+import math
 import random
 from collections.abc import Iterable, Sequence
 from functools import reduce
@@ -26,6 +28,7 @@ class TimeDerivative:
         self.chain = list(zip(q, qd)) + list(zip(qd, qdd))
         self.position_chain = self.chain[:len(q)]
         self.accelerations = frozenset(qdd)
+        self.order = {var: k for k, (var, _) in enumerate(self.chain)}
         self.free: dict = {}      # free symbols of every subexpression seen (see `derivative`)
 
     def __call__(self, expr: sp.Expr, accelerations: bool = True) -> sp.Expr:
@@ -36,9 +39,11 @@ class TimeDerivative:
         if free & self.accelerations:
             raise ValueError("cannot differentiate an expression containing accelerations")
         result = derivative(expr, self.t, self.free) if self.t in free else sp.S.Zero
-        for var, rate in self.chain if accelerations else self.position_chain:
-            if var in free:
-                result += derivative(expr, var, self.free) * rate
+        last = len(self.chain) if accelerations else len(self.position_chain)
+        # the chain's variables that expr mentions, in the chain's order (not all 2n of them)
+        for k in sorted(k for k in map(self.order.get, free) if k is not None and k < last):
+            var, rate = self.chain[k]
+            result += derivative(expr, var, self.free) * rate
         return result
 
     def matrix(self, m: sp.MatrixBase, accelerations: bool = True) -> sp.ImmutableMatrix:
@@ -105,9 +110,40 @@ def jacobian(exprs, variables, memo: dict | None = None) -> sp.ImmutableMatrix:
                               [derivative(e, v, memo) for e in exprs for v in variables])
 
 
-def depends_on(expr: sp.Expr, symbols: Iterable[sp.Symbol]) -> bool:
-    """Structural dependence (cheap; may say True for a dependence that cancels)."""
-    return bool(sp.sympify(expr).free_symbols & set(symbols))
+def gradient(expr: sp.Expr, variables, memo: dict) -> list[sp.Expr]:
+    """[derivative(expr, v) for v in variables], in one pass over a sum's terms: each term
+    is differentiated for the variables it mentions only (n coordinates of a sum of n
+    uncoupled terms cost n, not n^2). The same expressions as `derivative`'s."""
+    index = {v: k for k, v in enumerate(variables)}
+    parts: list[list] = [[] for _ in variables]
+    for term in (expr.args if expr.is_Add else (expr,)):
+        for v in free_symbols(term, memo):
+            if v in index:
+                parts[index[v]].append(derivative(term, v, memo))
+    return [sp.Add(*p) if expr.is_Add else (p[0] if p else sp.S.Zero) for p in parts]
+
+
+def jacobian_columns(exprs, variables, memo: dict) -> list[tuple[int, tuple[sp.Expr, ...]]]:
+    """The nonzero columns of `jacobian(exprs, variables)` as (index, column) pairs, in order:
+    only the variables the expressions mention are differentiated for, so a point that
+    moves with a few of n coordinates costs what those few do, not n."""
+    exprs = list(exprs)
+    mentioned = frozenset().union(*(free_symbols(sp.sympify(e), memo) for e in exprs))
+    columns = []
+    for j, v in enumerate(variables):
+        if v in mentioned:
+            column = tuple(derivative(e, v, memo) for e in exprs)
+            if any(column):
+                columns.append((j, column))
+    return columns
+
+
+def depends_on(expr: sp.Expr, symbols: Iterable[sp.Symbol], memo: dict | None = None) -> bool:
+    """Structural dependence (cheap; may say True for a dependence that cancels); with a
+    `free_symbols` memo, the subexpressions already seen are not walked again."""
+    expr = sp.sympify(expr)
+    found = expr.free_symbols if memo is None else free_symbols(expr, memo)
+    return bool(found & set(symbols))
 
 
 def numerically_zero(exprs: Iterable[sp.Expr], trials: int = 3, seed: int = 20261121) -> bool:
@@ -164,6 +200,9 @@ class DependenceProbe:
     never spec text) and evaluated at random points, then again with only the
     symbol in question changed. Any change beyond rounding means dependence.
     Used where structural dependence is misleading: cos(W t)**2 + sin(W t)**2.
+    The random points and the values there are drawn and computed once for all the
+    symbols asked about (asking about each of n coordinates would otherwise draw and
+    evaluate n points of n symbols: quadratic in a system of many coordinates).
     """
 
     def __init__(self, exprs: Sequence[sp.Expr], seed: int = 20261121):
@@ -171,10 +210,16 @@ class DependenceProbe:
         self.symbols = sorted(set().union(*(e.free_symbols for e in self.exprs)), key=str)
         self.rng = random.Random(seed)
         self._compiled = None
+        self.points: list[tuple[dict, list[float] | None]] = []   # (point, values there), in draw order
 
     def _evaluate(self, point: dict) -> list[float] | None:
         if self._compiled is None:
-            self._compiled = sp.lambdify(self.symbols, self.exprs, modules=["math", "mpmath"])
+            # plain Python floats (the math module's printer): mpmath's printer made
+            # every rational an mpf at every call
+            from sympy.printing.pycode import PythonCodePrinter
+
+            self._compiled = sp.lambdify(self.symbols, self.exprs, modules=["math", "mpmath", {"math": math}],
+                                         printer=PythonCodePrinter)
         try:
             values = [complex(v) for v in self._compiled(*(point[s] for s in self.symbols))]
         except (ValueError, ZeroDivisionError, OverflowError, TypeError, ArithmeticError, NameError):
@@ -183,16 +228,24 @@ class DependenceProbe:
             return None
         return [v.real for v in values]
 
+    def _point(self, k: int) -> tuple[dict, list[float] | None]:
+        while len(self.points) <= k:
+            point = {s: self.rng.uniform(0.3, 1.3) for s in self.symbols}
+            self.points.append((point, self._evaluate(point)))
+        return self.points[k]
+
     def depends_on(self, symbol: sp.Symbol, trials: int = 3) -> bool:
         if symbol not in self.symbols:
             return False
         done = attempts = 0
         while done < trials and attempts < 10 * trials:
+            base, first = self._point(attempts)
             attempts += 1
-            base = {s: self.rng.uniform(0.3, 1.3) for s in self.symbols}
+            if first is None:
+                continue
             moved = {**base, symbol: base[symbol] + self.rng.uniform(0.5, 1.5)}
-            first, second = self._evaluate(base), self._evaluate(moved)
-            if first is None or second is None:
+            second = self._evaluate(moved)
+            if second is None:
                 continue
             done += 1
             scale = 1 + max(abs(v) for v in first + second)
@@ -201,13 +254,21 @@ class DependenceProbe:
         return done == 0  # no point could be evaluated: undecided, so assume dependence
 
 
+@functools.lru_cache(maxsize=1 << 16)
+def _rough(expr: sp.Basic) -> bool:
+    """expr.has(DiracDelta, Heaviside, Derivative), remembered for shared subexpressions
+    (the entries of a chain's M and F share most of theirs: `has` walked each whole tree)."""
+    return isinstance(expr, (sp.DiracDelta, sp.Heaviside, sp.Derivative)) or any(_rough(a) for a in expr.args)
+
+
 def almost_everywhere(value):
     """Derivatives of abs/sign/min/max taken almost everywhere: DiracDelta -> 0, d sign -> 0 and
     Heaviside(x) -> (1 + sign(x))/2, so every result prints in the spec language and in C."""
-    if isinstance(value, sp.MatrixBase):
-        return sp.ImmutableMatrix(value.shape[0], value.shape[1], [almost_everywhere(e) for e in value])
+    if isinstance(value, sp.MatrixBase):    # its nonzero entries only: M of n uncoupled coordinates has n
+        changed = {key: almost_everywhere(e) for key, e in value.todok().items()}
+        return sp.ImmutableMatrix(sp.SparseMatrix(value.shape[0], value.shape[1], changed))
     value = sp.sympify(value)
-    if not value.has(sp.DiracDelta, sp.Heaviside, sp.Derivative):
+    if not _rough(value):
         return value
     # sympy leaves d/dx sign(u) unevaluated when it cannot prove u real (u = 1/x): it is 0 too
     value = value.replace(lambda e: isinstance(e, sp.Derivative) and isinstance(e.expr, sp.sign),

@@ -54,12 +54,19 @@ class Limits:
     nodes: int = MAX_NODES
     depth: int = MAX_DEPTH
     result_nodes: int = MAX_RESULT_NODES
-    flat_sums: bool = False     # a + b + ... counts as one level, however many terms (see `_sum`)
+
+
+# A sum a + b + ... counts as one level of nesting however many terms it has (Python's tree
+# nests it one level per term; `_check_size` and `_Builder._sum` walk it in a loop), so the
+# depth bound is about real nesting (parentheses, calls, products, powers), not length: the
+# 100-link chain's positions are flat sums of 100 terms. Python's parser still recurses once
+# per term while it builds that tree: `parse` gives it room for as many terms as the text
+# bound allows (a term is at least a character and its sign).
 
 
 SPEC_LIMITS = Limits()
-OUTPUT_LIMITS = Limits(text=50_000_000, nodes=10_000_000, depth=200, result_nodes=10_000_000, flat_sums=True)
-OUTPUT_SUM_TERMS = 20_000   # Python's own parser recurses once per term of a sum: room for this many
+OUTPUT_LIMITS = Limits(text=50_000_000, nodes=10_000_000, depth=200, result_nodes=10_000_000)
+OUTPUT_SUM_TERMS = 20_000   # room for this many terms in one sum of an output's text
 
 
 _LINES = re.compile(r"[^\r\n]*(?:\r\n|\r|\n)|[^\r\n]+$")   # the lines ast numbers (no form feeds)
@@ -147,7 +154,7 @@ def parse(text: str, scope: Scope, loc: Loc, vector: bool = False, limits: Limit
     if not source:
         _fail(loc, "empty expression")
     try:
-        with _recursion_limit(OUTPUT_SUM_TERMS if limits.flat_sums else 0):
+        with _recursion_limit(min(OUTPUT_SUM_TERMS, limits.text // 2 + 100)):
             tree = ast.parse(source, mode="eval")
     except SyntaxError as exc:
         _fail(loc, f"invalid expression {text!r}: {exc.msg}" + (f" at column {exc.offset}" if exc.offset else ""),
@@ -156,7 +163,6 @@ def parse(text: str, scope: Scope, loc: Loc, vector: bool = False, limits: Limit
         _fail(loc, f"expression is too deeply nested or too large: {_short(text)!r}")
     _check_size(tree, text, loc, limits)
     builder = scope.builder(scope, loc, text)
-    builder.flat_sums = limits.flat_sums
     value = builder.finish(builder.build(tree.body), vector)
     for part in getattr(value, "components", (value,)):
         if _tree_size_exceeds(part, limits.result_nodes):
@@ -199,7 +205,7 @@ def _check_size(tree: ast.AST, text: str, loc: Loc, limits: Limits) -> None:
             _fail(loc, f"expression is too large (more than {limits.nodes} terms)")
         if depth > limits.depth:
             _fail(loc, f"expression is nested too deeply (more than {limits.depth} levels): {_short(text)!r}")
-        stack.extend((child, depth if limits.flat_sums and _continues_sum(node, child) else depth + 1)
+        stack.extend((child, depth if _continues_sum(node, child) else depth + 1)
                      for child in ast.iter_child_nodes(node))
 
 
@@ -214,8 +220,6 @@ def _continues_sum(node: ast.AST, child: ast.AST) -> bool:
 
 class _Builder:
     """Walks a parsed tree, accepting only whitelisted nodes, and builds sympy objects."""
-
-    flat_sums = False     # build a + b + ... without recursing down it (`Limits.flat_sums`)
 
     def __init__(self, scope: Scope, loc: Loc, text: str):
         self.scope, self.loc, self.text = scope, loc, text
@@ -362,21 +366,33 @@ class _Builder:
         self.fail(f"operator '{type(op).__name__}' is not allowed")
 
     def _BinOp(self, node: ast.BinOp) -> sp.Expr:
-        if self.flat_sums and _is_sum(node):
+        if _is_sum(node):
             return self._sum(node)
         return self.binary(node.op, self.scalar(node.left), self.scalar(node.right))
 
-    def _sum(self, node: ast.BinOp) -> sp.Expr:
+    def _sum(self, node: ast.BinOp):
         """a + b - c + ...: Python's tree nests a sum of n terms n deep; walked down in a
-        loop and added at once (a report's sum can have thousands of terms; adding them
-        one by one costs n^2)."""
-        top, terms = node, []
+        loop, its terms built left to right and added at once (`add`: a report's sum can
+        have thousands of terms, and adding them one by one costs n^2)."""
+        top, operands, negated = node, [], []
         while _is_sum(node):
-            right = self.scalar(node.right)
-            terms.append(-right if isinstance(node.op, ast.Sub) else right)
+            operands.append(node.right)
+            negated.append(isinstance(node.op, ast.Sub))
             node = node.left
-        terms.append(self.build(node))
-        return self.guarded(sp.Add(*reversed(terms)), top)
+        operands.append(node)
+        negated.append(False)
+        operands.reverse()
+        negated.reverse()
+        return self.guarded(self.add([self.build(n) for n in operands], operands, negated), top)
+
+    def add(self, values: list, nodes: list[ast.AST], negated: list[bool]):
+        """The sum of the terms `values` (written at `nodes`; those `negated` subtracted)."""
+        terms = [self.as_scalar(v, n) for v, n in zip(values, nodes)]
+        return sp.Add(*(-term if minus else term for term, minus in zip(terms, negated)))
+
+    def as_scalar(self, value, node: ast.AST | None = None):
+        """`value`, which must be a scalar (every value here; vectors.py checks it)."""
+        return value
 
     def binary(self, op_node: ast.operator, left: sp.Expr, right: sp.Expr) -> sp.Expr:
         if isinstance(op_node, ast.Pow):

@@ -31,6 +31,7 @@ TOLERANCE = 1e-9          # relative: an eigenvalue or a moment this far below z
 SINGULAR = 1e-10          # smallest / largest singular value below this: singular
 RANDOM_STATES = 3         # seeded states that decide "singular everywhere"
 SEED = 20240611
+SMALL_MATRIX = 30         # mass matrices up to this size are told regular without importing numpy
 
 
 def check_model(model: Model) -> None:
@@ -253,21 +254,46 @@ def _singular_directions(derivation, values: dict) -> list[str]:
 def _clearly_regular(matrix, values: dict) -> bool:
     """True when the symmetric `matrix` at `values` is positive definite with its smallest
     eigenvalue above SINGULAR times its largest entry: M - SINGULAR*scale*I has a Cholesky
-    factor (mpmath, which sympy has loaded already: numpy's import was a tenth of a small
-    `derive`). False also when it cannot tell (then numpy's eigenvalues decide)."""
-    entries = [_real(e, values) for e in matrix]
-    if any(e is None for e in entries):
-        return False
+    factor. Only the nonzero entries are evaluated (a system of many uncoupled coordinates
+    has n of n^2). Small matrices are factored with mpmath, which sympy has loaded already
+    (numpy's import was a tenth of a small `derive`); beyond SMALL_MATRIX rows with numpy
+    (mpmath's O(n^3) loop in Python took 18 s at n = 300). False also when it cannot tell
+    (then numpy's eigenvalues decide)."""
+    entries = {}
+    for (i, j), expr in matrix.todok().items():
+        entries[i, j] = _real(expr, values)
+        if entries[i, j] is None:
+            return False
     n = matrix.shape[0]
-    scale = max((abs(e) for e in entries), default=0.0)
-    shifted = mpmath.fp.matrix(n, n)
-    for k, entry in enumerate(entries):
-        shifted[k // n, k % n] = entry - (SINGULAR * scale if k // n == k % n else 0.0)
-    try:
-        mpmath.fp.cholesky(shifted)
-    except (ValueError, ZeroDivisionError):
+    scale = max((abs(e) for e in entries.values()), default=0.0)
+    if scale == 0:
         return False
-    return scale > 0
+    shifted = _dense(n, entries, SINGULAR * scale)
+    try:
+        if n <= SMALL_MATRIX:
+            mpmath.fp.cholesky(shifted)
+            return True
+        import numpy as np
+
+        np.linalg.cholesky(shifted)
+    except (ValueError, ZeroDivisionError):     # numpy's LinAlgError is a ValueError
+        return False
+    return True
+
+
+def _dense(n: int, entries: dict, shift: float):
+    """The n x n matrix of `entries` minus shift * I: mpmath's for small n, numpy's beyond."""
+    if n <= SMALL_MATRIX:
+        shifted = mpmath.fp.matrix(n, n)
+    else:
+        import numpy as np
+
+        shifted = np.zeros((n, n))
+    for (i, j), entry in entries.items():
+        shifted[i, j] = entry
+    for k in range(n):
+        shifted[k, k] = shifted[k, k] - shift
+    return shifted
 
 
 def _null_space(A: np.ndarray) -> np.ndarray:

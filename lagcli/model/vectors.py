@@ -112,13 +112,20 @@ class VectorBuilder(_Builder):
             return -operand if isinstance(node.op, ast.USub) else operand
         return self.unary(node.op, self.as_scalar(operand, node.operand))
 
+    def add(self, values: list, nodes: list[ast.AST], negated: list[bool]):
+        """A sum of scalars, or of vectors (component by component, each added at once)."""
+        if not any(isinstance(v, Vector) for v in values):
+            return super().add(values, nodes, negated)
+        vectors = [self.as_vector(v, n) for v, n in zip(values, nodes)]
+        return Vector(tuple(sp.Add(*(-v.components[k] if minus else v.components[k]
+                                     for v, minus in zip(vectors, negated))) for k in range(3)))
+
     def _BinOp(self, node: ast.BinOp):
+        if isinstance(node.op, (ast.Add, ast.Sub)):
+            return self._sum(node)       # the scalar or vector sum, flat (lagcli/expr.py)
         left, right = self.build(node.left), self.build(node.right)
         if not isinstance(left, Vector) and not isinstance(right, Vector):
             return self.binary(node.op, self.as_scalar(left, node.left), self.as_scalar(right, node.right))
-        if isinstance(node.op, (ast.Add, ast.Sub)):
-            left, right = self.as_vector(left, node.left), self.as_vector(right, node.right)
-            return left + right if isinstance(node.op, ast.Add) else left - right
         if isinstance(node.op, ast.Mult) and isinstance(left, Vector) and isinstance(right, Vector):
             self.fail("the product of two vectors is dot(u, v) or cross(u, v)")
         if isinstance(node.op, ast.Mult):

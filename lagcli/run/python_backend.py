@@ -118,7 +118,7 @@ def integrate_module(module, p: list[float], y0: list[float], s: RunSettings,
     failures (see lagcli.run.rows). `u`: the inputs, held constant (a module
     of a spec with `inputs:` only; None: their defaults)."""
     if s.method == VARIATIONAL:
-        from lagcli.run.variational_backend import integrate_variational
+        from lagcli.run.variational_run import integrate_variational
 
         return integrate_variational(module, p, y0, s, progress, sink, u)
     n = len(module.COORDINATES)

@@ -100,10 +100,10 @@ def at_rest(initial: dict, inits: dict) -> list[str]:
 
 def watched(settings, layout, sink: RowSink):
     """`sink`, and for --method variational also the drift of the integrals
-    (`lagcli.run.variational_backend.IntegralDrift`, the end-of-run line)."""
+    (`lagcli.run.variational_run.IntegralDrift`, the end-of-run line)."""
     if settings.method != VARIATIONAL:
         return sink, None
-    from lagcli.run.variational_backend import IntegralDrift
+    from lagcli.run.variational_run import IntegralDrift
 
     drift = IntegralDrift(layout)
     return Tee(sink, drift), drift

@@ -41,7 +41,7 @@ from lagcli.runtime.run_rules import max_step
 from lagcli.runtime import c_runtime_files, fmi2_license, fmi2_runtime_files
 
 MODEL_HEADER = "lagcli_fmu_model.h"
-INTEGRATOR = ("lagcli_model.h", "lagcli_ode.h", "lagcli_ode.c")   # of the C runtime: no driver
+INTEGRATOR = ("lagcli_model.h", "lagcli_linalg.h", "lagcli_ode.h", "lagcli_ode.c")   # of the C runtime: no driver
 ZIP_TIME = (1980, 1, 1, 0, 0, 0)      # the earliest time a zip entry can hold
 ZIP_MODE = 0o644 << 16
 PLATFORMS = {("Linux", "x86_64"): ("linux64", ".so"), ("Linux", "i686"): ("linux32", ".so"),

@@ -4,12 +4,13 @@
  * Interface: double_pendulum.h. State y = [theta1, theta2, theta1_dot, theta2_dot],
  * parameters p = [m1, m2, l1, l2, g].
  * C99 + libm; no allocation: the augmented system lives in fixed-size stack arrays
- * and is solved by LU with partial pivoting in place.
+ * and is solved in place by lagcli_linalg.h (Cholesky; LU where M is not positive definite).
  */
 #include <math.h>
 #include <stddef.h>
 
 #include "double_pendulum.h"
+#include "lagcli_linalg.h"
 
 #define DOUBLE_PENDULUM_NSYS (DOUBLE_PENDULUM_NQ + DOUBLE_PENDULUM_NLAMBDA)   /* size of [[M, -A^T], [A, 0]] */
 
@@ -46,65 +47,12 @@ const double double_pendulum_initial_state[] = {
     0.0,
 };
 
-static int double_pendulum_all_finite(int count, const double *v)
-{
-    int i;
-    for (i = 0; i < count; ++i)
-        if (!isfinite(v[i]))
-            return 0;
-    return 1;
-}
-
-/* Solve K x = r for x (K: DOUBLE_PENDULUM_NSYS x DOUBLE_PENDULUM_NSYS, row-major; r is overwritten by x), by
- * Gaussian elimination with partial pivoting, in place. 1: exactly singular, 2: not finite. */
-static int double_pendulum_solve(double *K, double *r)
-{
-    int i, j, k;
-    if (!double_pendulum_all_finite(DOUBLE_PENDULUM_NSYS * DOUBLE_PENDULUM_NSYS, K) || !double_pendulum_all_finite(DOUBLE_PENDULUM_NSYS, r))
-        return 2;
-    for (k = 0; k < DOUBLE_PENDULUM_NSYS; ++k) {
-        int pivot = k;
-        double big = fabs(K[k * DOUBLE_PENDULUM_NSYS + k]);
-        for (i = k + 1; i < DOUBLE_PENDULUM_NSYS; ++i) {
-            if (fabs(K[i * DOUBLE_PENDULUM_NSYS + k]) > big) {
-                big = fabs(K[i * DOUBLE_PENDULUM_NSYS + k]);
-                pivot = i;
-            }
-        }
-        if (big == 0.0)
-            return 1;
-        if (pivot != k) {
-            double swap;
-            for (j = k; j < DOUBLE_PENDULUM_NSYS; ++j) {
-                swap = K[k * DOUBLE_PENDULUM_NSYS + j];
-                K[k * DOUBLE_PENDULUM_NSYS + j] = K[pivot * DOUBLE_PENDULUM_NSYS + j];
-                K[pivot * DOUBLE_PENDULUM_NSYS + j] = swap;
-            }
-            swap = r[k];
-            r[k] = r[pivot];
-            r[pivot] = swap;
-        }
-        for (i = k + 1; i < DOUBLE_PENDULUM_NSYS; ++i) {
-            const double factor = K[i * DOUBLE_PENDULUM_NSYS + k] / K[k * DOUBLE_PENDULUM_NSYS + k];
-            for (j = k + 1; j < DOUBLE_PENDULUM_NSYS; ++j)
-                K[i * DOUBLE_PENDULUM_NSYS + j] -= factor * K[k * DOUBLE_PENDULUM_NSYS + j];
-            r[i] -= factor * r[k];
-        }
-    }
-    for (k = DOUBLE_PENDULUM_NSYS - 1; k >= 0; --k) {
-        double sum = r[k];
-        for (j = k + 1; j < DOUBLE_PENDULUM_NSYS; ++j)
-            sum -= K[k * DOUBLE_PENDULUM_NSYS + j] * r[j];
-        r[k] = sum / K[k * DOUBLE_PENDULUM_NSYS + k];
-    }
-    return double_pendulum_all_finite(DOUBLE_PENDULUM_NSYS, r) ? 0 : 2;
-}
-
 int double_pendulum_rhs_stabilized(double t, const double *y, const double *p, double alpha, double beta,
                         double *dydt, double *lambda)
 {
     double K[DOUBLE_PENDULUM_NSYS * DOUBLE_PENDULUM_NSYS];
     double r[DOUBLE_PENDULUM_NSYS];
+    double diagonal[DOUBLE_PENDULUM_NSYS];
     int i, rc;
     (void)t;
     (void)p;
@@ -129,7 +77,7 @@ int double_pendulum_rhs_stabilized(double t, const double *y, const double *p, d
     K[3] = x8;
     r[0] = -p[2]*(x0*x2*p[4] + x10*x6*x9);
     r[1] = x6*(x11*x9*p[2] - x3*p[4]);
-    rc = double_pendulum_solve(K, r);
+    rc = lagcli_solve_symmetric(DOUBLE_PENDULUM_NSYS, K, r, diagonal);
     if (rc != 0)
         return rc;
     for (i = 0; i < DOUBLE_PENDULUM_NQ; ++i) {
@@ -163,7 +111,7 @@ int double_pendulum_invariants(double t, const double *y, const double *p, doubl
     const double x12 = (1.0/2.0)*x1*x11*((x2*x2) + (x4*x4)) + (1.0/2.0)*x10*x8*((x3*x3) + (x5*x5)) + x7*y[2]*y[3] - p[4]*(x0*x4*p[2] + x5*x6);
     out[0] = x12;
     out[1] = x12;
-    return double_pendulum_all_finite(DOUBLE_PENDULUM_NINV, out) ? 0 : 2;
+    return lagcli_all_finite(DOUBLE_PENDULUM_NINV, out) ? 0 : 2;
 }
 
 int double_pendulum_mass_matrix(double t, const double *y, const double *p, double *M)
@@ -184,7 +132,7 @@ int double_pendulum_mass_matrix(double t, const double *y, const double *p, doub
     M[1] = x7;
     M[2] = x7;
     M[3] = x8;
-    return double_pendulum_all_finite(DOUBLE_PENDULUM_NQ * DOUBLE_PENDULUM_NQ, M) ? 0 : 2;
+    return lagcli_all_finite(DOUBLE_PENDULUM_NQ * DOUBLE_PENDULUM_NQ, M) ? 0 : 2;
 }
 
 int double_pendulum_forcing(double t, const double *y, const double *p, double *F)
@@ -203,7 +151,7 @@ int double_pendulum_forcing(double t, const double *y, const double *p, double *
     const double x11 = (y[2]*y[2]);
     F[0] = -p[2]*(x0*x2*p[4] + x10*x6*x9);
     F[1] = x6*(x11*x9*p[2] - x3*p[4]);
-    return double_pendulum_all_finite(DOUBLE_PENDULUM_NQ, F) ? 0 : 2;
+    return lagcli_all_finite(DOUBLE_PENDULUM_NQ, F) ? 0 : 2;
 }
 
 int double_pendulum_constraint_matrix(double t, const double *y, const double *p, double *A)
@@ -211,7 +159,7 @@ int double_pendulum_constraint_matrix(double t, const double *y, const double *p
     (void)t;
     (void)y;
     (void)p;
-    return double_pendulum_all_finite(DOUBLE_PENDULUM_NLAMBDA * DOUBLE_PENDULUM_NQ, A) ? 0 : 2;
+    return lagcli_all_finite(DOUBLE_PENDULUM_NLAMBDA * DOUBLE_PENDULUM_NQ, A) ? 0 : 2;
 }
 
 int double_pendulum_constraint_bias(double t, const double *y, const double *p, double *b)
@@ -219,7 +167,7 @@ int double_pendulum_constraint_bias(double t, const double *y, const double *p, 
     (void)t;
     (void)y;
     (void)p;
-    return double_pendulum_all_finite(DOUBLE_PENDULUM_NLAMBDA, b) ? 0 : 2;
+    return lagcli_all_finite(DOUBLE_PENDULUM_NLAMBDA, b) ? 0 : 2;
 }
 
 /* The variational integrator's (lagcli_variational.c): g = dL/dq' = M q' + a and
@@ -251,7 +199,7 @@ static int double_pendulum_discrete_momenta(double t, const double *y, const dou
     f[0] = -p[2]*(x1*x12 + x14*y[2]);
     f[1] = x11*(x13*p[2]*y[2]*y[3] - x4*p[4]);
 
-    return double_pendulum_all_finite(2, g) && double_pendulum_all_finite(2, f) ? 0 : 2;
+    return lagcli_all_finite(2, g) && lagcli_all_finite(2, f) ? 0 : 2;
 }
 
 /* dg/dq, dg/dq', df/dq, df/dq' (2 x 2, row-major): the Newton iteration's Jacobian. */
@@ -303,8 +251,8 @@ static int double_pendulum_discrete_jacobian(double t, const double *y, const do
     fv[2] = x15;
     fv[3] = x17;
 
-    return double_pendulum_all_finite(4, gq) && double_pendulum_all_finite(4, gv)
-        && double_pendulum_all_finite(4, fq) && double_pendulum_all_finite(4, fv) ? 0 : 2;
+    return lagcli_all_finite(4, gq) && lagcli_all_finite(4, gv)
+        && lagcli_all_finite(4, fq) && lagcli_all_finite(4, fv) ? 0 : 2;
 }
 
 const lagcli_model double_pendulum_model = {

@@ -4,12 +4,13 @@
  * Interface: ex6_9_two_wheels_axle.h. State y = [x, y, phi, x_dot, y_dot, phi_dot],
  * parameters p = [m, l].
  * C99 + libm; no allocation: the augmented system lives in fixed-size stack arrays
- * and is solved by LU with partial pivoting in place.
+ * and is solved in place by lagcli_linalg.h (LU with partial pivoting).
  */
 #include <math.h>
 #include <stddef.h>
 
 #include "ex6_9_two_wheels_axle.h"
+#include "lagcli_linalg.h"
 
 #define EX6_9_TWO_WHEELS_AXLE_NSYS (EX6_9_TWO_WHEELS_AXLE_NQ + EX6_9_TWO_WHEELS_AXLE_NLAMBDA)   /* size of [[M, -A^T], [A, 0]] */
 
@@ -47,60 +48,6 @@ const double ex6_9_two_wheels_axle_initial_state[] = {
     2.0,
 };
 
-static int ex6_9_two_wheels_axle_all_finite(int count, const double *v)
-{
-    int i;
-    for (i = 0; i < count; ++i)
-        if (!isfinite(v[i]))
-            return 0;
-    return 1;
-}
-
-/* Solve K x = r for x (K: EX6_9_TWO_WHEELS_AXLE_NSYS x EX6_9_TWO_WHEELS_AXLE_NSYS, row-major; r is overwritten by x), by
- * Gaussian elimination with partial pivoting, in place. 1: exactly singular, 2: not finite. */
-static int ex6_9_two_wheels_axle_solve(double *K, double *r)
-{
-    int i, j, k;
-    if (!ex6_9_two_wheels_axle_all_finite(EX6_9_TWO_WHEELS_AXLE_NSYS * EX6_9_TWO_WHEELS_AXLE_NSYS, K) || !ex6_9_two_wheels_axle_all_finite(EX6_9_TWO_WHEELS_AXLE_NSYS, r))
-        return 2;
-    for (k = 0; k < EX6_9_TWO_WHEELS_AXLE_NSYS; ++k) {
-        int pivot = k;
-        double big = fabs(K[k * EX6_9_TWO_WHEELS_AXLE_NSYS + k]);
-        for (i = k + 1; i < EX6_9_TWO_WHEELS_AXLE_NSYS; ++i) {
-            if (fabs(K[i * EX6_9_TWO_WHEELS_AXLE_NSYS + k]) > big) {
-                big = fabs(K[i * EX6_9_TWO_WHEELS_AXLE_NSYS + k]);
-                pivot = i;
-            }
-        }
-        if (big == 0.0)
-            return 1;
-        if (pivot != k) {
-            double swap;
-            for (j = k; j < EX6_9_TWO_WHEELS_AXLE_NSYS; ++j) {
-                swap = K[k * EX6_9_TWO_WHEELS_AXLE_NSYS + j];
-                K[k * EX6_9_TWO_WHEELS_AXLE_NSYS + j] = K[pivot * EX6_9_TWO_WHEELS_AXLE_NSYS + j];
-                K[pivot * EX6_9_TWO_WHEELS_AXLE_NSYS + j] = swap;
-            }
-            swap = r[k];
-            r[k] = r[pivot];
-            r[pivot] = swap;
-        }
-        for (i = k + 1; i < EX6_9_TWO_WHEELS_AXLE_NSYS; ++i) {
-            const double factor = K[i * EX6_9_TWO_WHEELS_AXLE_NSYS + k] / K[k * EX6_9_TWO_WHEELS_AXLE_NSYS + k];
-            for (j = k + 1; j < EX6_9_TWO_WHEELS_AXLE_NSYS; ++j)
-                K[i * EX6_9_TWO_WHEELS_AXLE_NSYS + j] -= factor * K[k * EX6_9_TWO_WHEELS_AXLE_NSYS + j];
-            r[i] -= factor * r[k];
-        }
-    }
-    for (k = EX6_9_TWO_WHEELS_AXLE_NSYS - 1; k >= 0; --k) {
-        double sum = r[k];
-        for (j = k + 1; j < EX6_9_TWO_WHEELS_AXLE_NSYS; ++j)
-            sum -= K[k * EX6_9_TWO_WHEELS_AXLE_NSYS + j] * r[j];
-        r[k] = sum / K[k * EX6_9_TWO_WHEELS_AXLE_NSYS + k];
-    }
-    return ex6_9_two_wheels_axle_all_finite(EX6_9_TWO_WHEELS_AXLE_NSYS, r) ? 0 : 2;
-}
-
 int ex6_9_two_wheels_axle_rhs_stabilized(double t, const double *y, const double *p, double alpha, double beta,
                         double *dydt, double *lambda)
 {
@@ -137,7 +84,7 @@ int ex6_9_two_wheels_axle_rhs_stabilized(double t, const double *y, const double
     if (alpha != 0.0 || beta != 0.0) {
         r[3] -= 2.0*alpha*(x3*y[3] - x4*y[4]);
     }
-    rc = ex6_9_two_wheels_axle_solve(K, r);
+    rc = lagcli_solve_lu(EX6_9_TWO_WHEELS_AXLE_NSYS, K, r);
     if (rc != 0)
         return rc;
     for (i = 0; i < EX6_9_TWO_WHEELS_AXLE_NQ; ++i) {
@@ -180,7 +127,7 @@ int ex6_9_two_wheels_axle_invariants(double t, const double *y, const double *p,
                 worst = fabs(values[i]);
         out[3] = worst;
     }
-    return ex6_9_two_wheels_axle_all_finite(EX6_9_TWO_WHEELS_AXLE_NINV, out) ? 0 : 2;
+    return lagcli_all_finite(EX6_9_TWO_WHEELS_AXLE_NINV, out) ? 0 : 2;
 }
 
 int ex6_9_two_wheels_axle_mass_matrix(double t, const double *y, const double *p, double *M)
@@ -200,7 +147,7 @@ int ex6_9_two_wheels_axle_mass_matrix(double t, const double *y, const double *p
     M[6] = 0;
     M[7] = 0;
     M[8] = x2;
-    return ex6_9_two_wheels_axle_all_finite(EX6_9_TWO_WHEELS_AXLE_NQ * EX6_9_TWO_WHEELS_AXLE_NQ, M) ? 0 : 2;
+    return lagcli_all_finite(EX6_9_TWO_WHEELS_AXLE_NQ * EX6_9_TWO_WHEELS_AXLE_NQ, M) ? 0 : 2;
 }
 
 int ex6_9_two_wheels_axle_forcing(double t, const double *y, const double *p, double *F)
@@ -211,7 +158,7 @@ int ex6_9_two_wheels_axle_forcing(double t, const double *y, const double *p, do
     F[0] = 0;
     F[1] = 0;
     F[2] = 0;
-    return ex6_9_two_wheels_axle_all_finite(EX6_9_TWO_WHEELS_AXLE_NQ, F) ? 0 : 2;
+    return lagcli_all_finite(EX6_9_TWO_WHEELS_AXLE_NQ, F) ? 0 : 2;
 }
 
 int ex6_9_two_wheels_axle_constraint_matrix(double t, const double *y, const double *p, double *A)
@@ -224,7 +171,7 @@ int ex6_9_two_wheels_axle_constraint_matrix(double t, const double *y, const dou
     A[0] = x3;
     A[1] = -x4;
     A[2] = 0;
-    return ex6_9_two_wheels_axle_all_finite(EX6_9_TWO_WHEELS_AXLE_NLAMBDA * EX6_9_TWO_WHEELS_AXLE_NQ, A) ? 0 : 2;
+    return lagcli_all_finite(EX6_9_TWO_WHEELS_AXLE_NLAMBDA * EX6_9_TWO_WHEELS_AXLE_NQ, A) ? 0 : 2;
 }
 
 int ex6_9_two_wheels_axle_constraint_bias(double t, const double *y, const double *p, double *b)
@@ -235,7 +182,7 @@ int ex6_9_two_wheels_axle_constraint_bias(double t, const double *y, const doubl
     const double x3 = sin(y[2]);
     const double x4 = cos(y[2]);
     b[0] = -y[5]*(x3*y[4] + x4*y[3]);
-    return ex6_9_two_wheels_axle_all_finite(EX6_9_TWO_WHEELS_AXLE_NLAMBDA, b) ? 0 : 2;
+    return lagcli_all_finite(EX6_9_TWO_WHEELS_AXLE_NLAMBDA, b) ? 0 : 2;
 }
 
 const lagcli_model ex6_9_two_wheels_axle_model = {
