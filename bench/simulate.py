@@ -76,7 +76,8 @@ def main() -> None:
     from lagcli.derive.pipeline import derive_file
     from lagcli.run import c_backend
     from lagcli.run.options import Request, resolve_settings
-    from lagcli.run.python_backend import integrate_module, load_module
+    from lagcli.run.python_backend import integrate_module
+    from lagcli.system import System
 
     start = time.perf_counter()
     run_quiet(command("--backend", "c"), env)          # cold: derive, generate, compile
@@ -100,7 +101,7 @@ def main() -> None:
     results["lagcli simulate, warm cache"] = (median_time(
         lambda: run_quiet(command("--backend", "c", "-o", os.devnull), env), repeat), "DOP853")
 
-    module = load_module(d)
+    module = System(d, SPEC.read_bytes()).program("python").module
     p = [prm.value for prm in d.model.parameters]
     results["lagcli Python backend (integration)"] = (median_time(
         lambda: integrate_module(module, p, y0, settings), repeat), "DOP853")

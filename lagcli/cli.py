@@ -234,10 +234,12 @@ def generate(ctx, spec, lang, output, form):
               help="With --plot: draw these columns, one panel per kind (angles, lengths, velocities, ...).")
 @click.option("--phase", "phase", multiple=True, metavar="Q",
               help="With --plot: add the phase portrait (Q_dot against Q) of coordinate Q (repeatable).")
+@click.option("--units", "show_units", is_flag=True,
+              help="Print each CSV column with its kind and unit (from the spec's unit:s) and exit.")
 @quiet_option
 @click.pass_context
 def simulate(ctx, spec, t_end, dt, method, rtol, atol, sets, inits, inputs, backend, baumgarte, max_steps,
-             steps_per_row, output, events_path, plot, columns, phase):
+             steps_per_row, output, events_path, plot, columns, phase, show_units):
     """Integrate the equations of motion of SPEC and write the trajectory as CSV.
 
     \b
@@ -246,8 +248,13 @@ def simulate(ctx, spec, t_end, dt, method, rtol, atol, sets, inits, inputs, back
       lagcli simulate specs/cart_pole.yaml --plot p.png --columns x,theta,x_dot --phase theta -o c.csv
       lagcli simulate specs/hybrid/bouncing_ball.yaml --events bounces.csv -o ball.csv
       lagcli simulate specs/spherical_pendulum.yaml --method variational --dt 0.01 -o sp.csv
+      lagcli simulate tests/data/units_cart_pendulum.yaml --units
     """
     from lagcli.run.options import Request
+
+    if show_units:
+        _run(ctx, lambda: write_output(output, commands.column_units(spec)))
+        return
 
     if (columns or phase) and not plot:
         raise click.UsageError("--columns and --phase choose what --plot draws: give --plot FILE.png")

@@ -65,15 +65,15 @@ def simulate(request, output: str | None = None, plot: str | None = None,
              note=lambda text: None, progress=None, columns=None, phase=(), events: str | None = None) -> None:
     """`lagcli simulate`: run `request` (a lagcli.run.options.Request), writing the
     CSV to `output` (stdout for None or '-') row by row as it is computed, then the
-    picture to `plot` (PNG, SVG or PDF by its extension).  Both targets are checked, and `output` opened, before any work starts.
-    The CSV is kept even when the integration fails or is interrupted (the rows so
-    far); the error is raised after it.  `note` and `progress`: see
-    lagcli.run.simulate.simulate. `events`: the file of one row per event (`--events`),
+    picture to `plot` (PNG, SVG or PDF by its extension).  Both targets are checked, and
+    `output` opened, before any work starts. The CSV is kept even when the integration
+    fails or is interrupted (the rows so far); the error is raised after it.  `note` and
+    `progress`: see `run_request`. `events`: the file of one row per event (`--events`),
     written after the run; a run with events also says on stderr what happened."""
     from lagcli.errors import SimulationError
     from lagcli.render.output import open_output, resolve_target
-    from lagcli.run.simulate import Interrupted, simulate as run
     from lagcli.run.rows import CsvSink, Decimated, Tee
+    from lagcli.run.simulate import Interrupted
 
     for target in (plot, events):
         if target:
@@ -84,15 +84,16 @@ def simulate(request, output: str | None = None, plot: str | None = None,
     with open_output(output) as out:
         csv = CsvSink(out.stream)
         shown = Decimated(PLOT_ROWS) if plot else None        # the plot's bounded copy
-        outcome = run(request, note, progress, Tee(csv, shown) if shown else csv)
+        outcome = run_request(request, note, progress, Tee(csv, shown) if shown else csv)
     sink = outcome.trajectory
     _report_events(sink, outcome, events, note)
     plot_error = None
     if plot and sink.rows:
-        from lagcli.viz.plot import plot_file
-        try:
-            title, options = _plot_options(request.spec, columns, phase)
-            plot_file(shown.trajectory(), outcome.coordinates, outcome.energy_conserved, plot, title, options)
+        from lagcli.viz.plot import PlotOptions, plot_file
+        try:                   # the title, angles and units from the run interface: no model rebuilt
+            layout = outcome.layout
+            plot_file(shown.trajectory(), outcome.coordinates, outcome.energy_conserved, plot, layout.name,
+                      PlotOptions(columns, tuple(phase), layout.angles, layout.units))
         except SimulationError as exc:
             plot_error = exc
     where = "stdout" if output in (None, "-") else output
@@ -119,15 +120,126 @@ def _report_events(sink, outcome, events: str | None, note) -> None:
         write_output(events, events_csv(sink.events, outcome.states))
 
 
-def _plot_options(spec: str, columns, phase):
-    """The title of `--plot` (the spec's name, as `Trajectory.plot`) and what it draws: the
-    coordinates split into angles and lengths (the model says which are angles), or the
-    `--columns`; `--phase` portraits."""
-    from lagcli.derive.pipeline import load_model
-    from lagcli.viz.plot import PlotOptions, angle_coordinates
+def column_units(spec: str) -> str:
+    """`lagcli simulate SPEC --units`: `column,kind,unit` of each CSV column (the unit empty
+    where the spec gives none), from the cached driver's run interface when there is one."""
+    from lagcli.run import c_backend, simulate as runs
+    from lagcli.spec.files import read_spec_bytes
 
-    model = load_model(spec)
-    return model.name, PlotOptions(columns, tuple(phase), angle_coordinates(model))
+    spec_bytes = read_spec_bytes(spec)
+    compiler = c_backend.find_compiler()
+    driver = runs.cached_driver(spec, spec_bytes, compiler) if compiler else None
+    if driver is not None:
+        layout = driver.layout
+    else:
+        from lagcli.system import load_file
+
+        layout = load_file(spec, spec_bytes).layout
+    return "column,kind,unit\n" + "".join(f"{c.name},{c.kind},{c.unit or ''}\n" for c in layout.columns)
+
+
+def run_request(request, note=lambda text: None, progress=None, sink=None, system=None):
+    """One run of `request`, its rows given to `sink` (in memory when None): the cached
+    driver of this very spec when there is one (no sympy: the run interface and the
+    program come from the cache), else through the System (derive, make the initial
+    state consistent, generate and build the program). Either way the run layer gets
+    the same two values, a `lagcli.interface.Layout` and a program. `note(text)`
+    receives remarks for stderr; `progress(t_end)` is a context manager yielding
+    `update(t)` (or None); `system`: the System of the spec when the caller has it.
+    Returns a `lagcli.run.simulate.Outcome`."""
+    from lagcli.run.rows import Trajectory
+    from lagcli.run.simulate import Interrupted
+
+    try:
+        return _run_request(request, note, progress, Trajectory() if sink is None else sink, system)
+    except KeyboardInterrupt:
+        raise Interrupted(f"{request.spec}: interrupted before the integration started "
+                          "(while deriving, generating or compiling); nothing was written") from None
+
+
+def _run_request(request, note, progress, sink, system):
+    from lagcli.interface import C_METHODS
+    from lagcli.run import c_backend, simulate as runs
+    from lagcli.run.options import parse_overrides, resolve_settings
+    from lagcli.runtime.run_rules import EXPLICIT_METHODS
+    from lagcli.spec.files import read_spec_bytes
+
+    spec_bytes = read_spec_bytes(request.spec)       # once: the cache key and the model
+    compiler = c_backend.find_compiler()
+    if request.backend == "c":
+        c_backend.require_compiler(request.method or EXPLICIT_METHODS[0])   # before any work
+    if compiler and request.backend in (None, "c") and request.method in (None, *C_METHODS) \
+            and not request.inputs and system is None:
+        driver = runs.cached_driver(request.spec, spec_bytes, compiler)
+        if driver is not None:
+            outcome = _warm_run(driver, request, note, progress, sink, spec_bytes)
+            if outcome is not None:
+                return outcome
+    if system is None:
+        from lagcli.system import load_file
+
+        system = load_file(request.spec, spec_bytes)
+    layout = system.layout
+    settings = resolve_settings(request, layout.settings.as_dict())
+    overrides = parse_overrides(layout, request.sets, request.inits)
+    laws = _laws(request, system)
+    backend = request.backend or ("c" if compiler and settings.method in C_METHODS else "python")
+    python_only = system.hybrid(overrides.values, laws) is not None \
+        and system.compiled_laws(overrides.values, laws) is None
+    if python_only and request.backend is None:
+        backend = "python"
+        if compiler:
+            note("lagcli: events run on the Python backend (the C driver does not run them yet)")
+    start = system.start(overrides.values, overrides.initial)
+    for text in runs.at_rest(layout.initial, overrides.initial) + list(start.notes):
+        note(text)
+    system._check_method(settings.method, overrides.values, laws)
+    program = system.program(backend, settings.method, overrides.values, laws)
+    sink, drift = runs.watched(settings, layout, sink)
+    rows = runs.run(program, settings, overrides, start.values, sink, progress)
+    runs.drift_note(drift, settings, note)
+    return runs.Outcome(rows, backend, layout, bool(system.model.events))
+
+
+def _warm_run(driver, request, note, progress, sink, spec_bytes):
+    """The run on the cached driver alone, or None when the System must solve for the state."""
+    from lagcli.interface import C_METHODS, VARIATIONAL
+    from lagcli.run import simulate as runs
+    from lagcli.run.options import parse_overrides, resolve_settings
+
+    layout = driver.layout
+    settings = resolve_settings(request, layout.settings.as_dict())
+    if settings.method not in C_METHODS or (settings.method == VARIATIONAL and any(
+            m.kind != "holonomic" for m in layout.multipliers)):
+        return None                           # the cold path refuses it, naming the constraint
+    overrides = parse_overrides(layout, request.sets, request.inits)
+    start = runs.warm_start(layout, overrides)
+    if start is None:
+        return None
+    state, notes, limit = start
+    watched, drift = runs.watched(settings, layout, sink)
+    rows = runs.run(driver, settings, overrides, state, watched, progress, limit)
+    if rows is None:
+        return None
+    if overrides.values and rows.failure and rows.rows <= 1:      # --set m=0: say why, as the cold path does
+        from lagcli.system import load_file
+
+        load_file(request.spec, spec_bytes).start(overrides.values, {})
+    for text in runs.at_rest(layout.initial, overrides.initial) + list(notes):
+        note(text)
+    runs.drift_note(drift, settings, note)
+    return runs.Outcome(rows, "c", layout)
+
+
+def _laws(request, system) -> dict:
+    """--input NAME=EXPR as {name: sympy law}, parsed with the safe parser."""
+    from lagcli.hybrid.hybrid_model import parse_law
+    from lagcli.run.options import parse_assignments
+
+    given = parse_assignments(request.inputs, "--input", list(system.layout.input_names), "input", "inputs",
+                              lambda text, where: text)
+    return {name: parse_law(system.model, name, text.strip(), f"--input {name}").expr
+            for name, text in given.items()}
 
 
 def generate(path: str, lang: str, output: str | None = None, form: str = "lagrangian",
@@ -301,7 +413,7 @@ def sweep(spec: str, plan_options: dict, options: dict, note=lambda text: None, 
     """`lagcli sweep`: the runs of a grid, samples or a table through the compiled driver;
     the summary written to options["output"] (docs/sweep.md)."""
     import lagcli
-    from lagcli.run.options import parse_assignments
+    from lagcli.run.options import parse_assignments, parse_overrides
     from lagcli.sweep import SweepOptions, make_plan, sweep as run_sweep
 
     from lagcli.errors import UsageError
@@ -312,11 +424,12 @@ def sweep(spec: str, plan_options: dict, options: dict, note=lambda text: None, 
     if laws or system.model.events or system.model.laws:
         raise UsageError(f"{spec}: lagcli sweep runs the compiled C driver, which does not run events or "
                          "input laws yet\n  hint: loop over `lagcli simulate` (the Python backend runs them)")
-    names = [*system.layout.parameter_names, *system.layout.state_names]
-    fixed = {key: parse_assignments(options.pop(key), f"--{flag}", names, what, "names")
-             for key, flag, what in (("parameters", "set", "parameter"), ("initial", "init", "initial value"),
-                                     ("exceed", "exceed", "coordinate or velocity"))}
-    result = run_sweep(system, plan, SweepOptions(**options, **fixed), note, progress)
+    layout = system.layout
+    overrides = parse_overrides(layout, options.pop("parameters"), options.pop("initial"))
+    exceed = parse_assignments(options.pop("exceed"), "--exceed", list(layout.state_names),
+                               "coordinate or velocity", "coordinates and velocities")
+    result = run_sweep(system, plan, SweepOptions(**options, parameters=overrides.values,
+                                                  initial=overrides.initial, exceed=exceed), note, progress)
     statuses = list(result.column("status"))
     note(f"{len(statuses)} runs: {statuses.count('ok')} ok, {statuses.count('failed')} failed; "
          f"summary in {result.path}")
@@ -330,16 +443,15 @@ def animate(spec: str, csv_path: str | None, request, output: str, drawn: dict, 
     import numpy as np
 
     import lagcli
-    from lagcli.viz.animate import Request, animate as draw, check_names, parse_links
     from lagcli.errors import UsageError
-    from lagcli.run.options import parse_assignments
-    from lagcli.run.simulate import simulate as run
+    from lagcli.run.options import parse_overrides
     from lagcli.run.rows import parse_csv
+    from lagcli.viz.animate import Request, animate as draw, check_names, parse_links
 
     system = lagcli.load(Path(spec))
-    names = list(system.layout.parameter_names)
-    params = {**system.layout.parameter_defaults,
-              **parse_assignments(request.sets, "--set", names, "parameter", "parameters")}
+    defaults = system.layout.parameter_defaults
+    overrides = parse_overrides(system.layout, request.sets, request.inits)
+    params = {**defaults, **{k: v for k, v in overrides.values.items() if k in defaults}}
     drawing = Request(parse_links(drawn.get("links", ())), tuple(drawn.get("traces", ())),
                       drawn.get("fps", 25.0), drawn.get("frame"))
     check_names(system.model, drawing)                # before a run is made
@@ -350,7 +462,7 @@ def animate(spec: str, csv_path: str | None, request, output: str, drawn: dict, 
         except OSError as exc:
             raise UsageError(f"--csv {csv_path}: cannot read it ({exc.strerror or exc})") from None
     else:
-        text = run(request, note).trajectory.csv_text()
+        text = run_request(request, note, system=system).trajectory.csv_text()
     header, rows = parse_csv(text)
     missing = [n for n in ("t", *system.layout.state_names) if n not in header]
     if missing or not rows:

@@ -1,35 +1,45 @@
-"""The typed interface of a system (`Layout`): what every consumer reads, written once.
+"""The run interface of a system (`Layout`): what everything after the System reads, written once.
 
 A `Layout` says, in spec order, what a run of a system is made of:
 
-    states        q..., then q'... (`<q>_dot`)                       y = [q, q']
-    parameters    name, default (and room for a unit)                p
+    states        q..., then q'... (`<q>_dot`), each with its unit    y = [q, q']
+    parameters    name, default, unit                                p
     inputs        name, default, latex, description (spec `inputs:`)  u
     multipliers   lambda_<j> (1-based) or lambda_<name>, one per constraint row
-    columns       the CSV columns, each with its kind:
-                    t                        time
-                    <q>                      coordinate
-                    <q>_dot                  velocity
+    columns       the CSV columns, each with its kind and unit:
+                    t                        time             s
+                    <q>                      coordinate       the spec's unit of q (none: dimensionless)
+                    <q>_dot                  velocity         unit of q per s
                     lambda_<k>               multiplier       (constrained)
-                    energy                   energy           (T + V)
-                    jacobi                   jacobi           (when the integral exists)
-                    p_<q>                    momentum         (each ignorable coordinate)
+                    energy                   energy           J  (T + V)
+                    jacobi                   jacobi           J  (when the integral exists)
+                    p_<q>                    momentum         J*s/(unit of q) (each ignorable q)
                     constraint_residual      residual         (constrained)
-    settings      t_end, dt, method, rtol, atol with their defaults
+    settings      t_end, dt, method, rtol, atol with their defaults (`Settings`); a run's
+                  own settings add the stabilisation gains (`RunSettings`, `DEFAULT_BAUMGARTE`)
+    initial       the spec's `initial:`; start: the consistent default state and its notes
+    integrals     energy_conserved (the energy column is the Jacobi integral); the jacobi and
+                  momentum columns say which other integrals exist
+    source        the spec's file name and description, lagcli's version
+
+Units are filled only when the spec gives some (docs/spec.md, "Units"); `units_of`.
 
 The naming rules of generated names (`_dot`, `_ddot`, `lambda_`, `p_`, the fixed
 column names) live here and nowhere else: the spec checker asks `reserved_reason`
 and `column_clash` which declared names would collide with them, and consumers
 read a column's kind instead of guessing it from its name.
 
-No sympy and no numpy here: the warm C path reads a layout back from cache
-metadata (`Layout.to_json` / `Layout.from_json`) without importing either.
+The System builds its layout once (`lagcli.system.System.layout`); the run layer, the
+code targets, sweeps and pictures read it. No sympy and no numpy here: the warm C path
+reads the layout back from the cache (`Layout.to_json` is the cache entry's metadata,
+`Layout.from_json`) without importing either.
 """
 from __future__ import annotations
 
 import json
 import math
 from dataclasses import asdict, dataclass, field, fields
+from pathlib import PurePath
 
 from lagcli.runtime.run_rules import EXPLICIT_METHODS
 
@@ -120,13 +130,15 @@ class State:
     name: str
     kind: str                    # "coordinate" | "velocity"
     coordinate: str              # the coordinate it belongs to (itself for a coordinate)
+    unit: str | None = None      # from the spec's units (velocity: the coordinate's per second)
+    angle: bool = False          # the coordinate is an angle (a rotation, or inside sin/cos/tan)
 
 
 @dataclass(frozen=True)
 class Parameter:
     name: str
     default: float
-    unit: str | None = None      # room: specs do not give units yet
+    unit: str | None = None      # the spec's `unit:` (None: none given)
 
 
 @dataclass(frozen=True)
@@ -138,6 +150,7 @@ class Input:
     default: float = 0.0
     latex: str | None = None
     description: str | None = None
+    unit: str | None = None
 
 
 @dataclass(frozen=True)
@@ -152,6 +165,7 @@ class Column:
     name: str
     kind: str                    # one of COLUMN_KINDS
     of: str | None = None        # momentum: its coordinate
+    unit: str | None = None      # when the spec gives units (see `units_of`)
 
 
 @dataclass(frozen=True)
@@ -165,14 +179,50 @@ class Settings:
     atol: float = 1e-12
 
     def as_dict(self) -> dict:
-        return asdict(self)
+        return {f.name: getattr(self, f.name) for f in fields(Settings)}
 
 
 SETTING_NAMES = tuple(f.name for f in fields(Settings))
 
 
 @dataclass(frozen=True)
+class RunSettings(Settings):
+    """The settings of one run: the spec's (or the defaults) under what the caller gave,
+    and the constraint stabilisation gains (docs/design.md, "Equations")."""
+
+    alpha: float = DEFAULT_BAUMGARTE[0]
+    beta: float = DEFAULT_BAUMGARTE[1]
+    max_steps: int = 0                   # integrator steps allowed (0: `default_max_steps(t_end, dt)`)
+    steps_per_row: int = 1               # --method variational: the step is dt / steps_per_row
+
+    @property
+    def step_budget(self) -> int:
+        return self.max_steps or default_max_steps(self.t_end, self.dt)
+
+
+@dataclass(frozen=True)
+class Start:
+    """The spec's own initial state made consistent with the constraints (what generated
+    code embeds and a run without --set/--init starts from), and what was solved for."""
+
+    values: tuple[float, ...]            # [q..., q'...]
+    notes: tuple[str, ...] = ()
+    consistent: bool = True              # False: it could not be made consistent (used as given)
+
+
+@dataclass(frozen=True)
+class Source:
+    """Where the system comes from, as generated files and caches say it."""
+
+    file: str = ""                       # the spec's file name (no directory)
+    description: str = ""
+    version: str = ""                    # lagcli's
+
+
+@dataclass(frozen=True)
 class Layout:
+    """The run interface of one system: see the module docstring."""
+
     name: str
     states: tuple[State, ...]
     parameters: tuple[Parameter, ...]
@@ -180,10 +230,19 @@ class Layout:
     columns: tuple[Column, ...]
     settings: Settings = field(default_factory=Settings)
     inputs: tuple[Input, ...] = ()
+    initial: dict = field(default_factory=dict)      # the spec's `initial:` as given
+    start: Start | None = None                       # the consistent default state (the System's)
+    energy_conserved: bool = False                   # the energy column equals the Jacobi integral
+    source: Source = field(default_factory=Source)
 
     @property
     def coordinates(self) -> tuple[str, ...]:
         return tuple(s.name for s in self.states if s.kind == "coordinate")
+
+    @property
+    def angles(self) -> frozenset:
+        """The coordinates that are angles."""
+        return frozenset(s.name for s in self.states if s.kind == "coordinate" and s.angle)
 
     @property
     def state_names(self) -> tuple[str, ...]:
@@ -211,7 +270,7 @@ class Layout:
 
     @property
     def header(self) -> tuple[str, ...]:
-        """The CSV header."""
+        """The CSV header: the one column order of every run and every target."""
         return tuple(c.name for c in self.columns)
 
     @property
@@ -222,6 +281,12 @@ class Layout:
     @property
     def constrained(self) -> bool:
         return bool(self.multipliers)
+
+    @property
+    def units(self) -> dict[str, str]:
+        """{name: unit} of every state, column, parameter and input that has one."""
+        items = (*self.states, *self.columns, *self.parameters, *self.inputs)
+        return {item.name: item.unit for item in items if item.unit}
 
     def column(self, name: str) -> Column:
         for c in self.columns:
@@ -235,36 +300,75 @@ class Layout:
     @classmethod
     def from_json(cls, text: str) -> "Layout":
         data = json.loads(text)
+        start = data.get("start")
         return cls(name=data["name"],
                    states=tuple(State(**s) for s in data["states"]),
                    parameters=tuple(Parameter(**p) for p in data["parameters"]),
                    multipliers=tuple(Multiplier(**m) for m in data["multipliers"]),
                    columns=tuple(Column(**c) for c in data["columns"]),
                    settings=Settings(**data["settings"]),
-                   inputs=tuple(Input(**i) for i in data["inputs"]))
+                   inputs=tuple(Input(**i) for i in data["inputs"]),
+                   initial=dict(data["initial"]),
+                   start=None if start is None else Start(tuple(start["values"]), tuple(start["notes"]),
+                                                          start["consistent"]),
+                   energy_conserved=data["energy_conserved"],
+                   source=Source(**data["source"]))
 
 
-def layout_of(d) -> Layout:
-    """The layout of a `lagcli.derive.result.Derivation`."""
+def layout_of(d, start: Start | None = None, angles=frozenset()) -> Layout:
+    """The layout of a `lagcli.derive.result.Derivation` (plain attribute reads: no sympy
+    work here). `start` (the consistent initial state) and `angles` (the coordinates that
+    are angles) are the System's, computed once (lagcli.system)."""
+    from lagcli import __version__
+
     model = d.model
+    unit = units_of(model)
     coordinates = [q.name for q in model.q]
-    states = ([State(q, "coordinate", q) for q in coordinates]
-              + [State(velocity_name(q), "velocity", q) for q in coordinates])
+    states = ([State(q, "coordinate", q, unit.get(q), q in angles) for q in coordinates]
+              + [State(velocity_name(q), "velocity", q, unit.get(velocity_name(q)), q in angles)
+                 for q in coordinates])
     multipliers = tuple(Multiplier(row.multiplier.name, row.label, row.kind) for row in d.constraints)
-    columns = ([Column(TIME, "time")] + [Column(s.name, s.kind) for s in states]
-               + [Column(m.name, "multiplier") for m in multipliers] + [Column(ENERGY, "energy")])
+    columns = ([Column(TIME, "time", unit=unit.get(TIME))] + [Column(s.name, s.kind, unit=s.unit) for s in states]
+               + [Column(m.name, "multiplier") for m in multipliers] + [Column(ENERGY, "energy", unit=unit.get(ENERGY))])
     if d.jacobi_integral is not None:
-        columns.append(Column(JACOBI, "jacobi"))
-    columns += [Column(momentum_name(q.name), "momentum", q.name) for q in d.ignorable]
+        columns.append(Column(JACOBI, "jacobi", unit=unit.get(ENERGY)))
+    columns += [Column(momentum_name(q.name), "momentum", q.name, unit.get(momentum_name(q.name)))
+                for q in d.ignorable]
     if multipliers:
         columns.append(Column(RESIDUAL, "residual"))
     layout = Layout(model.name, tuple(states),
-                    tuple(Parameter(p.symbol.name, float(p.value)) for p in model.parameters),
+                    tuple(Parameter(p.symbol.name, float(p.value), unit.get(p.symbol.name))
+                          for p in model.parameters),
                     multipliers, tuple(columns), model.settings,
-                    tuple(Input(u.symbol.name, float(u.value), u.latex, u.description)
-                          for u in model.inputs))
+                    tuple(Input(u.symbol.name, float(u.value), u.latex, u.description) for u in model.inputs),
+                    initial={k: float(v) for k, v in model.initial.items()}, start=start,
+                    energy_conserved=d.jacobi_integral is not None and bool(d.energy_is_jacobi),
+                    source=Source(PurePath(model.source).name, model.description or "", __version__))
     require_unique(layout)
     return layout
+
+
+def units_of(model) -> dict[str, str]:
+    """{name: unit} from the spec's `unit:`s (docs/spec.md, "Units"): parameters and
+    coordinates as given, velocities per second, t in s, energies in J, the momentum of
+    q in J*s/(unit of q). Empty when the spec gives none; a name without one is
+    dimensionless (angles too) and has none."""
+    given = {name: text for name, (text, _) in model.units.items() if text}
+    if not given:
+        return {}
+    units = {TIME: "s", ENERGY: "J", **given}
+    for q in model.q:
+        u = given.get(q.name)
+        if u:
+            units[velocity_name(q.name)] = _per(u, "s")
+        units[momentum_name(q.name)] = _per("J*s", u) if u else "J*s"
+    return units
+
+
+def _per(unit: str, by: str) -> str:
+    """unit / by, in the spec's unit language."""
+    wrap = (lambda u: u) if all(c.isalnum() or c == "_" for c in by) else (lambda u: f"({u})")
+    return f"{unit}/{wrap(by)}"
 
 
 def require_unique(layout: Layout) -> None:

@@ -19,14 +19,13 @@ worked example.
 """
 from __future__ import annotations
 
-import contextlib
 import json
 from dataclasses import dataclass
 from pathlib import Path
 
 from lagcli.derive.result import Derivation
 from lagcli.errors import UsageError
-from lagcli.interface import Layout, layout_of
+from lagcli.interface import Layout, Start, layout_of
 from lagcli.model.model_types import Model
 from lagcli.render.output import check_directory_output, write_output
 
@@ -39,27 +38,50 @@ def load(source: str | Path) -> "System":
     """A `System` from a spec file (a `Path`, or a string ending in .yaml/.yml/.toml
     without a newline) or from the spec's YAML text. Raises `lagcli.errors.SpecError`
     with every problem found, each located."""
-    from lagcli.derive.pipeline import derive_model, load_model, load_model_text
-
     from lagcli.spec.files import read_spec_bytes
 
     is_path = isinstance(source, Path) or ("\n" not in source and source.endswith(SPEC_SUFFIXES))
-    model = load_model(source) if is_path else load_model_text(source)
-    derivation = derive_model(model)
-    spec_bytes = read_spec_bytes(source) if is_path else source.encode()
-    return System(model, derivation, layout_of(derivation), spec_bytes)
+    if is_path:
+        return load_file(str(source), read_spec_bytes(source))
+    from lagcli.derive.pipeline import derive_model, load_model_text
+
+    return System(derive_model(load_model_text(source)), source.encode())
+
+
+def load_file(path: str, spec_bytes: bytes) -> "System":
+    """The System of the spec file `path` whose bytes were read already (`lagcli simulate`
+    reads them once, for the cache key and the model alike)."""
+    from lagcli.derive.pipeline import derive_model, load_model
+
+    return System(derive_model(load_model(path, spec_bytes)), spec_bytes)
 
 
 @dataclass(frozen=True, eq=False)
 class System:
-    model: Model
     derivation: Derivation
-    layout: Layout
     spec_bytes: bytes              # the spec as read: with model.source, the key of cached code
 
     @property
+    def model(self) -> Model:
+        return self.derivation.model
+
+    @property
+    def layout(self) -> Layout:
+        """The run interface (lagcli.interface.Layout), built once: names, defaults, units,
+        columns, settings, the consistent default state; what runs, targets, sweeps and
+        pictures read."""
+        return self._once("_layout", self._make_layout)
+
+    def _make_layout(self) -> Layout:
+        from lagcli.model.angles import angle_coordinates
+
+        start, consistent = self.spec_start()
+        return layout_of(self.derivation, Start(tuple(start.values), tuple(start.notes), consistent),
+                         angle_coordinates(self.model))
+
+    @property
     def name(self) -> str:
-        return self.layout.name
+        return self.model.name
 
     @property
     def parts(self):
@@ -138,7 +160,7 @@ class System:
     @property
     def energy_conserved(self) -> bool:
         """The energy column is conserved (it is the Jacobi integral)."""
-        return self.derivation.jacobi_integral is not None and self.derivation.energy_is_jacobi
+        return self.layout.energy_conserved
 
     def initial_state(self, parameters: dict | None = None, initial: dict | None = None):
         """The initial state [q..., q'...] from the spec's `initial:` overridden by
@@ -202,11 +224,9 @@ class System:
 
     @property
     def angles(self) -> frozenset:
-        """The coordinates that are angles (`lagcli.viz.plot.angle_coordinates`): the
+        """The coordinates that are angles (the layout's, from `lagcli.model.angles`): the
         angle panel of a plot."""
-        from lagcli.viz.plot import angle_coordinates
-
-        return self._once("_angles", lambda: angle_coordinates(self.model))
+        return self.layout.angles
 
     def laws(self, values: dict[str, float], laws: dict | None = None) -> dict:
         """The input laws of one run: the spec's, minus the inputs `values` holds constant
@@ -238,43 +258,47 @@ class System:
 
     def run(self, settings, values: dict[str, float], start, backend: str, sink=None, progress=None,
             laws: dict | None = None):
-        """One run's rows, given to `sink` (a `lagcli.run.rows.RowSink`; in
-        memory when None) as they are computed, and the sink returned: the level
-        `lagcli simulate` works at. `settings`: `lagcli.run.options.RunSettings`;
-        `values`: the parameters and inputs changed for this run (as `--set` gives
-        them); `start`: from `start`; `progress(t_end)`: a context manager yielding
-        `update(t)` (or None), entered once the code is ready and the integration starts;
-        `laws`: see `hybrid`."""
-        progress = progress or _no_progress
+        """One run's rows, given to `sink` (a `lagcli.run.rows.RowSink`; in memory when
+        None) as they are computed, and the sink returned: the level `lagcli simulate`
+        works at. `settings`: `lagcli.interface.RunSettings`; `values`: the parameters
+        and inputs changed for this run (as `--set` gives them); `start`: from `start`;
+        `progress(t_end)`: a context manager yielding `update(t)` (or None), entered once
+        the code is ready and the integration starts; `laws`: see `hybrid`."""
+        from lagcli.run import simulate
+        from lagcli.run.options import Overrides
+
         self._check_method(settings.method, values, laws)
+        program = self.program(backend, settings.method, values, laws)
+        return simulate.run(program, settings, Overrides(values), start.values, sink, progress)
+
+    def program(self, backend: str, method: str | None = None, values: dict | None = None,
+                laws: dict | None = None):
+        """What the run layer runs (lagcli.run.simulate) for `backend` and a run's constant
+        `values` and input `laws`: "python" (the generated module,
+        `lagcli.run.python_backend.PythonModule`; with events or callable laws
+        `HybridModule`) or "c" (the compiled driver in the cache, `lagcli.run.c_backend.CDriver`,
+        its model generated with the run's expression laws substituted; `method` must be
+        one it implements)."""
+        values = values or {}
         compiled = self.compiled_laws(values, laws) if backend == "c" else None
         hybrid = self.hybrid(values, laws) if compiled is None else None
-        if hybrid is not None and backend != "python":
-            raise UsageError(f"{self.model.source}: the {backend} backend does not run events or callable "
-                             "input laws yet\n  hint: use the Python backend (--backend python; the default "
-                             "for such a run)")
-        if backend == "python":
-            from lagcli.hybrid.hybrid_run import integrate_hybrid
-            from lagcli.run.python_backend import integrate_module
+        if hybrid is not None:
+            from lagcli.run.python_backend import HybridModule
 
-            module = self._module()
-            params = {**self.layout.parameter_defaults, **values}
-            inputs = {**self.layout.input_defaults, **values}
-            p = [params[n] for n in self.layout.parameter_names]
-            u = [inputs[n] for n in self.layout.input_names]
-            with progress(settings.t_end) as update:
-                if hybrid is not None:       # events or laws: lagcli/hybrid/hybrid_run.py
-                    return integrate_hybrid(module, p, list(start.values), settings, hybrid, u or None, update,
-                                            sink)
-                return integrate_module(module, p, list(start.values), settings, update, sink, u or None)
+            if backend != "python":
+                raise UsageError(f"{self.model.source}: the {backend} backend does not run events or callable "
+                                 "input laws yet\n  hint: use the Python backend (--backend python; the "
+                                 "default for such a run)")
+            return HybridModule(self._module(), self.layout, hybrid)
+        if backend == "python":
+            from lagcli.run.python_backend import PythonModule
+
+            return PythonModule(self._module(), self.layout)
         if backend == "c":
             from lagcli.run import c_backend
+            from lagcli.runtime.run_rules import EXPLICIT_METHODS
 
-            cached = c_backend.driver(self, c_backend.require_compiler(settings.method), compiled)
-            args = c_backend.driver_arguments(settings, values, dict(zip(self.layout.state_names,
-                                                                           start.values)))
-            with progress(settings.t_end) as update:
-                return c_backend.run(cached, args, update, sink=sink)
+            return self._driver(c_backend.require_compiler(method or EXPLICIT_METHODS[0]), compiled or {})
         raise UsageError(f"backend {backend!r}: expected 'python' or 'c'")
 
     def sweep(self, grid: dict | None = None, sample: dict | None = None, count: int | None = None,
@@ -382,10 +406,48 @@ class System:
         return methods.routh(self, momenta, parameters, inputs, guesses)
 
     def _module(self):
-        """The generated Python module (its source cached on disk), made once per System."""
-        from lagcli.run.python_backend import cached_module
+        """The generated Python module, its source kept in the cache; made once per System."""
+        return self._once("_generated_module", self._make_module)
 
-        return self._once("_generated_module", lambda: cached_module(self))
+    def _make_module(self):
+        from lagcli.run import cache, python_backend
+
+        key = cache.cache_key(self.model.source, self.spec_bytes, python_backend.MODULE_VARIANT)
+        source = python_backend.cached_source(key)
+        if source is None:
+            (source,) = self._sources("python").values()
+            python_backend.store(key, self.name, source)
+        return python_backend.module_of(self.name, source)
+
+    def _driver(self, compiler, laws: dict):
+        """The compiled driver in the cache, generated (C target) and built when missing.
+        `laws` (input name -> sympy law): the model is generated with them substituted
+        (`lagcli.hybrid.closed_loop`), so the law is C code of the driver, and part of its
+        cache key: a cached driver is never reused for another law. A spec with laws never
+        has a driver under the plain key, which the warm path looks up."""
+        from lagcli.run import c_backend
+
+        spec_bytes = self.spec_bytes
+        if laws or self.model.laws:
+            spec_bytes += ("\0laws:" + ";".join(f"{k}={v!s}" for k, v in sorted(laws.items()))).encode()
+        key = c_backend.cache_key(self.model.source, spec_bytes, compiler)
+        found = c_backend.lookup(key)
+        if found is not None:
+            return found
+        derivation = self.derivation
+        if laws:
+            from lagcli.hybrid.closed_loop import closed_loop
+
+            derivation = closed_loop(derivation, laws)
+        return c_backend.build(self._sources("c", derivation), key, compiler, self.layout)
+
+    def _sources(self, target: str, derivation=None) -> dict[str, str]:
+        """The generated sources of a program (`lagcli.targets.program_sources`), embedding
+        the consistent default state of the layout."""
+        from lagcli.targets import program_sources
+
+        start = self.layout.start
+        return program_sources(derivation or self.derivation, target, start.values, start.notes)
 
     def _once(self, name: str, make):
         if name not in self.__dict__:
@@ -440,10 +502,6 @@ class System:
     def __repr__(self) -> str:
         return f"<lagcli.System {self.name}: {', '.join(self.layout.coordinates)}>"
 
-
-@contextlib.contextmanager
-def _no_progress(t_end):
-    yield None
 
 
 def _refuse_impossible(derivation, params: dict[str, float], option: str) -> None:

@@ -100,7 +100,8 @@ class Trajectory:
 
         rows = Rows(list(self.columns), self.to_csv().splitlines()[1:])
         conserved = any(c.kind == "jacobi" for c in self.column_info) and self.energy_is_jacobi
-        options = plot.PlotOptions(None if columns is None else tuple(columns), tuple(phase), self.angles)
+        options = plot.PlotOptions(None if columns is None else tuple(columns), tuple(phase), self.angles,
+                                   self.layout.units)
         if path is not None:
             plot.figure_format(path, "plot(path=)")                  # before drawing
             plot.plot_file(rows, self.layout.coordinates, conserved, path, self.layout.name, options)

@@ -117,7 +117,7 @@ def test_bad_animate_options_exit_2(tmp_path, args, expected):
 
 def test_angles_are_told_from_the_model():
     from lagcli.derive.pipeline import load_model
-    from lagcli.viz.plot import angle_coordinates
+    from lagcli.model.angles import angle_coordinates
 
     assert angle_coordinates(load_model(spec_path("rolling_disc"))) == {"psi", "theta", "phi"}
     assert angle_coordinates(load_model(spec_path("cart_pole"))) == {"theta"}
@@ -138,7 +138,7 @@ def test_simulate_plot_groups_the_chosen_columns_by_kind(tmp_path):
                           PlotOptions(("theta_dot", "x", "theta", "energy"), ("theta",), frozenset({"theta"}),
                                       {"x": "m"}))
     labels = [ax.get_ylabel() for ax in figure.axes]
-    assert labels == ["angle (rad)", "coordinates", "velocities", "invariants", "drift / residual", "theta_dot"]
+    assert labels == ["angle (rad)", "x [m]", "velocities", "invariants", "drift / residual", "theta_dot"]
     assert [t.get_text() for t in figure.axes[1].get_legend().get_texts()] == ["x [m]"]
     assert figure.axes[-1].get_xlabel() == "theta"
     bad = CliRunner().invoke(cli, ["simulate", str(spec_path("cart_pole")), "--t-end", "0.1", "-o",

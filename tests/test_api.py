@@ -158,6 +158,8 @@ def test_the_cached_driver_carries_the_layout(tmp_path):
 
     system = lagcli.load(PENDULUM_TEXT)
     system.simulate(t_end=0.1, backend="c")
-    cached = c_backend.driver(system, c_backend.find_compiler())
-    assert Layout.from_json(cached.meta["layout"]) == system.layout == cached.layout
+    cached = system.program("c")
+    meta = cached.entry.contents[c_backend.META]
+    assert Layout.from_json(meta) == system.layout == cached.layout
+    assert cached.layout.start.values == system.initial_state().values
     assert [c.kind for c in cached.layout.columns][-1] == "residual"

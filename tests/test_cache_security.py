@@ -127,7 +127,7 @@ def test_a_damaged_driver_entry_is_rebuilt(home, spec, damage):
         rewrite_manifest(directory)
     else:                                      # every key, but a layout that does not read back
         meta = json.loads((directory / "meta.json").read_text())
-        (directory / "meta.json").write_text(json.dumps({**meta, "layout": '{"name": "osc"}'}))
+        (directory / "meta.json").write_text(json.dumps({**meta, "states": "osc"}))
         rewrite_manifest(directory)
     again = simulate(spec, "c")
     assert_correct(again)
@@ -289,7 +289,7 @@ def test_a_failing_build_leaves_no_work_directory(home, spec, monkeypatch):
     def broken(*args):
         raise RuntimeError("the compiler exploded")
 
-    monkeypatch.setattr(c_backend, "_compile", broken)
+    monkeypatch.setattr(c_backend.toolchain, "compile_program", broken)
     result = simulate(spec, "c")
     assert isinstance(result.exception, RuntimeError)
     assert list((home / "lagcli").iterdir()) == []

@@ -46,11 +46,10 @@ pytestmark = pytest.mark.skipif(
 
 
 def system_of(derived, name: str):
-    from lagcli.interface import layout_of
     from lagcli.system import System
 
     d = derived(name)
-    return System(d.model, d, layout_of(d), Path(d.model.source).read_bytes())
+    return System(d, Path(d.model.source).read_bytes())
 
 
 _GENERATED: dict[str, bytes] = {}      # spec name -> FMU bytes, made once per session
@@ -241,9 +240,9 @@ def test_cli_needs_an_output_file():
 
 
 def test_no_compiler_exit_1_and_nothing_written(tmp_path, monkeypatch):
-    from lagcli.run import c_backend
+    from lagcli.runtime import toolchain
 
-    monkeypatch.setattr(c_backend, "find_compiler", lambda: None)
+    monkeypatch.setattr(toolchain, "find_compiler", lambda: None)
     out = tmp_path / "x.fmu"
     result = CliRunner().invoke(cli, ["generate", str(ROOT / "specs" / "cartesian_pendulum.yaml"),
                                       "--lang", "fmu", "-o", str(out)])

@@ -35,3 +35,56 @@ def test_every_folder_is_a_listed_package():
     folders = {".".join(p.parent.relative_to(ROOT).parts) for p in PACKAGE.rglob("__init__.py")
                if "__pycache__" not in p.parts}
     assert folders <= listed, f"add to [tool.setuptools] packages: {sorted(folders - listed)}"
+
+
+# -- import directions ------------------------------------------------------------------
+
+import ast  # noqa: E402
+
+BELOW_THE_SYSTEM = ("lagcli.run", "lagcli.targets", "lagcli.runtime", "lagcli.interface")
+ABOVE = ("lagcli.system", "lagcli.commands", "lagcli.cli", "lagcli.sweep", "lagcli.viz", "lagcli.trajectory")
+NOT_BETWEEN = {"lagcli.run": ("lagcli.targets", "lagcli.analysis", "lagcli.report", "lagcli.derive"),
+               "lagcli.targets": ("lagcli.run",),
+               "lagcli.runtime": ("lagcli.run", "lagcli.targets"),
+               "lagcli.interface": ()}     # data only: nothing of lagcli but errors and the version
+
+
+def module_name(path: Path) -> str:
+    parts = path.relative_to(ROOT).with_suffix("").parts
+    return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+
+
+def imports_of(path: Path) -> set[str]:
+    """Every lagcli module `path` imports, at the top or inside a function."""
+    found = set()
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
+            found.add(node.module)
+            found.update(f"{node.module}.{a.name}" for a in node.names)
+        elif isinstance(node, ast.Import):
+            found.update(a.name for a in node.names)
+    return {name for name in found if name.startswith("lagcli")}
+
+
+def in_room(name: str, room: str) -> bool:
+    return name == room or name.startswith(room + ".")
+
+
+def test_the_run_layer_and_the_targets_import_only_down():
+    """No import from the run layer, the code targets, the runtime or the interface up to
+    the System, the commands, the CLI, sweeps, pictures, nor between run layer and targets."""
+    wrong = []
+    for path in modules():
+        name = module_name(path)
+        room = next((r for r in BELOW_THE_SYSTEM if in_room(name, r)), None)
+        if room is None:
+            continue
+        for target in imports_of(path):
+            up = any(in_room(target, r) for r in ABOVE)
+            across = any(in_room(target, r) for r in NOT_BETWEEN[room])
+            if room == "lagcli.interface":
+                across = not (in_room(target, "lagcli.errors") or in_room(target, "lagcli.runtime.run_rules")
+                              or target in ("lagcli", "lagcli.__version__"))
+            if up or across:
+                wrong.append(f"{name} imports {target}")
+    assert not wrong, "imports against the direction of the design:\n" + "\n".join(sorted(wrong))

@@ -11,6 +11,7 @@ import io
 import math
 import os
 import shutil
+from pathlib import Path
 import signal
 import subprocess
 import sys
@@ -192,11 +193,12 @@ def test_missing_spec_exits_2(tmp_path):
 
 
 def test_python_backend_supports_implicit_methods(derived):
-    from lagcli.run.options import RunSettings
-    from lagcli.run.python_backend import integrate_module, load_module
+    from lagcli.interface import RunSettings
+    from lagcli.run.python_backend import integrate_module
+    from lagcli.system import System
 
     d = derived("double_pendulum")
-    module = load_module(d)
+    module = System(d, Path(d.model.source).read_bytes()).program("python").module
     p = [prm.value for prm in d.model.parameters]
     e0 = -9.81 * (2 * math.cos(1.0) + math.cos(0.5))        # E(0), conserved
     for method in ("Radau", "BDF", "LSODA", "RK45", "DOP853"):
@@ -310,7 +312,7 @@ def test_interrupt_while_compiling_exits_1_and_leaves_no_cache_entry(tmp_path, m
         raise KeyboardInterrupt
 
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
-    monkeypatch.setattr(c_backend, "_compile", interrupted)
+    monkeypatch.setattr(c_backend.toolchain, "compile_program", interrupted)
     out = tmp_path / "run.csv"
     result = invoke(spec_path("double_pendulum"), "--backend", "c", "--t-end", "0.1", "-o", out)
     assert result.exit_code == 1
@@ -472,11 +474,12 @@ def test_output_time_windows_do_not_change_the_python_backend_rows(derived, monk
     import functools
 
     from lagcli.runtime.run_rules import output_time_windows
+    from lagcli.interface import RunSettings
     from lagcli.run import python_backend
-    from lagcli.run.options import RunSettings
+    from lagcli.system import System
 
     d = derived("double_pendulum")
-    module = python_backend.load_module(d)
+    module = System(d, Path(d.model.source).read_bytes()).program("python").module
     p = [prm.value for prm in d.model.parameters]
     settings = RunSettings(0.55, 0.01, "DOP853", 1e-9, 1e-12, 10.0, 10.0)
     whole = python_backend.integrate_module(module, p, [1.0, 0.5, 0.0, 0.0], settings)

@@ -78,3 +78,10 @@ def test_an_ill_conditioned_repair_is_not_accepted(tmp_path):
     assert max(abs(v) for v in start.values) < 10
     assert not any("--init" in note for note in start.notes), start.notes     # nothing came from --init
     assert any("(initial:)" in note or "initial: values" in note for note in start.notes), start.notes
+
+
+def test_a_run_with_events_keeps_the_step_budget_too(tmp_path):
+    result = CliRunner().invoke(cli, ["simulate", str(ROOT / "specs" / "hybrid" / "bouncing_ball.yaml"),
+                                      "--max-steps", "5", "--backend", "python", "-o", str(tmp_path / "rows.csv")])
+    assert result.exit_code == 1, result.output
+    assert "reached its bound of 5 steps before t_end" in result.output

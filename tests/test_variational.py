@@ -115,9 +115,7 @@ def load(source):
 
 def bench(system, *args) -> dict[str, float]:
     """The compiled driver's --bench-integration line (steps, iterations or nfev)."""
-    from lagcli.run import c_backend
-
-    driver = c_backend.driver(system, shutil.which("cc"))
+    driver = system.program("c", "variational")
     done = subprocess.run([driver.binary, *args, "--max-steps", "1000000000", "--bench-integration", "1"],
                           capture_output=True, text=True)
     assert done.returncode == 0, done.stderr

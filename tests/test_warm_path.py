@@ -33,3 +33,22 @@ def test_a_warm_run_imports_neither_sympy_nor_numpy(tmp_path):
     assert runs[1].stdout.split() == ["False", "False"]
     with open(out) as csv:
         assert csv.readline().startswith("t,theta1,theta2,theta1_dot")
+
+
+@pytest.mark.skipif(shutil.which("cc") is None, reason="needs a C compiler")
+@pytest.mark.parametrize("plot", [False, True], ids=["csv", "csv and --plot"])
+def test_python_lists_no_sympy_module_imported_by_a_warm_simulate(tmp_path, plot):
+    """As a user would check it: `PYTHONPROFILEIMPORTTIME=1 lagcli simulate ...` on a warm
+    cache lists every module imported; none is sympy's, with or without --plot (the
+    angles and units of the plot come from the cached run interface, not the model)."""
+    pytest.importorskip("matplotlib") if plot else None
+    env = {**os.environ, "XDG_CACHE_HOME": str(tmp_path / "cache"), "PYTHONPATH": str(ROOT)}
+    command = [sys.executable, "-m", "lagcli", "simulate", str(SPECS / "double_pendulum.yaml"),
+               "-o", str(tmp_path / "x.csv"), *(["--plot", str(tmp_path / "x.png")] if plot else [])]
+    subprocess.run(command, env=env, check=True, capture_output=True, timeout=600)    # fills the cache
+    warm = subprocess.run(command, env={**env, "PYTHONPROFILEIMPORTTIME": "1"}, capture_output=True,
+                          text=True, timeout=600)
+    assert warm.returncode == 0, warm.stderr
+    imported = [line.rsplit("|", 1)[-1].strip() for line in warm.stderr.splitlines() if "import time:" in line]
+    assert "lagcli.run.c_backend" in imported                  # the listing is there
+    assert not [m for m in imported if m.split(".")[0] == "sympy"]

@@ -19,12 +19,13 @@ from lagcli.model.validation import check_mass_matrix, check_model
 TEXT_SOURCE = "<string>"      # where problems of a spec given as text are located
 
 
-def load_model(path: str | Path) -> Model:
-    """Read, validate and build the model of a spec file (raises SpecError).
+def load_model(path: str | Path, data: bytes | None = None) -> Model:
+    """Read, validate and build the model of a spec file (raises SpecError); `data`: its
+    bytes when the caller has read them already (read once per command).
 
     When the spec has format problems, its expressions are still parsed where
     possible so that one run reports every problem (all together, as the docs say)."""
-    return _build(read_document(str(path)))
+    return _build(read_document(str(path), data))
 
 
 def load_model_text(text: str, toml: bool = False) -> Model:

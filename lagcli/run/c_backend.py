@@ -1,51 +1,44 @@
-"""The C backend: compile the generated driver once, cache it, run it.
+"""The C backend: a compiled driver in the cache, run with a run's settings and overrides.
 
 Cache: `lagcli.run.cache` (`$XDG_CACHE_HOME/lagcli/<key>/`, the compiler's
 `--version` line as the key's variant), holding the generated sources, the driver
 binary `sim` and `meta.json`, all checked against the entry's manifest before the
 driver runs (see that module for why that is enough).
 
-`meta.json` is everything a warm run needs without sympy: the system's
-`lagcli.interface.Layout` (its own JSON, `Layout.to_json`: states, parameters and
-defaults, columns and their kinds, settings), the spec's `initial:` values, whether
-the energy column is conserved, and the spec's initial state already made
-consistent (with the notes saying what was solved for).
+`meta.json` is the system's run interface (`lagcli.interface.Layout.to_json`: states,
+parameters and their units, columns, settings, the spec's `initial:`, the consistent
+default state and its notes, which integrals exist): everything a warm run needs,
+without sympy. The sources come from the System (the C target); this layer only
+compiles them (`lagcli.runtime.toolchain`), stores and runs them.
 
 This module imports neither sympy nor numpy: a warm run goes spec bytes -> key
 -> meta.json -> driver, and the driver's output lines are passed through as CSV,
-read from its pipe as they come and handed to a sink (lagcli.run.rows):
-never collected whole.
+read from its pipe as they come and handed to a sink (lagcli.run.rows): never
+collected whole.
 """
 from __future__ import annotations
 
-import contextlib
-import json
-import os
-import shutil
-import signal
 import subprocess
 import tempfile
 from dataclasses import dataclass
-from pathlib import Path
 
 from lagcli.errors import SimulationError, UsageError
-from lagcli.interface import C_METHODS, VARIATIONAL, Layout
+from lagcli.interface import C_METHODS, VARIATIONAL, Layout, RunSettings
 from lagcli.run import cache
-from lagcli.run.options import RunSettings
 from lagcli.run.rows import RowSink, Trajectory
+from lagcli.runtime import toolchain
 
-CFLAGS = ("-std=c99", "-O2", "-Wall", "-Wextra", "-Werror", "-pedantic")
 BINARY, META = "sim", "meta.json"
-META_TYPES = {"layout": str, "initial": dict, "energy_conserved": bool,
-              "default_state": (list, type(None)), "default_notes": list}
 READ_SIZE = 1 << 16                   # bytes of driver output read at a time
 
 
-def find_compiler() -> str | None:
-    return shutil.which("cc")
+def find_compiler() -> toolchain.Compiler | None:
+    """The C compiler with its version (probed once per process), or None."""
+    path = toolchain.find_compiler()
+    return toolchain.probe(path) if path else None
 
 
-def require_compiler(method: str) -> str:
+def require_compiler(method: str) -> toolchain.Compiler:
     """The C compiler for a run with `method`, or the error saying why there is none."""
     if method not in C_METHODS:
         raise UsageError(f"--method {method}: the C backend implements "
@@ -57,142 +50,68 @@ def require_compiler(method: str) -> str:
     return compiler
 
 
-def cache_key(spec_path: str, spec_bytes: bytes, compiler: str) -> str:
-    return cache.cache_key(spec_path, spec_bytes, compiler_version(compiler))
-
-
-def compiler_version(compiler: str) -> str:
-    try:
-        done = subprocess.run([compiler, "--version"], capture_output=True, text=True, timeout=30)
-    except (OSError, subprocess.SubprocessError) as exc:
-        raise SimulationError(f"cannot run the C compiler {compiler!r}: {exc}") from None
-    return f"{compiler}\n{done.stdout.splitlines()[0] if done.stdout else ''}"
+def cache_key(spec_path: str, spec_bytes: bytes, compiler: toolchain.Compiler) -> str:
+    return cache.cache_key(spec_path, spec_bytes, compiler.version)
 
 
 @dataclass(frozen=True)
-class Cached:
-    """A verified cache entry holding a driver; `binary` is what to execute (see
-    `lagcli.run.cache.Entry.program`)."""
+class CDriver:
+    """A verified cache entry holding a driver, and the interface it was built for; `binary`
+    is what to execute (see `lagcli.run.cache.Entry.program`)."""
 
     entry: cache.Entry
-    meta: dict
     layout: Layout
 
     @property
     def binary(self) -> str:
         return self.entry.program
 
+    def run(self, settings: RunSettings, values: dict[str, float], state, sink=None, progress=None,
+            max_first_residual: float | None = None) -> RowSink | None:
+        """One run (the program protocol of the run layer: see lagcli.run.simulate)."""
+        args = driver_arguments(settings, values, dict(zip(self.layout.state_names, state)))
+        return run(self, args, progress, max_first_residual, sink)
 
-def lookup(key: str) -> Cached | None:
+
+def lookup(key: str) -> CDriver | None:
     """The driver cached under `key`, checked; None when missing or damaged (a damaged
     entry is noted on stderr and removed, so the caller's build replaces it)."""
     entry = cache.load(key, executable=BINARY)
     if entry is None:
         return None
-    meta = _meta(entry.contents.get(META, b""))
-    layout = _layout(meta)
+    layout = _layout(entry.contents.get(META, b""))
     if layout is None:
         cache.note(f"cache entry {entry.directory} failed its integrity check ({META} lacks "
                    "values a run needs); rebuilding it")
         cache.discard(entry.directory)
         return None
-    return Cached(entry, meta, layout)
+    return CDriver(entry, layout)
 
 
-def _meta(data: bytes) -> dict | None:
-    """meta.json's values, or None unless it holds every key a warm run reads."""
+def _layout(data: bytes) -> Layout | None:
+    """meta.json's layout, or None unless it is one with a default state."""
     try:
-        meta = json.loads(data)
-    except (ValueError, UnicodeDecodeError):
+        layout = Layout.from_json(data)
+    except (ValueError, KeyError, TypeError, UnicodeDecodeError):
         return None
-    return meta if _complete(meta) else None
+    return layout if layout.start is not None else None
 
 
-def _layout(meta: dict | None) -> Layout | None:
-    try:
-        return Layout.from_json(meta["layout"]) if meta is not None else None
-    except (ValueError, KeyError, TypeError):
-        return None
-
-
-def _complete(meta) -> bool:
-    return isinstance(meta, dict) and all(isinstance(meta.get(k), t) for k, t in META_TYPES.items())
-
-
-def driver(system, compiler: str, laws: dict | None = None) -> Cached:
-    """The compiled driver of `system` (a `lagcli.system.System`) from the cache,
-    generating and compiling it (with meta.json) when it is not there. `laws` (input
-    name -> sympy law; None for none): the model is generated with them substituted
-    (`lagcli.hybrid.closed_loop`), so the law is C code of the driver, and part of its
-    cache key: a cached driver is never reused for another law. A spec with laws never
-    has a driver under the plain key, which the warm path looks up."""
-    spec_bytes = system.spec_bytes
-    if laws or system.model.laws:
-        spec_bytes += ("\0laws:" + ";".join(f"{k}={v!s}" for k, v in sorted(laws.items()))).encode()
-    key = cache_key(system.model.source, spec_bytes, compiler)
-    cached = lookup(key)
-    if cached is not None:
-        return cached
-    from lagcli.targets.c import c_files
-
-    start, consistent = system.spec_start()
-    d = system.derivation
-    if laws:
-        from lagcli.hybrid.closed_loop import closed_loop
-        d = closed_loop(d, laws)
-    meta = {
-        "layout": system.layout.to_json(),
-        "initial": dict(system.model.initial),
-        "energy_conserved": system.energy_conserved,
-        "default_state": list(start.values) if consistent else None,   # else only a repairing --init runs
-        "default_notes": list(start.notes) if consistent else [],
-    }
-    return build(c_files(d, initial=start.values, initial_notes=start.notes), key, compiler, meta)
-
-
-def build(files: dict[str, str], key: str, compiler: str, meta: dict) -> Cached:
-    """Compile the generated C `files` (name -> text) into the cache under `key`."""
-    layout = _layout(meta if _complete(meta) else None)
-    if layout is None:                     # keeps META_TYPES in step with what `driver` writes
-        raise SimulationError(f"lagcli bug: {META} needs {sorted(META_TYPES)}")
+def build(files: dict[str, str], key: str, compiler: toolchain.Compiler, layout: Layout) -> CDriver:
+    """Compile the generated C `files` (name -> text, the C target's) into the cache
+    under `key`, with `layout` (which must hold its default state) as meta.json."""
+    if layout.start is None:
+        raise SimulationError("lagcli bug: the layout of a cached driver needs its default state")
     try:
         with cache.new_entry(key) as work:
             for name, text in files.items():
                 (work / name).write_text(text)
-            _compile(compiler, work, sorted(name for name in files if name.endswith(".c")))
-            (work / META).write_text(json.dumps(meta, indent=1))
+            toolchain.compile_program(compiler.path, work, sorted(n for n in files if n.endswith(".c")), BINARY)
+            (work / META).write_text(layout.to_json())
             entry = cache.publish(work, key, f"{layout.name}: C driver", executable=BINARY)
     except OSError as exc:                 # a full disk, say: even the temporary directory failed
         raise SimulationError(f"the C driver could not be built and stored: {exc}") from None
-    return Cached(entry, meta, layout)
-
-
-def compile_library(compiler: str, work: Path, sources: list[str], output: str) -> None:
-    """Compile `sources` (in `work`) into the shared library `output` (an FMU's binary)."""
-    _compile(compiler, work, sources, output, ("-shared", "-fPIC"))
-
-
-def _compile(compiler: str, work: Path, sources: list[str], output: str = BINARY, flags=()) -> None:
-    """Run the compiler in its own process group, so that an interruption stops all of it
-    (cc, cc1, as, ld) before the work directory is removed."""
-    command = [compiler, *CFLAGS, *flags, "-o", output, *sources, "-lm"]
-    try:
-        proc = subprocess.Popen(command, cwd=work, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                                text=True, start_new_session=True)
-    except OSError as exc:
-        raise SimulationError(f"cannot run the C compiler {compiler!r}: {exc}") from None
-    try:
-        out, err = proc.communicate(timeout=600)
-    except BaseException as exc:
-        with contextlib.suppress(OSError):
-            os.killpg(proc.pid, signal.SIGKILL)
-        proc.wait()
-        if isinstance(exc, subprocess.TimeoutExpired):
-            raise SimulationError(f"the C compiler {compiler!r} did not finish in 600 s") from None
-        raise
-    if proc.returncode != 0:
-        log = "\n".join((err or out).strip().splitlines()[:40])
-        raise SimulationError(f"the C compiler failed: {' '.join(command)}\n{log}")
+    return CDriver(entry, layout)
 
 
 def driver_arguments(s: RunSettings, sets: dict[str, float], state: dict[str, float]) -> list[str]:
@@ -211,7 +130,7 @@ def _num(value: float) -> str:
     return format(float(value), ".17g")
 
 
-def run(cached: Cached, args: list[str], progress=None, max_first_residual: float | None = None,
+def run(cached: CDriver, args: list[str], progress=None, max_first_residual: float | None = None,
         sink: RowSink | None = None) -> RowSink | None:
     """Run the driver, passing its CSV through to `sink` (a new in-memory `Trajectory`
     when None) as it comes, and return the sink.  Returns None (and stops the driver,

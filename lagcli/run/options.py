@@ -13,7 +13,7 @@ import math
 from dataclasses import dataclass, field
 
 from lagcli.errors import LagcliError, UsageError
-from lagcli.interface import DEFAULT_BAUMGARTE, METHODS, VARIATIONAL, default_max_steps
+from lagcli.interface import DEFAULT_BAUMGARTE, METHODS, VARIATIONAL, RunSettings
 
 HINT_CUTOFF = 0.5                       # difflib similarity for "did you mean": 'mm' -> 'm1'
 
@@ -35,23 +35,6 @@ class Request:
     inputs: tuple[str, ...] = ()        # raw "NAME=EXPR" items of --input (input laws)
     max_steps: int | None = None        # the step budget (None: `default_max_steps`)
     steps_per_row: int | None = None    # --method variational: steps per output interval
-
-
-@dataclass(frozen=True)
-class RunSettings:
-    t_end: float
-    dt: float
-    method: str
-    rtol: float
-    atol: float
-    alpha: float
-    beta: float
-    max_steps: int = 0                  # integrator steps allowed (0: `default_max_steps(t_end, dt)`)
-    steps_per_row: int = 1              # --method variational: the step is dt / steps_per_row
-
-    @property
-    def step_budget(self) -> int:
-        return self.max_steps or default_max_steps(self.t_end, self.dt)
 
 
 def resolve_settings(request: Request, spec_settings: dict) -> RunSettings:

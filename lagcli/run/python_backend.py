@@ -1,12 +1,12 @@
 """The Python backend: scipy's integrators on the generated Python module.
 
-The module is the one `lagcli generate --lang python` writes (lagcli.targets.python),
-generated from sympy objects (never from spec text) and loaded from its source
-text. `cached_module` keeps that source in the cache of `lagcli.run.cache`
-(`<key>/module.py`, variant `python-module`): a second run of the same spec skips
-the code generation (tidying and CSE, ~2 s for rolling_disc), not the derivation
-(the initial state is solved from it). A cached module is executed from the bytes
-whose SHA-256 the cache has just checked, never imported by its path.
+The module is the one `lagcli generate --lang python` writes, made by the System (the
+Python target; never from spec text) and handed here as source text. Its source is
+kept in the cache of `lagcli.run.cache` (`<key>/module.py`, variant `python-module`;
+`cached_source`, `store`): a second run of the same spec skips the code generation
+(tidying and CSE, ~2 s for rolling_disc), not the derivation. A cached module is
+executed from the bytes whose SHA-256 the cache has just checked, never imported by
+its path.
 
 Integration is scipy.integrate.solve_ivp with `t_eval`, written out as its own
 loop (the same solver classes, steps and dense output, so the same numbers) in
@@ -22,6 +22,7 @@ with the step cap of `lagcli.interface.max_step` (docs/simulate.md).
 from __future__ import annotations
 
 import types
+from dataclasses import dataclass
 
 import numpy as np
 from scipy import integrate
@@ -29,7 +30,7 @@ from scipy import integrate
 from lagcli.interface import STEP_BUDGET_TEXT, VARIATIONAL
 from lagcli.runtime.run_rules import max_step, output_time_windows
 from lagcli.run import cache
-from lagcli.run.options import RunSettings
+from lagcli.interface import Layout, RunSettings
 from lagcli.run.rows import RowSink, Trajectory
 
 MODULE, MODULE_VARIANT = "module.py", "python-module"
@@ -43,35 +44,51 @@ class _RhsFailure(Exception):
         self.t, self.reason = t, reason
 
 
-def load_module(derivation, spec_start=None) -> types.ModuleType:
-    """The generated Python module of `derivation`, executed into a fresh module object.
-    `spec_start`: `initial.spec_initial_state(derivation)` when the caller has it."""
-    return _execute(derivation.model.name, module_source(derivation, spec_start))
+@dataclass(frozen=True)
+class PythonModule:
+    """The generated Python module of a system with its interface: a program of the run layer."""
+
+    module: types.ModuleType
+    layout: Layout
+
+    def run(self, settings: RunSettings, values: dict[str, float], state, sink=None, progress=None,
+            max_first_residual: float | None = None) -> RowSink:
+        """One run (the program protocol of lagcli.run.simulate); the state is used as given."""
+        layout = self.layout
+        params = {**layout.parameter_defaults, **values}
+        inputs = {**layout.input_defaults, **values}
+        u = [inputs[n] for n in layout.input_names] or None
+        return integrate_module(self.module, [params[n] for n in layout.parameter_names], list(state),
+                                settings, progress, sink, u)
 
 
-def cached_module(system) -> types.ModuleType:
-    """`load_module` of a `lagcli.system.System`, with the source taken from the cache
-    when this spec's module is there (and intact), and stored there when it is not."""
-    name = system.name
-    key = cache.cache_key(system.model.source, system.spec_bytes, MODULE_VARIANT)
+@dataclass(frozen=True)
+class HybridModule(PythonModule):
+    """The generated module with the numeric input laws and events of one run
+    (`lagcli.hybrid.numeric.Hybrid`, made by the System): run by lagcli/hybrid/hybrid_run.py."""
+
+    hybrid: object = None
+
+    def run(self, settings: RunSettings, values: dict[str, float], state, sink=None, progress=None,
+            max_first_residual: float | None = None) -> RowSink:
+        from lagcli.hybrid.hybrid_run import integrate_hybrid
+
+        layout = self.layout
+        params = {**layout.parameter_defaults, **values}
+        inputs = {**layout.input_defaults, **values}
+        u = [inputs[n] for n in layout.input_names] or None
+        return integrate_hybrid(self.module, [params[n] for n in layout.parameter_names], list(state),
+                                settings, self.hybrid, u, progress, sink)
+
+
+def cached_source(key: str) -> str | None:
+    """The module source cached under `key` (checked by the cache), or None."""
     entry = cache.load(key)
-    if entry is not None and MODULE in entry.contents:
-        return _execute(name, entry.contents[MODULE].decode())
-    source = module_source(system.derivation, system.spec_start())
-    _store(key, name, source)
-    return _execute(name, source)
+    return entry.contents[MODULE].decode() if entry is not None and MODULE in entry.contents else None
 
 
-def module_source(derivation, spec_start=None) -> str:
-    """The text `lagcli generate --lang python` writes for `derivation`."""
-    from lagcli.targets.python import python_module
-    from lagcli.analysis.initial_state import spec_initial_state
-
-    start, _ = spec_start or spec_initial_state(derivation)
-    return python_module(derivation, start.values, start.notes)
-
-
-def _execute(model_name: str, source: str) -> types.ModuleType:
+def module_of(model_name: str, source: str) -> types.ModuleType:
+    """The module executed from `source` (the Python target's text) into a fresh module object."""
     name = f"lagcli_generated_{model_name}"
     module = types.ModuleType(name)
     module.__file__ = f"<{name}>"
@@ -79,7 +96,7 @@ def _execute(model_name: str, source: str) -> types.ModuleType:
     return module
 
 
-def _store(key: str, model_name: str, source: str) -> None:
+def store(key: str, model_name: str, source: str) -> None:
     """Cache `source` as the entry `key`; a cache that cannot be written is skipped."""
     try:
         with cache.new_entry(key) as work:
@@ -90,6 +107,7 @@ def _store(key: str, model_name: str, source: str) -> None:
 
 
 def header(module) -> list[str]:
+    """The CSV header of a generated module's rows."""
     return ["t", *module.STATE, *module.MULTIPLIERS, *module.INVARIANTS]
 
 
@@ -100,7 +118,7 @@ def integrate_module(module, p: list[float], y0: list[float], s: RunSettings,
     failures (see lagcli.run.rows). `u`: the inputs, held constant (a module
     of a spec with `inputs:` only; None: their defaults)."""
     if s.method == VARIATIONAL:
-        from lagcli.run.variational import integrate_variational
+        from lagcli.run.variational_run import integrate_variational
 
         return integrate_variational(module, p, y0, s, progress, sink, u)
     n = len(module.COORDINATES)

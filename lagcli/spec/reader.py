@@ -83,18 +83,19 @@ def format_path(path: KeyPath) -> str:
     return out
 
 
-def read_document(path: str | Path) -> RawDoc:
-    """Read and parse the spec at `path` (`-`: standard input, see `looks_like_toml`);
-    raise `SpecError` for anything unreadable."""
+def read_document(path: str | Path, data: bytes | None = None) -> RawDoc:
+    """Read and parse the spec at `path` (`-`: standard input, see `looks_like_toml`), or
+    its bytes `data` when the caller has read them (`read_spec_bytes`); raise `SpecError`
+    for anything unreadable."""
     name = str(path)
     if name == STDIN:
-        text = _read_text(name, STDIN_NAME)
+        text = _read_text(name, STDIN_NAME, data)
         return parse_text(STDIN_NAME, text, toml=looks_like_toml(text))
     suffix = Path(name).suffix.lower()
     if suffix not in (".yaml", ".yml", ".toml"):
         raise SpecError(Problem(Loc(name), f"unknown spec format '{suffix or name}'",
                                 "a spec file ends in .yaml, .yml or .toml"))
-    return parse_text(name, _read_text(name), toml=suffix == ".toml")
+    return parse_text(name, _read_text(name, None, data), toml=suffix == ".toml")
 
 
 def parse_text(name: str, text: str, toml: bool = False) -> RawDoc:
@@ -128,8 +129,8 @@ def looks_like_toml(text: str) -> bool:
     return False
 
 
-def _read_text(name: str, shown: str | None = None) -> str:
-    data = read_spec_bytes(name)
+def _read_text(name: str, shown: str | None = None, data: bytes | None = None) -> str:
+    data = read_spec_bytes(name) if data is None else data
     try:
         return data.decode("utf-8-sig")
     except UnicodeDecodeError as exc:

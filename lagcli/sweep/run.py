@@ -156,11 +156,10 @@ def _driver(system) -> tuple[str, bytes]:
     """The compiled driver (built into the cache if needed): (path to run, its bytes)."""
     from lagcli.run import c_backend
 
-    compiler = c_backend.find_compiler()
-    if compiler is None:
+    if c_backend.find_compiler() is None:
         raise SimulationError("lagcli sweep runs the compiled driver, but 'cc' was not found on PATH "
                               "(install gcc or clang)")
-    cached = c_backend.driver(system, compiler)
+    cached = system.program("c")
     return cached.binary, cached.entry.contents[c_backend.BINARY]
 
 

@@ -106,6 +106,13 @@ def generate(derivation, lang: str, initial=None, initial_notes=()) -> dict[str,
         raise EmitError(f"unknown output language {lang!r}; known: {', '.join(LANGUAGES)}") from None
     if lang != "latex":
         _refuse_hybrid(derivation, lang)
+    return program_sources(derivation, lang, initial, initial_notes)
+
+
+def program_sources(derivation, lang: str, initial=None, initial_notes=()) -> dict[str, str]:
+    """`generate` for the programs of a run (the System's: the Python module, the C driver):
+    the smooth equations, whatever events or laws the run layer adds around them."""
+    language = LANGUAGES[lang]
     return getattr(importlib.import_module(language.module), language.function)(
         derivation, initial=initial, initial_notes=initial_notes)
 

@@ -9,11 +9,13 @@
     documentation/licenses/          the licence of the fmi2 headers
 
 Variables, in value-reference order (lagcli_fmi2.c serves the same order): the states
-[q..., q'...] (initial="exact", start: the spec's consistent initial state), their
-derivatives, the parameters (fixed, start: their defaults), the inputs (continuous,
-start 0), then the outputs: the multipliers and the invariant columns of `lagcli
-simulate` (energy, jacobi, p_<q>, constraint_residual). A unit, when the layout has one,
-becomes the variable's `unit` and a `<Unit>` of `<UnitDefinitions>`.
+[q..., q'...] (outputs, so that a tool can plot them or close a loop on them;
+initial="exact", start: the spec's consistent initial state), their derivatives, the
+parameters (fixed, start: their defaults), the inputs (continuous, start 0), then the
+other outputs: the multipliers and the invariant columns of `lagcli simulate` (energy,
+jacobi, p_<q>, constraint_residual). A unit of the run interface (the spec's `unit:`s:
+docs/simulate.md, "Units of the columns") becomes the variable's `unit` and a `<Unit>`
+of `<UnitDefinitions>`.
 
 Same spec, same compiler -> same bytes: the zip's entries are sorted, stamped
 1980-01-01 00:00 with mode 0644, and the GUID is a hash of the text files. Everything
@@ -64,18 +66,17 @@ class Variable:
 def model_variables(layout: Layout, initial: tuple[float, ...], descriptions: dict) -> tuple[Variable, ...]:
     """Every variable, in value-reference order (= index - 1)."""
     states = [Variable(s.name, 0, f"velocity of {s.coordinate}" if s.kind == "velocity" else f"coordinate {s.name}",
-                       "local", "continuous", "exact", repr(float(x)))
+                       "output", "continuous", "exact", repr(float(x)), unit=s.unit)
               for s, x in zip(layout.states, initial)]
     derivatives = [Variable(f"der({s.name})", 0, f"time derivative of {s.name}", "local", "continuous",
                             derivative=k + 1) for k, s in enumerate(layout.states)]
     parameters = [Variable(p.name, 0, descriptions.get(p.name) or "parameter", "parameter", "fixed", "exact",
                            repr(float(p.default)), unit=p.unit) for p in layout.parameters]
     inputs = [Variable(u.name, 0, u.description or "input", "input", "continuous", start=repr(float(u.default)),
-                       unit=getattr(u, "unit", None))    # inputs have no unit field yet
-              for u in layout.inputs]
+                       unit=u.unit) for u in layout.inputs]
     outputs = ([Variable(m.name, 0, f"multiplier of the {m.kind} constraint", "output", "continuous")
                 for m in layout.multipliers]
-               + [Variable(c.name, 0, _invariant_description(c), "output", "continuous")
+               + [Variable(c.name, 0, _invariant_description(c), "output", "continuous", unit=c.unit)
                   for c in layout.invariants])
     ordered = states + derivatives + parameters + inputs + outputs
     return tuple(Variable(**{**v.__dict__, "reference": k}) for k, v in enumerate(ordered))
@@ -88,11 +89,13 @@ def _invariant_description(column) -> str:
 
 
 def model_structure(variables: tuple[Variable, ...]) -> dict:
-    """The 1-based indices of ModelStructure: outputs, derivatives and initial unknowns
-    (both: computed from the initial state)."""
+    """The 1-based indices of ModelStructure: outputs (the states among them), derivatives
+    and initial unknowns (the derivatives and the outputs computed from the initial state:
+    not the states, whose start is exact)."""
     outputs = [k for k, v in enumerate(variables, 1) if v.causality == "output"]
     derivatives = [k for k, v in enumerate(variables, 1) if v.derivative is not None]
-    return dict(outputs=outputs, derivatives=derivatives, initial_unknowns=sorted(outputs + derivatives))
+    computed = [k for k in outputs if variables[k - 1].initial != "exact"]
+    return dict(outputs=outputs, derivatives=derivatives, initial_unknowns=sorted(computed + derivatives))
 
 
 def fmu_sources(d: Derivation, initial=None, initial_notes=()) -> dict[str, str]:
@@ -144,7 +147,7 @@ def _check_file_names(d: Derivation, name: str) -> None:
 
 def fmu_files(d: Derivation, initial=None, initial_notes=()) -> dict[str, bytes]:
     """{`<name>.fmu`: the zip's bytes}: `fmu_sources` plus the binary compiled from them."""
-    from lagcli.run.c_backend import find_compiler
+    from lagcli.runtime.toolchain import find_compiler
 
     name = d.model.name
     compiler = find_compiler()
@@ -168,7 +171,7 @@ def platform_folder() -> tuple[str, str]:
 
 def compile_binary(compiler: str, files: dict, library: str) -> bytes:
     """The shared library built from the FMU's sources/ in a temporary directory."""
-    from lagcli.run.c_backend import compile_library
+    from lagcli.runtime.toolchain import compile_program
 
     with tempfile.TemporaryDirectory(prefix="lagcli-fmu-") as work:
         sources = []
@@ -176,7 +179,8 @@ def compile_binary(compiler: str, files: dict, library: str) -> bytes:
             if path.startswith("sources/"):
                 (Path(work) / path.removeprefix("sources/")).write_text(text, encoding="utf-8")
                 sources.append(path.removeprefix("sources/"))
-        compile_library(compiler, Path(work), sorted(s for s in sources if s.endswith(".c")), library)
+        compile_program(compiler, Path(work), sorted(s for s in sources if s.endswith(".c")), library,
+                        shared=True)
         return (Path(work) / library).read_bytes()
 
 

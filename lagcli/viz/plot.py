@@ -25,13 +25,14 @@ whole; longer ones evenly thinned, so a spike narrower than k rows may not show.
 Choosing what is drawn (`PlotOptions`, `lagcli simulate --columns/--phase`):
 
 - the coordinates are split into an "angle (rad)" and a "coordinates" (lengths) panel
-  when the caller knows which coordinates are angles (`angle_coordinates(model)`: a
+  when the caller knows which coordinates are angles (the layout's `angles`, from `lagcli.model.angles`: a
   body's rotation angle, or the argument of a sin/cos/tan in a position or energy);
 - `--columns a,b,...` draws exactly those columns, one panel per kind, in the order
   angles, lengths, velocities, multipliers, invariants (their values; the drift panel
   below stays);
 - `--phase q` adds a phase portrait, q_dot against q;
-- `units` (a column -> unit mapping; empty until specs give units) labels them "x [m]".
+- `units` (column -> unit: the run interface's `Layout.units`, from the spec's `unit:`s) labels
+  the legend and the axes: "x [m]", "t [s]" (`axis_label`).
 
 matplotlib is optional (the `plot` extra); `build_figure` makes a pyplot-free
 `Figure` (drawn by the Agg renderer), `plot_file` writes it as the PNG, SVG or PDF its file name's extension names
@@ -77,24 +78,6 @@ def column_kind(name: str, coordinates, angles) -> str | None:
     if name in (ENERGY, JACOBI, RESIDUAL) or name.startswith(MOMENTUM_PREFIX):
         return "invariant"
     return None
-
-
-def angle_coordinates(model) -> frozenset:
-    """The coordinates of `model` that are angles: a body's rotation angle, or found
-    inside a sin, cos or tan of a position, a spring end or an energy term."""
-    import sympy as sp
-
-    q = set(model.q)
-    found = set()
-    for body in model.bodies:
-        for _, angle in body.rotations:
-            found |= angle.free_symbols & q
-    exprs = [m.position for m in [*model.particles, *model.bodies]]
-    exprs += [e for s in model.springs for e in (s.end_a, s.end_b)] + [model.potential, model.kinetic]
-    for expr in exprs:
-        for call in sp.sympify(expr).atoms(sp.sin, sp.cos, sp.tan):
-            found |= call.free_symbols & q
-    return frozenset(s.name for s in found)
 
 
 def drift_series(header: list[str], energy_conserved: bool) -> list[tuple[str, str]]:
@@ -168,13 +151,13 @@ def build_figure(traj: Trajectory, coordinates, energy_conserved: bool, title: s
     for ax, (label, names) in zip(axes, panels):
         for name in names:
             ax.plot(column[TIME], column[name], label=_with_unit(name, options.units))
-        ax.set_ylabel(label)
+        ax.set_ylabel(axis_label(label, names, options.units))
         ax.legend(loc="best", fontsize="small")
         ax.grid(True, alpha=0.3)
     first.set_title(plot_text(title), usetex=False)   # the spec's file name: never TeX
     if series:
         _drift_panel(axes[len(panels)], column, series, np)
-    axes[-1].set_xlabel("t")
+    axes[-1].set_xlabel(_with_unit(TIME, options.units))
     for k, (q, qd) in enumerate(phase):
         ax = fig.add_subplot(grid[count + k, 0])
         ax.plot(column[q], column[qd], lw=1)
@@ -225,6 +208,15 @@ def _phase_names(phase, coordinates) -> list[tuple[str, str]]:
         if q not in coordinates:
             raise UsageError(f"--phase {q}: not a coordinate; coordinates are: {', '.join(coordinates)}")
     return [(q, velocity_name(q)) for q in phase]
+
+
+def axis_label(label: str, names, units: dict) -> str:
+    """The y label of a panel: its one column with its unit (`x [m]`), else the panel's
+    name with the unit its columns share (`coordinates [m]`), else the name alone."""
+    if len(names) == 1 and units.get(names[0]):
+        return _with_unit(names[0], units)
+    shared = {units.get(name) for name in names}
+    return f"{label} [{shared.pop()}]" if len(shared) == 1 and None not in shared else label
 
 
 def _with_unit(name: str, units: dict) -> str:
