@@ -283,7 +283,7 @@ class System:
         compiled = self.compiled_laws(values, laws) if backend == "c" else None
         hybrid = self.hybrid(values, laws) if compiled is None else None
         if hybrid is not None:
-            from lagcli.run.python_backend import HybridModule
+            from lagcli.hybrid.hybrid_run import HybridModule
 
             if backend != "python":
                 raise UsageError(f"{self.model.source}: the {backend} backend does not run events or callable "

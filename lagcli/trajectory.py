@@ -109,7 +109,9 @@ class Trajectory:
 
     def __repr__(self) -> str:
         rows, cols = self.shape
-        span = f", t = {self.t[0]:g}\N{HORIZONTAL ELLIPSIS}{self.t[-1]:g}" if rows else ""
+        unit = self.layout.column(TIME).unit           # when the spec gives units
+        span = (f", t = {self.t[0]:g}\N{HORIZONTAL ELLIPSIS}{self.t[-1]:g}" + (f" {unit}" if unit else "")
+                if rows else "")
         failed = f"; failed {self.failure}" if self.failure else ""
         return f"Trajectory of {self.layout.name}: {rows} rows \N{MULTIPLICATION SIGN} {cols} columns{span}{failed}"
 

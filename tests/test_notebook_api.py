@@ -287,3 +287,9 @@ def test_animate_writes_one_frame_as_svg_or_pdf(tmp_path):
         assert out.read_bytes().startswith(MAGIC[suffix])
     done = CliRunner().invoke(cli, ["animate", str(SPECS / "cart_pole.yaml"), "-o", str(tmp_path / "m.svg")])
     assert done.exit_code == 2 and "one frame: give --frame T" in done.output
+
+
+def test_repr_gives_the_time_unit_when_the_spec_gives_units(tmp_path, monkeypatch):
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    run = lagcli.load(SPECS.parent / "tests" / "data" / "units_cart_pendulum.yaml").simulate(t_end=0.5, dt=0.1)
+    assert repr(run).endswith(", t = 0\u20260.5 s")

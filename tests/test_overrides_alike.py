@@ -29,17 +29,6 @@ def command(name: str, tmp_path) -> list[str]:
 
 
 COMMANDS = ["simulate", "sweep", "animate", "linearize", "equilibria"]
-# linearize and equilibria read --set/--init with lagcli.run.options.parse_overrides; the
-# run commands move onto the same parser with issue 19's run interface (branch core19):
-# until then animate takes no input in --set, sweep no input either, and the messages
-# for a name given to the other option differ. Not strict: these pass once it lands.
-PENDING = pytest.mark.xfail(reason="simulate/sweep/animate not yet on parse_overrides (issue 19, core19)",
-                            strict=False)
-
-
-def pending(name: str, request) -> None:
-    if name in ("simulate", "sweep", "animate"):
-        request.applymarker(PENDING)
 
 
 def invoke(args, tmp_path):
@@ -49,8 +38,7 @@ def invoke(args, tmp_path):
 
 
 @pytest.mark.parametrize("name", COMMANDS)
-def test_every_command_accepts_a_parameter_an_input_and_an_initial_value(name, tmp_path, request):
-    pending(name, request)
+def test_every_command_accepts_a_parameter_an_input_and_an_initial_value(name, tmp_path):
     if name == "sweep" and shutil.which("cc") is None:
         pytest.skip("no C compiler: sweep runs the compiled driver")
     if name == "animate":
@@ -84,7 +72,6 @@ MISTAKES = [
 
 @pytest.mark.parametrize("name", COMMANDS)
 @pytest.mark.parametrize("wrong,message", MISTAKES)
-def test_the_same_mistake_reads_the_same_everywhere(name, wrong, message, tmp_path, request):
-    pending(name, request)
+def test_the_same_mistake_reads_the_same_everywhere(name, wrong, message, tmp_path):
     done = invoke(command(name, tmp_path) + wrong, tmp_path)
     assert done.exit_code == 2 and message in done.output, done.output

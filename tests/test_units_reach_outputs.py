@@ -80,3 +80,13 @@ def test_the_fmu_outputs_every_state_with_its_unit(tmp_path):
     reference = lagcli.load(UNITS_SPEC).simulate(t_end=1.0, dt=0.01)
     assert abs(recorded["x"][-1] - reference["x"][-1]) < 1e-5
     assert abs(recorded["theta"][-1] - reference["theta"][-1]) < 1e-5
+
+
+def test_report_parameter_tables_carry_the_units():
+    """The text report keeps the unit of a parameter it shows renamed (M -> M_, as the
+    report's own letters), and the LaTeX table gives each parameter its unit."""
+    system = lagcli.load(UNITS_SPEC)
+    line = next(row for row in system.report("text").splitlines() if row.startswith("parameters"))
+    assert "M_ = 2.0 kg" in line and "k = 10.0 N/m" in line
+    latex = system.report("latex")
+    assert r"$k$ & $10.0$~N/m" in latex and r"$m$ & $1.0$~kg" in latex

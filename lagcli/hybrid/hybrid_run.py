@@ -8,10 +8,14 @@ early, if it did) tell what happened.
 from __future__ import annotations
 
 import itertools
+from dataclasses import dataclass
 
 import numpy as np
 
 from lagcli.errors import SimulationError
+from lagcli.interface import RunSettings
+from lagcli.run.python_backend import PythonModule
+from lagcli.run.rows import RowSink
 from lagcli.hybrid.event_loop import run_events
 from lagcli.runtime.run_rules import max_step, output_time_windows
 
@@ -62,3 +66,20 @@ def integrate_hybrid(module, p, y0, s, hybrid, u_constant, progress=None, sink=N
 def _check_finite(t: float, y) -> None:
     if not np.all(np.isfinite(y)):
         raise SimulationError(f"at t = {t:.10g}: the state is no longer finite (inf/nan): the solution blows up")
+
+
+@dataclass(frozen=True)
+class HybridModule(PythonModule):
+    """The generated module with the numeric input laws and events of one run
+    (`lagcli.hybrid.numeric.Hybrid`, made by the System): run by lagcli/hybrid/hybrid_run.py."""
+
+    hybrid: object = None
+
+    def run(self, settings: RunSettings, values: dict[str, float], state, sink=None, progress=None,
+            max_first_residual: float | None = None) -> RowSink:
+        layout = self.layout
+        params = {**layout.parameter_defaults, **values}
+        inputs = {**layout.input_defaults, **values}
+        u = [inputs[n] for n in layout.input_names] or None
+        return integrate_hybrid(self.module, [params[n] for n in layout.parameter_names], list(state),
+                                settings, self.hybrid, u, progress, sink)

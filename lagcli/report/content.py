@@ -114,6 +114,8 @@ def report_content(d: Derivation, printer: ReportPrinter, simplify: bool = True,
     content.update(hybrid_content(d, p))
     content["parameters"] = {renamed.get(pi.symbol, pi.symbol).name: pi.value for pi in m.parameters}
     content["renamed_parameters"] = {old.name: new.name for old, new in renamed.items()}
+    units = content["units"]                       # a renamed parameter keeps its unit
+    units.update({new.name: units[old.name] for old, new in renamed.items() if old.name in units})
     content["named_quantities"] = [] if namer is None else [
         {"name": symbol.name, "expr": printer.expr(shown_as(value))} for symbol, value in namer.definitions]
     return content

@@ -172,6 +172,7 @@ def latex_context(d: Derivation, r: dict) -> dict:
         "coordinates": LIST_SEP.join(qs),
         "velocities": LIST_SEP.join(printer.doprint(v) for v in m.qd),
         "parameters": [{"symbol": printer.doprint(info.symbol), "value": _number(info.value),
+                        "unit": latex_text(m.units.get(info.symbol.name, (None,))[0] or ""),
                         "description": latex_text(info.description or "")}
                        for info in m.parameters],
         "inputs": [{"symbol": printer.doprint(info.symbol), "value": _number(info.value),

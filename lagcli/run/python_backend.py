@@ -62,25 +62,6 @@ class PythonModule:
                                 settings, progress, sink, u)
 
 
-@dataclass(frozen=True)
-class HybridModule(PythonModule):
-    """The generated module with the numeric input laws and events of one run
-    (`lagcli.hybrid.numeric.Hybrid`, made by the System): run by lagcli/hybrid/hybrid_run.py."""
-
-    hybrid: object = None
-
-    def run(self, settings: RunSettings, values: dict[str, float], state, sink=None, progress=None,
-            max_first_residual: float | None = None) -> RowSink:
-        from lagcli.hybrid.hybrid_run import integrate_hybrid
-
-        layout = self.layout
-        params = {**layout.parameter_defaults, **values}
-        inputs = {**layout.input_defaults, **values}
-        u = [inputs[n] for n in layout.input_names] or None
-        return integrate_hybrid(self.module, [params[n] for n in layout.parameter_names], list(state),
-                                settings, self.hybrid, u, progress, sink)
-
-
 def cached_source(key: str) -> str | None:
     """The module source cached under `key` (checked by the cache), or None."""
     entry = cache.load(key)
