@@ -32,6 +32,7 @@ from dataclasses import dataclass, fields
 import sympy as sp
 
 from lagcli.derive.result import Derivation
+from lagcli.model.calculus import derivative
 
 METHOD = "variational"
 
@@ -74,31 +75,34 @@ def discrete_groups(d: Derivation) -> DiscreteGroups:
     """The expressions of `DiscreteGroups` for `d` (holonomically constrained or not)."""
     q, qd, n = d.model.q, d.model.qd, d.n
     M = d.mass_matrix
-    g = [sum((M[i, k] * qd[k] for k in range(n)), sp.S.Zero) + d.t1_coefficients[i] for i in range(n)]
-    f = [d.L.diff(q[i]) + d.nonconservative_forces[i] for i in range(n)]
+    memo: dict = {}      # free symbols of shared subtrees, found once (calculus.derivative)
+    # sums built at once (Add of all terms), derivatives by lagcli's calculus.derivative:
+    # the same expressions as sum() and sympy's diff, without their quadratic and per-node costs
+    g = [sp.Add(*(M[i, k] * qd[k] for k in range(n))) + d.t1_coefficients[i] for i in range(n)]
+    f = [derivative(d.L, q[i], memo) + d.nonconservative_forces[i] for i in range(n)]
     rows = [r for r in d.constraints if r.kind == "holonomic"]
     return DiscreteGroups(
         momentum=tuple(g),
         momentum_rate=tuple(f),
-        momentum_q=tuple(_derivative(g[i], q[j]) for i in range(n) for j in range(n)),
+        momentum_q=tuple(_derivative(g[i], q[j], memo) for i in range(n) for j in range(n)),
         momentum_v=tuple(M[min(i, j), max(i, j)] for i in range(n) for j in range(n)),
-        rate_q=tuple(_derivative(f[i], q[j]) for i in range(n) for j in range(n)),
-        rate_v=tuple(_derivative(f[i], qd[j]) for i in range(n) for j in range(n)),
+        rate_q=tuple(_derivative(f[i], q[j], memo) for i in range(n) for j in range(n)),
+        rate_v=tuple(_derivative(f[i], qd[j], memo) for i in range(n) for j in range(n)),
         position=tuple(r.expr for r in rows),
         gradient=tuple(a for r in rows for a in r.a),
         position_rate=tuple(r.d for r in rows),
     )
 
 
-def _derivative(expr: sp.Expr, symbol: sp.Symbol) -> sp.Expr:
+def _derivative(expr: sp.Expr, symbol: sp.Symbol, memo: dict) -> sp.Expr:
     """d expr / d symbol for Newton's Jacobian, with the derivatives of the kinks of
     sign, abs, min and max taken where they exist: DiracDelta -> 0 (sign is flat on both
     sides), Heaviside(z) -> (1 + sign(z))/2 (the side of min/max that is chosen)."""
-    derivative = sp.diff(expr, symbol)
-    if derivative.has(sp.DiracDelta, sp.Heaviside):
-        derivative = derivative.replace(sp.DiracDelta, lambda *args: sp.S.Zero)
-        derivative = derivative.replace(sp.Heaviside, lambda z, *rest: (1 + sp.sign(z)) / 2)
-    return derivative
+    result = derivative(expr, symbol, memo)
+    if result.has(sp.DiracDelta, sp.Heaviside):
+        result = result.replace(sp.DiracDelta, lambda *args: sp.S.Zero)
+        result = result.replace(sp.Heaviside, lambda z, *rest: (1 + sp.sign(z)) / 2)
+    return result
 
 
 def refusal(d: Derivation) -> str | None:
