@@ -101,7 +101,7 @@ kinetic: m*(x_dot**2 + r**2*theta1_dot**2 + phi2_dot**2)/2
 constraints:
   - {name: rolling, expr: x_dot - r*theta1_dot}
   - phi2_dot - x_dot
-  - {name: roll_x, expr: phi2 - x}
+  - {name: roll_x, expr: phi2 - x - theta1}     # not phi2 - x: the row before, differentiated (dropped)
 """
 
 
