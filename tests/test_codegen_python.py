@@ -259,3 +259,28 @@ def test_symbol_without_slot_is_refused():
         codegen.check_slots([x + stray], printer.slots)
     with pytest.raises(EmitError, match="stray"):
         printer.code(stray)
+
+
+def test_simulate_ends_at_t_end_when_a_grid_time_passes_it_by_round_off(tmp_path):
+    """3 * 0.1 = 0.30000000000000004 > 0.3: the module's simulate still integrates to its
+    last output time (it raised scipy's "t_eval not within t_span"), and its end state
+    agrees with scipy's own run of the module's rhs to t_end."""
+    import importlib.util
+
+    import numpy as np
+    from scipy.integrate import solve_ivp
+
+    import lagcli
+
+    path = tmp_path / "dp_round.py"
+    lagcli.load(str(ROOT / "specs" / "double_pendulum.yaml")).generate("python", path)
+    spec = importlib.util.spec_from_file_location("dp_round", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    header, rows = module.simulate(t_end=0.3, dt=0.1)
+    assert len(rows) == 4
+    n = len(module.COORDINATES)
+    p = [module.PARAMETERS[name] for name in module.PARAMETERS]
+    reference = solve_ivp(lambda s, x: module.rhs(s, x, p), (0.0, rows[-1][0]), rows[0][1:1 + 2 * n],
+                          method="DOP853", rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(rows[-1][1:1 + 2 * n], reference.y[:, -1], rtol=1e-7, atol=1e-9)

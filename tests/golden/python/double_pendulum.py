@@ -452,8 +452,8 @@ def simulate(t_end=None, dt=None, method=None, rtol=None, atol=None, p=None, y0=
     def fun(t, y):
         return np.concatenate((y[_N:], accelerations(t, y, p, alpha, beta)[0]))
 
-    times = output_times(t_end, dt)
-    solution = solve_ivp(fun, (0.0, t_end), y0, method=method, t_eval=times,
+    times = output_times(t_end, dt)     # k*dt may pass t_end by round-off (3*0.1 > 0.3): span them all
+    solution = solve_ivp(fun, (0.0, max(t_end, times[-1])), y0, method=method, t_eval=times,
                          rtol=s["rtol"] if rtol is None else rtol,
                          atol=s["atol"] if atol is None else atol,
                          max_step=max_step(method, alpha, beta, bool(MULTIPLIERS)))
