@@ -101,13 +101,14 @@ def test_an_existing_file_keeps_its_mode_and_a_new_one_follows_the_umask(tmp_pat
 def _no_work(monkeypatch):
     """Make any derivation or integration fail the test: bad targets are refused first."""
     import lagcli.commands
-    import lagcli.run.simulate
+    import lagcli.system
 
     def forbidden(*args, **kwargs):
         raise AssertionError("work started before the output was checked")
 
-    monkeypatch.setattr(lagcli.run.simulate, "_simulate", forbidden)
+    monkeypatch.setattr(lagcli.commands, "_run_request", forbidden)     # a run (warm or cold)
     monkeypatch.setattr(lagcli.commands, "_derive", forbidden)
+    monkeypatch.setattr(lagcli.system, "load", forbidden)               # a System: the derivation
 
 
 @pytest.mark.parametrize("command", [
