@@ -117,6 +117,16 @@ class CompiledSystem:
         return qdd, lam, second
 
 
+def gyroscopic_part(C: np.ndarray) -> np.ndarray:
+    """G = (C - C^T) / 2: the skew (gyroscopic) part of the velocity matrix C = G + D."""
+    return (C - C.T) / 2
+
+
+def damping_part(C: np.ndarray) -> np.ndarray:
+    """D = (C + C^T) / 2: the symmetric (damping) part of C."""
+    return (C + C.T) / 2
+
+
 def input_symbols(model, parameters=()) -> tuple[sp.Symbol, ...]:
     """The inputs u of B: the spec's `inputs:` in spec order, then the parameters named
     by `--input` (a declared input named again is not repeated)."""
@@ -160,11 +170,11 @@ class LinearModel:
 
     @property
     def gyroscopic(self) -> np.ndarray:
-        return (self.C - self.C.T) / 2
+        return gyroscopic_part(self.C)
 
     @property
     def damping(self) -> np.ndarray:
-        return (self.C + self.C.T) / 2
+        return damping_part(self.C)
 
     @property
     def square_stiffness(self) -> np.ndarray | None:

@@ -69,11 +69,15 @@ class Linearization:
 
     @property
     def gyroscopic(self) -> np.ndarray:
-        return (self.C - self.C.T) / 2
+        from lagcli.analysis.linearize import gyroscopic_part
+
+        return gyroscopic_part(self.C)
 
     @property
     def damping(self) -> np.ndarray:
-        return (self.C + self.C.T) / 2
+        from lagcli.analysis.linearize import damping_part
+
+        return damping_part(self.C)
 
     @property
     def modes(self) -> tuple[Mode, ...]:
