@@ -81,6 +81,10 @@ def test_whole_page_from_the_command_line(tmp_path, name):
     assert done.returncode == 0, done.stderr
     html = page.read_text(encoding="utf-8")
     assert "<svg" in html and "data:image/gif;base64," in html
+    again = tmp_path / "again.html"                         # same spec, same bytes
+    subprocess.run([lagcli_command, "report", str(SPECS / f"{name}.yaml"), "-o", str(again)],
+                   capture_output=True, timeout=600, check=True)
+    assert again.read_bytes() == page.read_bytes()
     assert not re.search(r"""(src|href)=["']https?:""", html), "the page loads something from the network"
     assert_rendered(browse(html, tmp_path, name, screenshot=True), name)
 

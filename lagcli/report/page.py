@@ -20,7 +20,6 @@ by a sentence saying why: the page is still written.
 from __future__ import annotations
 
 import base64
-import io
 import os
 import tempfile
 
@@ -166,9 +165,10 @@ def _spec_section(system) -> str:
 # -- pieces -----------------------------------------------------------------------------
 
 def _svg(figure) -> str:
-    buffer = io.StringIO()
-    figure.savefig(buffer, format="svg", metadata={"Date": None})
-    svg = buffer.getvalue()
+    """The figure as inline SVG, the same bytes every run (`figure_bytes`: no date, fixed ids)."""
+    from lagcli.viz.plot import figure_bytes
+
+    svg = figure_bytes(figure, "svg").decode("utf-8")
     return svg[svg.index("<svg"):]
 
 
