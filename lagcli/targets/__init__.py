@@ -122,7 +122,7 @@ def _refuse_hybrid(derivation, lang: str) -> None:
     drop them (lagcli simulate runs them on its Python backend)."""
     model = derivation.model
     events = model.events if lang not in ("fmu", "octave") else ()      # those have them
-    laws = model.laws if lang != "octave" else ()
+    laws = model.laws if lang not in ("octave", "fmu") else ()
     keys = [key for key, used in (("events:", events), ("simulate: inputs:", laws)) if used]
     if keys:
         from lagcli.errors import UsageError
