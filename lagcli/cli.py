@@ -279,7 +279,7 @@ def simulate(ctx, spec, t_end, dt, method, rtol, atol, sets, inits, inputs, back
 @click.option("--init", "inits", multiple=True, metavar="NAME=VALUE",
               help="An initial value for every run (repeatable).")
 @click.option("--input", "inputs", multiple=True, metavar="NAME=EXPR",
-              help="A law for an input (not run by the compiled driver yet: refused with a clear error).")
+              help="A law for an input in every run, e.g. 'F=-k*x - c*x_dot' (repeatable).")
 @click.option("--exceed", "exceed", multiple=True, metavar="NAME=VALUE",
               help="Summary column exceed_NAME: first output time with |NAME| > VALUE (repeatable).")
 @click.option("--t-end", type=float, help="End time (default: the spec's simulate.t_end, else 10).")
@@ -308,6 +308,7 @@ def sweep(ctx, spec, grids, samples, count, seed, runs, sets, inits, inputs, exc
       lagcli sweep specs/double_pendulum.yaml --grid theta1=-3:3:5 --grid theta2=-3:3:5 -o dp.csv
       lagcli sweep specs/double_pendulum.yaml --sample 'm2=uniform(0.5,2)' --count 100 --seed 1 -o mc.csv
       lagcli sweep specs/rolling_disc.yaml --runs speeds.csv --scheduler tcp://127.0.0.1:8786 -o disc.parquet
+      lagcli sweep specs/hybrid/cart_pole_lqr.yaml --grid theta=0.1:0.3:3 --input 'F=-k2*theta' -o lqr.csv
     """
     plan = {"grids": grids, "samples": samples, "count": count, "seed": seed, "runs": runs}
     options = {"t_end": t_end, "dt": dt, "method": method, "rtol": rtol, "atol": atol,

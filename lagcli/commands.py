@@ -109,7 +109,7 @@ def simulate(request, output: str | None = None, plot: str | None = None,
 
 def _report_events(sink, outcome, events: str | None, note) -> None:
     """The summary line and the end note of a run with events on stderr; the --events file."""
-    from lagcli.hybrid.records import events_csv, summary
+    from lagcli.run.records import events_csv, summary
     from lagcli.render.output import write_output
 
     if sink.events or outcome.watched_events:
@@ -182,7 +182,7 @@ def _run_request(request, note, progress, sink, system):
     layout = system.layout
     settings = resolve_settings(request, layout.settings.as_dict())
     overrides = parse_overrides(layout, request.sets, request.inits)
-    laws = _laws(request, system)
+    laws = input_laws(request.inputs, system)
     backend = request.backend or ("c" if compiler and settings.method in C_METHODS else "python")
     python_only = system.hybrid(overrides.values, laws) is not None \
         and system.compiled_laws(overrides.values, laws) is None
@@ -231,12 +231,13 @@ def _warm_run(driver, request, note, progress, sink, spec_bytes):
     return runs.Outcome(rows, "c", layout)
 
 
-def _laws(request, system) -> dict:
-    """--input NAME=EXPR as {name: sympy law}, parsed with the safe parser."""
-    from lagcli.hybrid.hybrid_model import parse_law
+def input_laws(items, system) -> dict:
+    """--input NAME=EXPR (simulate, sweep, animate) as {name: sympy law}, parsed with the
+    safe parser."""
+    from lagcli.model.hybrid_model import parse_law
     from lagcli.run.options import parse_assignments
 
-    given = parse_assignments(request.inputs, "--input", list(system.layout.input_names), "input", "inputs",
+    given = parse_assignments(items, "--input", list(system.layout.input_names), "input", "inputs",
                               lambda text, where: text)
     return {name: parse_law(system.model, name, text.strip(), f"--input {name}").expr
             for name, text in given.items()}
@@ -296,7 +297,7 @@ def linearize(path: str, at=(), independent=(), inputs=(), sweep: str | None = N
               closed: bool = False, sets=(), inits=()) -> str:
     """`lagcli linearize`: the linear model about `--at`, or the eigenvalue table of a sweep
     (`System.linearize`, `linearize_sweep`, `linearize_symbolic`, formatted); `closed`: with
-    the spec's input laws substituted (lagcli/hybrid/closed_loop.py). `--set` (parameters,
+    the spec's input laws substituted (lagcli/derive/closed_loop.py). `--set` (parameters,
     inputs) and `--init` (coordinates, velocities) as every command reads them; they win
     over `--at` of the same name."""
     from lagcli.analysis import report
@@ -416,20 +417,15 @@ def sweep(spec: str, plan_options: dict, options: dict, note=lambda text: None, 
     from lagcli.run.options import parse_assignments, parse_overrides
     from lagcli.sweep import SweepOptions, make_plan, sweep as run_sweep
 
-    from lagcli.errors import UsageError
-
-    laws = options.pop("inputs", ())
     plan = make_plan(**plan_options)                   # option mistakes before deriving
     system = lagcli.load(Path(spec))
-    if laws or system.model.events or system.model.laws:
-        raise UsageError(f"{spec}: lagcli sweep runs the compiled C driver, which does not run events or "
-                         "input laws yet\n  hint: loop over `lagcli simulate` (the Python backend runs them)")
     layout = system.layout
+    laws = input_laws(options.pop("inputs", ()), system)
     overrides = parse_overrides(layout, options.pop("parameters"), options.pop("initial"))
     exceed = parse_assignments(options.pop("exceed"), "--exceed", list(layout.state_names),
                                "coordinate or velocity", "coordinates and velocities")
-    result = run_sweep(system, plan, SweepOptions(**options, parameters=overrides.values,
-                                                  initial=overrides.initial, exceed=exceed), note, progress)
+    result = run_sweep(system, plan, SweepOptions(**options, parameters=overrides.values, initial=overrides.initial,
+                                                  exceed=exceed, inputs=laws), note, progress)
     statuses = list(result.column("status"))
     note(f"{len(statuses)} runs: {statuses.count('ok')} ok, {statuses.count('failed')} failed; "
          f"summary in {result.path}")

@@ -18,7 +18,7 @@ from lagcli.derive.result import Derivation
 from lagcli.report.display import Display, signed_sum
 from lagcli.report.naming import Namer
 from lagcli.report.notation import notation_of, spoken_list
-from lagcli.hybrid.hybrid_report import check_lines, hybrid_content
+from lagcli.report.hybrid_report import check_lines, hybrid_content
 
 
 PARTS = ("system", "energies", "forces", "equations", "constraints", "explicit", "conservation", "events")

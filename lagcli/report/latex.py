@@ -48,6 +48,11 @@ def latex_document(derivation: Derivation, simplify: bool = True, parts=PARTS) -
     return render("latex/document.tex.jinja", body=_body(context), **context)
 
 
+def latex_files(d: Derivation, initial=None, initial_notes=()) -> dict[str, str]:
+    """`lagcli generate --lang latex` (lagcli.targets.LANGUAGES): the standalone document."""
+    return {f"{d.model.name}.tex": latex_document(d)}
+
+
 def _body(context: dict) -> str:
     """The fragment, its "Named quantities" holding the definitions that the selected
     parts use (directly or through a later definition that uses them)."""

@@ -44,6 +44,7 @@ class SweepOptions:
     parameters: dict = field(default_factory=dict)    # fixed overrides for every run (--set)
     initial: dict = field(default_factory=dict)       # fixed initial values (--init)
     exceed: dict = field(default_factory=dict)        # NAME -> VALUE: exceed_<NAME> metrics
+    inputs: dict = field(default_factory=dict)        # input laws for every run (--input): NAME -> text or sympy
     output: str | None = None                         # the summary file (None: in memory only)
     trajectories: str | None = None                   # DIR for run_<id>.csv
     workers: int | None = None                        # local driver processes (None: every core)
@@ -90,7 +91,9 @@ def sweep(system, plan: Plan, options: SweepOptions, note=lambda text: None, pro
         resolve_target(options.output)                       # a bad -o fails before any work
     if options.trajectories is not None:
         check_directory_output(options.trajectories)
-    program, binary = _driver(system)
+    laws = _laws(system, options.inputs)
+    held = {name: 0.0 for name in (*plan.names, *options.parameters) if kinds[name] == "input"}
+    program, binary = _driver(system, held, laws)
     exceed = _exceed(layout, options.exceed)
     arguments = _arguments(settings, exceed, options.trajectories is not None)
     lines, failed = _run_lines(system, plan, options, kinds)
@@ -99,7 +102,8 @@ def sweep(system, plan: Plan, options: SweepOptions, note=lambda text: None, pro
     if names != metrics:
         raise SimulationError(f"lagcli bug: the driver's summary columns {names} are not the layout's {metrics}")
     header = summary.summary_header(plan.names, metrics)
-    journal = _journal(system, options, arguments, lines, failed, header)
+    journal = _journal(system, options, arguments + [f"--input {k}={v}" for k, v in sorted(laws.items())],
+                       lines, failed, header)
     done = dict(journal.done) if journal else {}
     for run_id, reason in failed.items():
         done.setdefault(run_id, summary.summary_line(_failed(run_id, reason, metrics), plan.values[run_id]))
@@ -152,14 +156,42 @@ def _kinds(layout, plan: Plan, options: SweepOptions) -> dict[str, str]:
     return kinds
 
 
-def _driver(system) -> tuple[str, bytes]:
-    """The compiled driver (built into the cache if needed): (path to run, its bytes)."""
+def _laws(system, given: dict) -> dict:
+    """The sweep's input laws {name: sympy law}: text parsed with the safe parser; a
+    Python callable is refused (the compiled driver runs the law as C code)."""
+    from lagcli.model.hybrid_model import parse_law
+
+    from lagcli.run.options import _hint
+
+    laws = {}
+    for name, law in given.items():
+        if name not in system.layout.input_names:
+            raise UsageError(f"--input {name}: unknown input {name!r}"
+                             + _hint(name, list(system.layout.input_names), "inputs"))
+        if isinstance(law, str):
+            law = parse_law(system.model, name, law, f"--input {name}").expr
+        elif not hasattr(law, "free_symbols"):
+            raise UsageError(f"inputs={{{name!r}: ...}}: a sweep runs the compiled driver, which takes a law "
+                             "as an expression (text such as '-k*x'), not a Python callable")
+        laws[name] = law
+    return laws
+
+
+def _driver(system, held: dict, laws: dict) -> tuple[str, bytes]:
+    """The compiled driver (built into the cache if needed): (path to run, its bytes).
+    `held`: the inputs the sweep gives values (no law for them); `laws`: --input's, over
+    the spec's (they are C code of the driver: lagcli.system.System.program)."""
     from lagcli.run import c_backend
 
     if c_backend.find_compiler() is None:
         raise SimulationError("lagcli sweep runs the compiled driver, but 'cc' was not found on PATH "
                               "(install gcc or clang)")
-    cached = system.program("c")
+    try:
+        cached = system.program("c", values=held, laws=laws)
+    except UsageError as exc:
+        raise UsageError(f"{system.model.source}: lagcli sweep runs the compiled C driver, which cannot run this "
+                         f"spec: {str(exc).splitlines()[0].split(': ', 1)[-1]}\n"
+                         "  hint: loop over `lagcli simulate` (its Python backend runs events)") from None
     return cached.binary, cached.entry.contents[c_backend.BINARY]
 
 

@@ -32,7 +32,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from lagcli.derive.result import Derivation
-from lagcli.hybrid.fmu_events import fmu_event_sources
+from lagcli.targets.fmu_events import fmu_event_sources
 from lagcli.targets import c as c_target
 from lagcli.render.templates import render
 from lagcli.errors import Loc, Problem, SimulationError, SpecError

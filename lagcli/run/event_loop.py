@@ -8,7 +8,7 @@ accurate as the integrator. Output rows before the event come from that dense
 output; then the action happens and a new solver starts from (t*, y+): a grid row
 never mixes the motion before and after an event (a row at exactly t* shows y+).
 
-    impact  y+ from lagcli.hybrid.impact (positions kept), impulse P recorded
+    impact  y+ from lagcli.run.impact (positions kept), impulse P recorded
     reset   the listed states from the state before; checked against the constraints
     stop    the run ends at t*, its last row the state there
 
@@ -32,8 +32,8 @@ from scipy.optimize import brentq
 
 from lagcli.errors import SimulationError
 from lagcli.interface import STEP_BUDGET_TEXT
-from lagcli.hybrid.impact import approach_speed, impact
-from lagcli.hybrid.records import EventRecord
+from lagcli.run.impact import approach_speed, impact
+from lagcli.run.records import EventRecord
 
 ACCUMULATION_GAP = 1e-9
 RESTING_SPEED = 1e-9
