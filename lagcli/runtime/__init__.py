@@ -11,7 +11,8 @@ headers, unchanged, under the licence in fmi2/LICENSE.txt (the Modelica Associat
 
 Python: `run_rules.py` is a module lagcli itself runs (the run layer and
 the code targets import it) whose code the generated Python module carries verbatim (`python_run_rules`), so
-that module stays one self-contained file."""
+that module stays one self-contained file. `package_data.py` finds the other shipped
+folders (templates/, specs/) for the spec reader and the Jinja environment."""
 from __future__ import annotations
 
 import ast

@@ -33,7 +33,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from lagcli.derive.result import Derivation
-from lagcli.hybrid.fmu_events import fmu_event_sources
+from lagcli.targets.fmu_events import fmu_event_sources
 from lagcli.targets import c as c_target
 from lagcli.render.spec_printer import spec_str
 from lagcli.render.templates import render
@@ -130,7 +130,7 @@ def _with_laws(d: Derivation) -> Derivation:
     disturbance or a feed-forward); an input without a law stays a plain input."""
     if not d.model.laws:
         return d
-    from lagcli.hybrid.closed_loop import closed_loop
+    from lagcli.derive.closed_loop import closed_loop
 
     symbols = {u.name: u for u in d.model.input_symbols}
     return closed_loop(d, {law.symbol.name: law.expr + symbols[law.symbol.name] for law in d.model.laws})

@@ -7,12 +7,12 @@
 
 Each file exists only when the spec has laws or events, so every other spec's files are
 unchanged. Expressions are printed by the Octave printer with the model's slots (y(i),
-p(j)); the impact solves the augmented system of lagcli/hybrid/impact.py with `\\`.
+p(j)); the impact solves the augmented system of lagcli/run/impact.py with `\\`.
 """
 from __future__ import annotations
 
-from lagcli.hybrid.event_loop import ACCUMULATION_GAP, EVENT_BUDGET, FIRST_STEP_SAMPLES, RESTING_SPEED
-from lagcli.hybrid.fmu_events import DIRECTION_CODES
+from lagcli.interface import ACCUMULATION_GAP, EVENT_BUDGET, FIRST_STEP_SAMPLES, RESTING_SPEED
+from lagcli.targets.fmu_events import DIRECTION_CODES
 from lagcli.render.spec_printer import spec_str
 from lagcli.targets.slots import check_slots
 
