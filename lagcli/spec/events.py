@@ -12,7 +12,7 @@
 
 Shapes, names and references are checked here; what the expressions may depend on
 (an impact's `when` no velocities, a law no accelerations) is checked when they are
-parsed (lagcli/hybrid/hybrid_model.py).
+parsed (lagcli/model/hybrid_model.py).
 """
 from __future__ import annotations
 

@@ -8,7 +8,7 @@ accurate as the integrator. Output rows before the event come from that dense
 output; then the action happens and a new solver starts from (t*, y+): a grid row
 never mixes the motion before and after an event (a row at exactly t* shows y+).
 
-    impact  y+ from lagcli.hybrid.impact (positions kept), impulse P recorded
+    impact  y+ from lagcli.run.impact (positions kept), impulse P recorded
     reset   the listed states from the state before; checked against the constraints
     stop    the run ends at t*, its last row the state there
 
@@ -31,14 +31,11 @@ import numpy as np
 from scipy.optimize import brentq
 
 from lagcli.errors import SimulationError
-from lagcli.interface import STEP_BUDGET_TEXT
-from lagcli.hybrid.impact import approach_speed, impact
-from lagcli.hybrid.records import EventRecord
+from lagcli.interface import (ACCUMULATION_GAP, EVENT_BUDGET, FIRST_STEP_SAMPLES, RESTING_SPEED,
+                              STEP_BUDGET_TEXT)
+from lagcli.run.impact import approach_speed, impact
+from lagcli.run.records import EventRecord
 
-ACCUMULATION_GAP = 1e-9
-RESTING_SPEED = 1e-9
-EVENT_BUDGET = 100_000
-FIRST_STEP_SAMPLES = 8
 _XTOL = 4 * np.finfo(float).eps
 
 
