@@ -207,8 +207,8 @@ class System:
         between rows (default 1). `inputs`: {name: value} of the spec's `inputs:`: a number (held
         constant), an expression string (a law of t, q, q', parameters: "-k*x - c*x_dot")
         or a Python callable u(t, y) returning a number; missing ones follow the spec's
-        law or sit at their default. Laws and the spec's `events:` run on the Python
-        backend. Returns a `lagcli.trajectory.Trajectory` (its `events` lists what
+        law or sit at their default. Expression laws and the spec's `events:` run on both
+        backends, a callable on the Python backend. Returns a `lagcli.trajectory.Trajectory` (its `events` lists what
         happened); a failed integration keeps its rows and says why in `failure`."""
         from lagcli.run.options import Request, resolve_settings
         from lagcli.trajectory import from_rows
@@ -249,9 +249,10 @@ class System:
         return hybrid_run(self.derivation, params, inputs)
 
     def compiled_laws(self, values: dict[str, float], laws: dict | None = None) -> dict | None:
-        """The laws of a run the compiled driver can take (expressions, no events), or None."""
+        """The laws of a run the compiled driver can take (expressions), or None (a Python
+        callable: the Python backend runs it)."""
         laws = self.laws(values, laws)
-        if self.model.events or any(callable(v) and not hasattr(v, "free_symbols") for v in laws.values()):
+        if any(callable(v) and not hasattr(v, "free_symbols") for v in laws.values()):
             return None
         return laws
 
@@ -285,9 +286,9 @@ class System:
             from lagcli.run.hybrid_run import HybridModule
 
             if backend != "python":
-                raise UsageError(f"{self.model.source}: the {backend} backend does not run events or callable "
-                                 "input laws yet\n  hint: use the Python backend (--backend python; the "
-                                 "default for such a run)")
+                raise UsageError(f"{self.model.source}: the {backend} backend does not run Python callables "
+                                 "as input laws\n  hint: use the Python backend (backend=\"python\"), or give "
+                                 "the law as an expression string")
             return HybridModule(self._module(), self.layout, hybrid)
         if backend == "python":
             from lagcli.run.python_backend import PythonModule

@@ -33,12 +33,8 @@ from scipy.optimize import brentq
 from lagcli.errors import SimulationError
 from lagcli.interface import STEP_BUDGET_TEXT
 from lagcli.run.impact import approach_speed, impact
-from lagcli.run.records import EventRecord
-
-ACCUMULATION_GAP = 1e-9
-RESTING_SPEED = 1e-9
-EVENT_BUDGET = 100_000
-FIRST_STEP_SAMPLES = 8
+from lagcli.run.records import (ACCUMULATION_GAP, EVENT_BUDGET, FIRST_STEP_SAMPLES, RESTING_SPEED, EventRecord,
+                                end_note)
 _XTOL = 4 * np.finfo(float).eps
 
 
@@ -150,8 +146,7 @@ def _bracket_after_event(e, t_old, t_new, dense, from_zero: bool):
     wrong_side = first is not None and ((e.direction == "falling" and first < 0)
                                         or (e.direction == "rising" and first > 0))
     if first is None or (from_zero and wrong_side):
-        raise _End(f"event '{e.name}' recurs at t = {t_old:.10g} faster than the integrator's step can "
-                   "resolve (accumulation); the run ends there")
+        raise _End(end_note("unresolved", e.name, t_old, t_old))
     return None
 
 
@@ -182,10 +177,9 @@ class _State:
         gap = t - self.last.get(e.name, -np.inf)
         self.last[e.name] = t
         if note is None and gap < ACCUMULATION_GAP * max(1.0, abs(t)):
-            note = (f"event '{e.name}' recurred after {gap:.3g} s at t = {t:.10g} "
-                    f"(accumulation: closer than {ACCUMULATION_GAP:g} x max(1, t)); the run ends there")
+            note = end_note("recurred", e.name, t, gap)
         if note is None and len(self.records) >= EVENT_BUDGET:
-            note = f"{EVENT_BUDGET} events (the budget of one run) by t = {t:.10g}; the run ends there"
+            note = end_note("budget", e.name, t, EVENT_BUDGET)
         if note is not None:
             raise _End(note)
         return t, y_plus, k
@@ -204,9 +198,7 @@ class _State:
         self.fastest[e.name] = max(self.fastest.get(e.name, 0.0), before)
         note = None
         if after <= RESTING_SPEED * self.fastest[e.name]:
-            note = (f"event '{e.name}' at t = {t:.10g}: separation speed {after:.3g} after the impact "
-                    f"(below {RESTING_SPEED:g} x the largest approach speed: the contact has come to rest); "
-                    "the run ends there")
+            note = end_note("resting", e.name, t, after)
         return y_plus, P, note
 
     def _check_constraints(self, e, t, y_plus, residual) -> None:

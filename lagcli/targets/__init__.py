@@ -116,7 +116,7 @@ def _refuse_hybrid(derivation, lang: str) -> None:
     """Generated code does not carry events or the spec's input laws yet: refuse rather than
     drop them (lagcli simulate runs them on its Python backend)."""
     model = derivation.model
-    events = model.events if lang != "fmu" else ()      # the FMU has them (lagcli/targets/fmu_events.py)
+    events = model.events if lang not in ("c", "fmu") else ()      # their C model has them (event_code.py)
     keys = [key for key, used in (("events:", events), ("simulate: inputs:", model.laws)) if used]
     if keys:
         from lagcli.errors import UsageError

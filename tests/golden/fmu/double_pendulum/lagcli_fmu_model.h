@@ -15,7 +15,7 @@
 #include "double_pendulum.h"
 
 #define LAGCLI_FMU_MODEL double_pendulum_model
-#define LAGCLI_FMU_GUID "{3b6f680b-c095-eb6a-2c31-bfd757a14296}"
+#define LAGCLI_FMU_GUID "{15cc3e27-0ee6-81a7-0b9f-49fa4dc041c4}"
 #define LAGCLI_FMU_NINPUT 0u
 #define LAGCLI_FMU_ALPHA 10.0        /* Baumgarte stabilisation (constrained systems) */
 #define LAGCLI_FMU_BETA 10.0

@@ -15,7 +15,7 @@
 #include "ex6_9_two_wheels_axle.h"
 
 #define LAGCLI_FMU_MODEL ex6_9_two_wheels_axle_model
-#define LAGCLI_FMU_GUID "{a5d5393d-901b-efec-70b2-335032f317d0}"
+#define LAGCLI_FMU_GUID "{1b7020f2-c10a-f914-1ea4-c3a2223b0a31}"
 #define LAGCLI_FMU_NINPUT 0u
 #define LAGCLI_FMU_ALPHA 10.0        /* Baumgarte stabilisation (constrained systems) */
 #define LAGCLI_FMU_BETA 10.0
