@@ -3,17 +3,15 @@ stderr summary ("12 events: floor x12, first at t = 0.4515 s") and the note sayi
 run ended early: for both backends (lagcli/run/event_loop.py; the C driver's log,
 lagcli/runtime/c/lagcli_events.h, read by `read_event_log`).
 
-The rules that end a run early are the same on both backends (the C side's numbers in
-lagcli_events.h, checked equal by tests/test_c_events.py):"""
+The rules that end a run early are the same on both backends (lagcli/interface.py's
+ACCUMULATION_GAP, RESTING_SPEED, EVENT_BUDGET, FIRST_STEP_SAMPLES; the C side's in
+lagcli_events.h, checked equal by tests/test_c_events.py)."""
 from __future__ import annotations
 
 from collections import Counter
 from dataclasses import dataclass
 
-ACCUMULATION_GAP = 1e-9      # the same event again within this x max(1, |t|): accumulation
-RESTING_SPEED = 1e-9         # separation speed below this x the fastest approach: at rest
-EVENT_BUDGET = 100_000       # events in one run
-FIRST_STEP_SAMPLES = 8       # samples of the first step after an event
+from lagcli.interface import ACCUMULATION_GAP, EVENT_BUDGET, RESTING_SPEED
 
 
 @dataclass(frozen=True)
