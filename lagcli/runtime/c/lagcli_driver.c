@@ -364,6 +364,25 @@ static int integrate_windows(const run_settings *s, run_state *run, const double
 static int integrate_events(const run_settings *s, run_state *run, const double *y0, lagcli_ode_out_fn out,
                             FILE *log, lagcli_event_result *result);
 
+/* The integration of a run without a log: with the model's events when it has them
+ * (the run ends early as lagcli_events.h says), else LAGCLI_WINDOW output times at a time. */
+static int integrate_plain(const run_settings *s, run_state *run, const double *y0, lagcli_ode_out_fn out,
+                           lagcli_ode_stats *stats)
+{
+    static char message[sizeof ((lagcli_event_result *)0)->message];   /* one integration at a time */
+    lagcli_event_result result;
+    int rc;
+    if (run->model->events == NULL)
+        return integrate_windows(s, run, y0, out, stats);
+    rc = integrate_events(s, run, y0, out, NULL, &result);
+    *stats = result.stats;
+    if (rc == LAGCLI_EVENTS_FAILED) {
+        memcpy(message, result.message, sizeof message);
+        stats->message = message;
+    }
+    return rc;
+}
+
 static int bench(const run_settings *s, run_state *run, const double *y0)
 {
     lagcli_ode_stats stats;
@@ -373,13 +392,7 @@ static int bench(const run_settings *s, run_state *run, const double *y0)
     int rc;
     for (k = 0; k < s->bench; ++k) {
         start = clock();
-        if (run->model->events != NULL) {
-            lagcli_event_result result;
-            rc = integrate_events(s, run, y0, no_row, NULL, &result);
-            stats = result.stats;
-        } else {
-            rc = integrate_windows(s, run, y0, no_row, &stats);
-        }
+        rc = integrate_plain(s, run, y0, no_row, &stats);
         seconds = (double)(clock() - start) / CLOCKS_PER_SEC;
         if (rc != LAGCLI_ODE_OK) {
             fprintf(stderr, "error: at t = %.10g: %s\n", stats.t, stats.message);
@@ -527,8 +540,6 @@ int lagcli_driver_main(const lagcli_model *model, int argc, char **argv)
             rc = 2;
         } else if (model->events != NULL && strcmp(s.method, "variational") == 0) {
             rc = usage(argv[0], "--method variational does not run events: use RK45 or DOP853");
-        } else if (model->events != NULL && s.batch) {
-            rc = usage(argv[0], "--batch runs models without events");
         } else if (s.batch && strcmp(s.method, "variational") == 0) {
             rc = usage(argv[0], "--batch: runs RK45 or DOP853");
         } else if (s.batch) {
@@ -679,6 +690,8 @@ static void failure_text(int rc, const run_settings *s, const run_state *run, co
         sprintf(text, "at t = %.10g: the state is no longer finite (inf/nan): the solution blows up", st->t);
     else if (rc == LAGCLI_ODE_ERR_MAX_STEPS)
         sprintf(text, "at t = %.10g: " STEP_BUDGET_TEXT, st->t, step_budget(s));
+    else if (rc == LAGCLI_EVENTS_FAILED)
+        sprintf(text, "%.790s", st->message);
     else
         sprintf(text, "at t = %.10g: the %s integrator failed: %s", st->t, s->method, st->message);
 }
@@ -746,7 +759,7 @@ static void batch_run_line(const run_settings *s, batch_run *b, const double *p0
     if (s->bench > 0) {             /* the bare integration cost (bench/sweep.py): no rows, no summary */
         clock_t start = clock();
         if (failure[0] == '\0')
-            (void)integrate_windows(s, run, y, no_row, &st);
+            (void)integrate_plain(s, run, y, no_row, &st);
         b->bench_seconds += (double)(clock() - start) / CLOCKS_PER_SEC;
         ++b->bench_runs;
         return;
@@ -754,7 +767,7 @@ static void batch_run_line(const run_settings *s, batch_run *b, const double *p0
     if (failure[0] == '\0') {
         if (batch_row(0.0, y, run) != 0)
             failure_text(LAGCLI_ODE_ERR_RHS, s, run, &st, failure);
-        else if ((rc = integrate_windows(s, run, y, batch_row, &st)) != LAGCLI_ODE_OK)
+        else if ((rc = integrate_plain(s, run, y, batch_row, &st)) != LAGCLI_ODE_OK)
             failure_text(rc, s, run, &st, failure);
     }
     if (b->rows > 0)     /* the multipliers at the last row reached */
