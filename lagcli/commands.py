@@ -109,7 +109,7 @@ def simulate(request, output: str | None = None, plot: str | None = None,
 
 def _report_events(sink, outcome, events: str | None, note) -> None:
     """The summary line and the end note of a run with events on stderr; the --events file."""
-    from lagcli.hybrid.records import events_csv, summary
+    from lagcli.run.records import events_csv, summary
     from lagcli.render.output import write_output
 
     if sink.events or outcome.watched_events:
@@ -234,7 +234,7 @@ def _warm_run(driver, request, note, progress, sink, spec_bytes):
 def input_laws(items, system) -> dict:
     """--input NAME=EXPR (simulate, sweep, animate) as {name: sympy law}, parsed with the
     safe parser."""
-    from lagcli.hybrid.hybrid_model import parse_law
+    from lagcli.model.hybrid_model import parse_law
     from lagcli.run.options import parse_assignments
 
     given = parse_assignments(items, "--input", list(system.layout.input_names), "input", "inputs",
@@ -297,7 +297,7 @@ def linearize(path: str, at=(), independent=(), inputs=(), sweep: str | None = N
               closed: bool = False, sets=(), inits=()) -> str:
     """`lagcli linearize`: the linear model about `--at`, or the eigenvalue table of a sweep
     (`System.linearize`, `linearize_sweep`, `linearize_symbolic`, formatted); `closed`: with
-    the spec's input laws substituted (lagcli/hybrid/closed_loop.py). `--set` (parameters,
+    the spec's input laws substituted (lagcli/derive/closed_loop.py). `--set` (parameters,
     inputs) and `--init` (coordinates, velocities) as every command reads them; they win
     over `--at` of the same name."""
     from lagcli.analysis import report
@@ -340,7 +340,7 @@ def _symbolic_linear(system, points, inputs, fmt: str, closed: bool) -> str:
     d = system.derivation
     lin = system.linearize_symbolic(points, inputs, closed_loop=closed)
     if fmt == "latex":
-        return report.symbolic_latex(lin, LatexPrinter(d.model))
+        return report.symbolic_latex(d, lin, LatexPrinter(d.model))
     content = report.symbolic_content(d, lin, spec_str)
     return report.to_json(content) if fmt == "json" else report.symbolic_text(content)
 

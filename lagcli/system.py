@@ -107,10 +107,9 @@ class System:
             content = report_content(self.derivation, spec_printer(), simplify)
             return content if format == "dict" else json.dumps(content, indent=2) + "\n"
         if format == "text":
-            from lagcli.render.templates import render
+            from lagcli.report.content import text_report
 
-            content = report_content(self.derivation, spec_printer(), simplify, named=True)
-            return render("report/derive.txt.jinja", r=content, parts=report_parts(parts))
+            return text_report(self.derivation, simplify, report_parts(parts))
         if format in ("latex", "latex-document"):
             from lagcli.report.latex import latex_document, latex_fragment
 
@@ -235,10 +234,10 @@ class System:
         return {**spec_laws, **(laws or {})}
 
     def hybrid(self, values: dict[str, float], laws: dict | None = None):
-        """The numeric laws and events of one run (`lagcli.hybrid.numeric.Hybrid`), or None
+        """The numeric laws and events of one run (`lagcli.targets.numeric.Hybrid`), or None
         when the run has neither. `values`: parameters and constant inputs of the run;
         `laws`: see `laws`."""
-        from lagcli.hybrid.numeric import hybrid_run
+        from lagcli.targets.numeric import hybrid_run
 
         laws = self.laws(values, laws)
         if not self.model.events and not laws:
@@ -283,7 +282,7 @@ class System:
         compiled = self.compiled_laws(values, laws) if backend == "c" else None
         hybrid = self.hybrid(values, laws) if compiled is None else None
         if hybrid is not None:
-            from lagcli.hybrid.hybrid_run import HybridModule
+            from lagcli.run.hybrid_run import HybridModule
 
             if backend != "python":
                 raise UsageError(f"{self.model.source}: the {backend} backend does not run events or callable "
@@ -422,7 +421,7 @@ class System:
     def _driver(self, compiler, laws: dict):
         """The compiled driver in the cache, generated (C target) and built when missing.
         `laws` (input name -> sympy law): the model is generated with them substituted
-        (`lagcli.hybrid.closed_loop`), so the law is C code of the driver, and part of its
+        (`lagcli.derive.closed_loop`), so the law is C code of the driver, and part of its
         cache key: a cached driver is never reused for another law. A spec with laws never
         has a driver under the plain key, which the warm path looks up."""
         from lagcli.run import c_backend
@@ -436,7 +435,7 @@ class System:
             return found
         derivation = self.derivation
         if laws:
-            from lagcli.hybrid.closed_loop import closed_loop
+            from lagcli.derive.closed_loop import closed_loop
 
             derivation = closed_loop(derivation, laws)
         return c_backend.build(self._sources("c", derivation), key, compiler, self.layout)
@@ -461,7 +460,7 @@ class System:
 
     def _inputs(self, inputs: dict | None) -> tuple[dict[str, float], dict]:
         """The constant inputs {name: value} and the laws {name: sympy law or callable}."""
-        from lagcli.hybrid.hybrid_model import parse_law
+        from lagcli.model.hybrid_model import parse_law
 
         given = dict(inputs or {})
         self._known("inputs", given, self.layout.input_names, "input")

@@ -30,7 +30,7 @@ class Trajectory:
     notes: tuple[str, ...] = ()        # what was solved for in the initial state
     failure: str | None = None         # "at t = ...: reason" when the integration stopped early
     energy_is_jacobi: bool = False     # the energy column is conserved (plots show its drift)
-    events: tuple = ()                 # lagcli.hybrid.records.EventRecord per event, in time order
+    events: tuple = ()                 # lagcli.run.records.EventRecord per event, in time order
     end_note: str | None = None        # why a run with events ended before t_end (accumulation, ...)
     angles: frozenset = frozenset()    # the coordinates that are angles (the plot's angle panel)
 

@@ -88,3 +88,62 @@ def test_the_run_layer_and_the_targets_import_only_down():
             if up or across:
                 wrong.append(f"{name} imports {target}")
     assert not wrong, "imports against the direction of the design:\n" + "\n".join(sorted(wrong))
+
+
+# -- floors: no import arrow runs up ------------------------------------------------------
+
+def room_of(name: str) -> str:
+    """The room of a lagcli module: its folder (`lagcli.run`), or the face itself at the root."""
+    parts = name.split(".")
+    return ".".join(parts[:2])
+
+
+def room_arrows() -> dict[str, dict[str, set[str]]]:
+    """room -> {room it imports: the modules that do}, between different rooms. `lagcli` and
+    `lagcli.__version__` (the package's version, imported everywhere) are no room."""
+    arrows: dict[str, dict[str, set[str]]] = {}
+    for path in modules():
+        name = module_name(path)
+        here = room_of(name)
+        arrows.setdefault(here, {})
+        for target in imports_of(path):
+            there = room_of(target)
+            if there in ("lagcli", "lagcli.__version__") or there == here:
+                continue
+            if (PACKAGE / there.split(".")[1]).is_dir() or (PACKAGE / f"{there.split('.')[1]}.py").exists():
+                arrows[here].setdefault(there, set()).add(name)
+    return arrows
+
+
+def a_circle(arrows: dict[str, dict[str, set[str]]]) -> list[str]:
+    """One circle of rooms importing each other (empty when the rooms stand on floors)."""
+    state: dict[str, str] = {}
+    path: list[str] = []
+
+    def visit(room: str) -> list[str]:
+        state[room] = "open"
+        path.append(room)
+        for there in sorted(arrows.get(room, {})):
+            if state.get(there) == "open":
+                return path[path.index(there):] + [there]
+            if there not in state and (found := visit(there)):
+                return found
+        state[room] = "done"
+        path.pop()
+        return []
+
+    for room in sorted(arrows):
+        if room not in state and (found := visit(room)):
+            return found
+    return []
+
+
+def test_no_import_arrow_runs_up():
+    """The rooms (folders, and the faces at the root) stand on floors: spec -> model ->
+    derive -> targets / run -> analysis -> System -> commands -> cli, each importing only
+    rooms below it. A circle of rooms means some arrow runs back up; this names it with
+    the modules that make each of its arrows."""
+    arrows = room_arrows()
+    circle = a_circle(arrows)
+    steps = [f"{a} -> {b} (by {', '.join(sorted(arrows[a][b]))})" for a, b in zip(circle, circle[1:])]
+    assert not circle, "rooms importing each other in a circle:\n" + "\n".join(steps)

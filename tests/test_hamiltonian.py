@@ -1,4 +1,4 @@
-"""Hamilton's form (lagcli/analysis/hamiltonian.py) against the Lagrangian equations.
+"""Hamilton's form (lagcli/derive/hamilton_form.py, lagcli/analysis/hamiltonian.py) against the Lagrangian equations.
 
 For every bundled unconstrained spec, Hamilton's equations in (q, p) are integrated
 with scipy and compared with an integration of M q'' = F (the derivation's own
@@ -12,7 +12,8 @@ import pytest
 import sympy as sp
 from scipy.integrate import solve_ivp
 
-from lagcli.analysis.hamiltonian import HamiltonRhs, hamilton_form
+from lagcli.analysis.hamiltonian import HamiltonRhs
+from lagcli.derive.hamilton_form import hamilton_form
 
 from conftest import SPECS, spec_path
 

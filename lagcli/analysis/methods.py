@@ -24,10 +24,10 @@ def point_of(system, at, parameters=None, inputs=None, sweep: str | None = None)
 
 def derivation(system, closed_loop: bool = False):
     """The System's derivation, or (`closed_loop`) with the spec's input laws substituted
-    (`lagcli.hybrid.closed_loop`), made once."""
+    (`lagcli.derive.closed_loop`), made once."""
     if not closed_loop:
         return system.derivation
-    from lagcli.hybrid.closed_loop import closed_loop as close
+    from lagcli.derive.closed_loop import closed_loop as close
 
     return system._once("_closed_loop", lambda: close(system.derivation))
 
@@ -131,7 +131,7 @@ def _guesses(d, guesses) -> list[dict]:
 
 
 def hamiltonian(system) -> Hamiltonian:
-    from lagcli.analysis.hamiltonian import hamilton_form
+    from lagcli.derive.hamilton_form import hamilton_form
 
     d = system.derivation
     form = hamilton_form(d)

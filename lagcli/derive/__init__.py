@@ -17,7 +17,7 @@ from lagcli.derive.forces import applied_generalized_forces
 from lagcli.derive.invariants import (LagrangianProbe, conserved_quantities, ignorable_coordinates,
                                       jacobi_integral, jacobi_obstacle, momenta)
 from lagcli.derive.result import Derivation, Equation
-from lagcli.hybrid.event_functions import event_functions
+from lagcli.derive.event_functions import event_functions
 from lagcli.model.model_types import Model
 
 __all__ = ["derive", "Derivation"]

@@ -87,7 +87,7 @@ class Derivation:
     energy_is_jacobi: bool
     scleronomic: bool
     no_jacobi_reason: str | None = None      # why there is no Jacobi integral, in words
-    events: tuple = ()                       # lagcli.hybrid.derive.EventFunction per spec event
+    events: tuple = ()                       # lagcli.derive.event_functions.EventFunction per spec event
 
     # Whether Q' has a potential is for reports only: searched on first use (it may integrate).
     @functools.cached_property

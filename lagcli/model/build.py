@@ -21,7 +21,7 @@ from lagcli.model.expr import Scope, parse, parse_constant
 from lagcli.interface import acceleration_name, velocity_name
 from lagcli.model.model_types import (AppliedForce, ConstraintSpec, InputInfo, LinearDamper, LinearSpring,
                                 Model, ParameterInfo, PointMass, RigidBody, Settings)
-from lagcli.hybrid.hybrid_model import hybrid_fields
+from lagcli.model.hybrid_model import hybrid_fields
 from lagcli.model.kinematics import AXES, Entity, Vector, frame_chains
 from lagcli.model.redundancy import independent_rows
 from lagcli.model.rolling import rolling_constraints, rolling_contact

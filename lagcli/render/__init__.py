@@ -5,5 +5,6 @@
     tidy.py          exact tidying of small expressions for display
     spec_printer.py  sympy -> the spec's own expression language
     output.py        where -o / --plot write (atomic files, streams); interrupts.py: signals
-    package_data.py  templates/ and specs/ as installed package data or the checkout's
+
+(templates/ and specs/ are found by lagcli/runtime/package_data.py, below the spec reader.)
 """

@@ -14,7 +14,7 @@ import jinja2
 
 from lagcli.render.escape import FILTERS
 from lagcli.errors import EmitError
-from lagcli.render.package_data import data_dir
+from lagcli.runtime.package_data import data_dir
 
 
 def _template_dir() -> Path:

@@ -34,7 +34,7 @@ class RowSink:
         self.last_time: float | None = None
         self.failure: str | None = None          # "at t = ...: reason"
         self.interrupted = False
-        self.events: list = []                   # lagcli.hybrid.records.EventRecord, as they happen
+        self.events: list = []                   # lagcli.run.records.EventRecord, as they happen
         self.end_note: str | None = None         # why a run with events ended before t_end
 
     def begin(self, header) -> None:

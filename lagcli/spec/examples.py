@@ -10,7 +10,7 @@ import shutil
 from pathlib import Path
 
 from lagcli.errors import UsageError
-from lagcli.render.package_data import data_dir
+from lagcli.runtime.package_data import data_dir
 
 SUFFIXES = (".yaml", ".yml", ".toml")
 HYBRID = "hybrid"       # specs with events or input laws (which not every code target takes yet)

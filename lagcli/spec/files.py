@@ -84,7 +84,7 @@ def _read_stdin() -> bytes:
 def missing_spec_hint(name: str) -> str:
     """For a spec file that does not exist but is named like a bundled example
     (`specs/cart_pole.yaml` typed outside the checkout): how to get the examples."""
-    from lagcli.render.package_data import data_dir      # only on this error path: keeps the warm path light
+    from lagcli.runtime.package_data import data_dir      # only on this error path: keeps the warm path light
 
     path = Path(name)
     bundled = data_dir("lagcli.specs", "specs")

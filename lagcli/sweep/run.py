@@ -159,7 +159,7 @@ def _kinds(layout, plan: Plan, options: SweepOptions) -> dict[str, str]:
 def _laws(system, given: dict) -> dict:
     """The sweep's input laws {name: sympy law}: text parsed with the safe parser; a
     Python callable is refused (the compiled driver runs the law as C code)."""
-    from lagcli.hybrid.hybrid_model import parse_law
+    from lagcli.model.hybrid_model import parse_law
 
     from lagcli.run.options import _hint
 

@@ -65,7 +65,8 @@ from lagcli.errors import EmitError
 @dataclass(frozen=True)
 class Language:
     name: str
-    module: str           # imported on use: generating C must not import the LaTeX printer
+    module: str           # imported on use, by name: generating C must not import the LaTeX
+                          # printer, and the registry imports no report (latex is one of them)
     function: str         # module.function(derivation, **options) -> {file name: text}
     directory: bool       # the output is a directory of several files (-o DIR required)
     embeds_initial: bool = True   # the output holds a default initial state (`initial=`)
@@ -78,18 +79,12 @@ def _python_files(d, initial=None, initial_notes=()) -> dict[str, str]:
     return {f"{d.model.name}.py": python_module(d, initial, initial_notes)}
 
 
-def _latex_files(d, initial=None, initial_notes=()) -> dict[str, str]:
-    from lagcli.report.latex import latex_document
-
-    return {f"{d.model.name}.tex": latex_document(d)}
-
-
 LANGUAGES = {
     "python": Language("python", __name__, "_python_files", directory=False),
     "c": Language("c", "lagcli.targets.c", "c_files", directory=True),
     "octave": Language("octave", "lagcli.targets.octave", "octave_files", directory=True),
     "rust": Language("rust", "lagcli.targets.rust", "rust_files", directory=True),
-    "latex": Language("latex", __name__, "_latex_files", directory=False, embeds_initial=False),
+    "latex": Language("latex", "lagcli.report.latex", "latex_files", directory=False, embeds_initial=False),
     "fmu": Language("fmu", "lagcli.targets.fmu", "fmu_files", directory=False, binary=True),
     "casadi": Language("casadi", "lagcli.targets.casadi", "casadi_files", directory=False),
     "jax": Language("jax", "lagcli.targets.jax", "jax_files", directory=False),
@@ -121,8 +116,11 @@ def _refuse_hybrid(derivation, lang: str) -> None:
     """Generated code does not carry events or the spec's input laws yet: refuse rather than
     drop them (lagcli simulate runs them on its Python backend)."""
     model = derivation.model
-    events = model.events if lang != "fmu" else ()      # the FMU has them (lagcli/hybrid/fmu_events.py)
-    keys = [key for key, used in (("events:", events), ("simulate: inputs:", model.laws)) if used]
+    events = model.events if lang not in ("fmu", "octave") else ()      # those have them (fmu_events.py, octave_hybrid.py)
+    laws = model.laws if lang not in ("octave", "fmu", "casadi", "jax") else ()
+    rest = any(e.rest for e in model.events) and not events      # held contacts: lagcli simulate only
+    keys = [key for key, used in (("events:", events), ("an event's rest: true", rest),
+                                  ("simulate: inputs:", laws)) if used]
     if keys:
         from lagcli.errors import UsageError
 

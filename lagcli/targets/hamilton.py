@@ -1,6 +1,6 @@
 """`lagcli generate SPEC --lang python --form hamiltonian`: a module whose state is (q, p).
 
-Hamilton's equations as lagcli/analysis/hamiltonian.py states them (unconstrained
+Hamilton's equations as lagcli/derive/hamilton_form.py states them (unconstrained
 systems):
 
     p  = M q' + a                                  (momenta)
@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from lagcli.analysis.hamiltonian import hamilton_form
+from lagcli.derive.hamilton_form import hamilton_form
 from lagcli.derive.result import Derivation
 from lagcli.targets import codegen
 from lagcli.targets.cse import eliminate

@@ -1,7 +1,7 @@
 """A run with events or input laws on the generated Python module (the Python backend).
 
 `integrate_hybrid` is `lagcli.run.python_backend.integrate_module` with the inputs
-given by laws u(t, y) and the events of lagcli/hybrid/event_loop.py; the sink receives the
+given by laws u(t, y) and the events of lagcli/run/event_loop.py; the sink receives the
 same columns, and its `events` (the `EventRecord`s) and `end_note` (why the run ended
 early, if it did) tell what happened.
 """
@@ -16,12 +16,12 @@ from lagcli.errors import SimulationError
 from lagcli.interface import RunSettings
 from lagcli.run.python_backend import PythonModule
 from lagcli.run.rows import RowSink
-from lagcli.hybrid.event_loop import run_events
+from lagcli.run.event_loop import run_events
 from lagcli.runtime.run_rules import max_step, output_time_windows
 
 
 def integrate_hybrid(module, p, y0, s, hybrid, u_constant, progress=None, sink=None):
-    """Integrate `module` from t = 0 to s.t_end with `hybrid` (lagcli.hybrid.numeric.Hybrid);
+    """Integrate `module` from t = 0 to s.t_end with `hybrid` (lagcli.targets.numeric.Hybrid);
     `u_constant`: the inputs held constant when `hybrid` has no laws (None without inputs)."""
     from lagcli.run.python_backend import SOLVERS, header
     from lagcli.run.rows import Trajectory
@@ -71,7 +71,7 @@ def _check_finite(t: float, y) -> None:
 @dataclass(frozen=True)
 class HybridModule(PythonModule):
     """The generated module with the numeric input laws and events of one run
-    (`lagcli.hybrid.numeric.Hybrid`, made by the System): run by lagcli/hybrid/hybrid_run.py."""
+    (`lagcli.targets.numeric.Hybrid`, made by the System): run by lagcli/run/hybrid_run.py."""
 
     hybrid: object = None
 

@@ -3,7 +3,7 @@
 The event functions g_k are the FMU's event indicators (`numberOfEventIndicators`);
 lagcli/runtime/fmi2/lagcli_fmi2.c keeps each indicator's last value, and where one has
 crossed zero in its event's direction it does the action in `fmi2NewDiscreteStates`:
-an impact solves the impact law of lagcli/hybrid/impact.py in C (the same augmented
+an impact solves the impact law of lagcli/run/impact.py in C (the same augmented
 system), a reset sets the new state, a stop ends the simulation. Expressions are
 printed by the C target's printer with the model's array slots (y[i], p[j]).
 """
