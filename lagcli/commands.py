@@ -261,9 +261,11 @@ def generate(path: str, lang: str, output: str | None = None, form: str = "lagra
     if form == "hamiltonian":
         if lang != "python":
             raise UsageError(f"--form hamiltonian: generated for --lang python only (not {lang})")
+        from lagcli.interface import layout_of
         from lagcli.targets.hamilton import hamilton_module
         with open_output(output) as out:
-            out.stream.write(hamilton_module(_derive(path)))
+            derivation = _derive(path)
+            out.stream.write(hamilton_module(derivation, layout_of(derivation)))
         _wrote(output, note)
         return
 

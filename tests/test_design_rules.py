@@ -147,3 +147,25 @@ def test_no_import_arrow_runs_up():
     circle = a_circle(arrows)
     steps = [f"{a} -> {b} (by {', '.join(sorted(arrows[a][b]))})" for a, b in zip(circle, circle[1:])]
     assert not circle, "rooms importing each other in a circle:\n" + "\n".join(steps)
+
+
+# -- facts written once ---------------------------------------------------------------------
+
+def test_the_column_order_is_written_once():
+    """The CSV column order (t, states, multipliers, invariants) is built by
+    `lagcli.interface.layout_of` alone: no module or template of lagcli concatenates it
+    again (targets read `Layout.header`; the generated Python module writes `HEADER`)."""
+    import re
+
+    order = re.compile(r'\["t", \*|\("t",\) \+|\*MULTIPLIERS, \*INVARIANTS|\*multipliers, \*invariants')
+    found = [f"{path.relative_to(ROOT)}:{k}" for path in (*modules(), *(ROOT / "templates").rglob("*.jinja"))
+             for k, line in enumerate(path.read_text().splitlines(), 1) if order.search(line)]
+    assert not found, "the column order restated at:\n" + "\n".join(found)
+
+
+def test_code_targets_take_the_systems_layout():
+    """Every code target reads the run interface it is given; only the registry makes one
+    (`layout_of`) for a caller that has none."""
+    calls = [path.name for path in (PACKAGE / "targets").glob("*.py")
+             if "layout_of(" in path.read_text() and path.name != "__init__.py"]
+    assert not calls, f"targets computing their own layout: {calls}"

@@ -54,7 +54,7 @@ def latex_document(derivation: Derivation, simplify: bool = True, parts=PARTS) -
     return render("latex/document.tex.jinja", body=_body(context), **context)
 
 
-def latex_files(d: Derivation, initial=None, initial_notes=()) -> dict[str, str]:
+def latex_files(d: Derivation, layout=None, initial=None, initial_notes=()) -> dict[str, str]:
     """`lagcli generate --lang latex` (lagcli.targets.LANGUAGES): the standalone document."""
     return {f"{d.model.name}.tex": latex_document(d)}
 

@@ -87,11 +87,6 @@ def store(key: str, model_name: str, source: str) -> None:
         pass
 
 
-def header(module) -> list[str]:
-    """The CSV header of a generated module's rows."""
-    return ["t", *module.STATE, *module.MULTIPLIERS, *module.INVARIANTS]
-
-
 def integrate_module(module, p: list[float], y0: list[float], s: RunSettings,
                      progress=None, sink: RowSink | None = None, u: list[float] | None = None) -> RowSink:
     """Integrate from t = 0 to s.t_end, giving each row to `sink` as it is computed (a new
@@ -116,12 +111,10 @@ def integrate_module(module, p: list[float], y0: list[float], s: RunSettings,
         return np.concatenate([y[n:], accelerations(t, y)[0]])
 
     def row(t, y):
-        lam = accelerations(t, y)[1]
-        inv = module.invariants(t, y, p)
-        return [t, *y, *lam, *(inv[name] for name in module.INVARIANTS)]
+        return module.output_row(t, y, accelerations(t, y)[1], p)
 
     sink = Trajectory() if sink is None else sink
-    sink.begin(header(module))
+    sink.begin(module.HEADER)      # the run interface's columns, written into the module
     y = np.array(y0, dtype=float)
     with np.errstate(all="ignore"):   # overflow shows up as a failure, not as warnings
         _run(fun, row, y, s, max_step(s.method, s.alpha, s.beta, bool(module.MULTIPLIERS)),

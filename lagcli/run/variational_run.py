@@ -27,16 +27,14 @@ def integrate_variational(module, p: list[float], y0: list[float], s, progress=N
     the step budget (`s.step_budget`), as in the C driver."""
     inputs = (u,) if u is not None else ()
     sink = Trajectory() if sink is None else sink
-    sink.begin(["t", *module.STATE, *module.MULTIPLIERS, *module.INVARIANTS])
+    sink.begin(module.HEADER)
     model = module.variational_model(p, *inputs)
     rows = module.variational_rows(model, y0, output_time_windows(s.t_end, s.dt), s.steps_per_row)
     t, done, last = 0.0, 0, s.t_end - END_TOLERANCE * max(1.0, s.t_end)
     try:
         with np.errstate(all="ignore"):
             for t, y in rows:
-                lam = module.accelerations(t, y, p, 0.0, 0.0, *inputs)[1]
-                values = module.invariants(t, y, p)
-                sink.add_row([t, *y, *lam, *(values[name] for name in module.INVARIANTS)])
+                sink.add_row(module.output_row(t, y, module.accelerations(t, y, p, 0.0, 0.0, *inputs)[1], p))
                 if progress is not None:
                     progress(t)
                 done += 1
