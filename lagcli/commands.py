@@ -459,13 +459,14 @@ def animate(spec: str, csv_path: str | None, request, output: str, drawn: dict, 
                 text = handle.read()
         except OSError as exc:
             raise UsageError(f"--csv {csv_path}: cannot read it ({exc.strerror or exc})") from None
+        header, rows = parse_csv(text)
     else:
-        text = run_request(request, note, system=system).trajectory.csv_text()
-    header, rows = parse_csv(text)
+        run = run_request(request, note, system=system).trajectory       # floats, in memory
+        header, rows = run.header, run.data
     missing = [n for n in ("t", *system.layout.state_names) if n not in header]
-    if missing or not rows:
+    if missing or not len(rows):
         raise UsageError(f"{csv_path or 'the run'}: expected a CSV of lagcli simulate for {system.name} "
                          f"(missing columns: {', '.join(missing) or 'none'}; rows: {len(rows)})")
-    data = np.array(rows, dtype=float)
+    data = np.asarray(rows, dtype=float)
     states = data[:, [header.index(n) for n in system.layout.state_names]]
     draw(system, data[:, header.index("t")], states, params, output, drawing)

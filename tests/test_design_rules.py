@@ -169,3 +169,37 @@ def test_code_targets_take_the_systems_layout():
     calls = [path.name for path in (PACKAGE / "targets").glob("*.py")
              if "layout_of(" in path.read_text() and path.name != "__init__.py"]
     assert not calls, f"targets computing their own layout: {calls}"
+
+
+def test_the_settings_defaults_in_help_come_from_the_interface(monkeypatch):
+    """--help of simulate and sweep quotes the run interface's defaults (`RunSettings`,
+    `DEFAULT_BAUMGARTE`, the step budget): changed there, the help changes with them; no
+    module but interface.py writes those numbers."""
+    import dataclasses
+    import re
+
+    import click
+    from click.testing import CliRunner
+
+    from lagcli import cli_options
+    from lagcli.cli import cli
+    from lagcli.interface import RunSettings
+
+    other = dataclasses.make_dataclass("Other", [("t_end", float, 12.5), ("dt", float, 0.025),
+                                                 ("method", str, "RK45"), ("rtol", float, 3e-8),
+                                                 ("atol", float, 4e-11), ("steps_per_row", int, 3)])
+    monkeypatch.setattr(cli_options, "RunSettings", other)
+    monkeypatch.setattr(cli_options, "DEFAULT_BAUMGARTE", (7.0, 8.0))
+    monkeypatch.setattr(cli_options, "STEP_BUDGET_BASE", 31_000)
+    command = cli_options.step_options(cli_options.settings_options(["RK45"], "M")(click.command()(lambda **k: 0)))
+    text = " ".join(CliRunner().invoke(command, ["--help"]).output.split())
+    for shown in ("else 12.5)", "else 0.025)", "else RK45)", "else 3e-8)", "else 4e-11)", "(default 7 8)",
+                  "(default 31000 + 1000 per", "(default 3)"):
+        assert shown in text, shown
+    s = RunSettings()
+    for name in ("simulate", "sweep"):
+        text = " ".join(CliRunner().invoke(cli, [name, "--help"]).output.split())
+        assert f"else {cli_options.number_text(s.rtol)})" in text and f"else {s.method})" in text
+    numbers = re.compile(r"else (10|0\.01|1e-9|1e-12|DOP853)\)|default 10 10|20000 \+")
+    quoted = [p.name for p in modules() if p.name != "interface.py" and numbers.search(p.read_text())]
+    assert not quoted, f"settings defaults quoted outside lagcli/interface.py: {quoted}"

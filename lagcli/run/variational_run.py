@@ -64,18 +64,24 @@ class IntegralDrift(RowSink):
         self.drift = [0.0] * len(self.watched)
         self.largest_residual = 0.0
 
+    def _row(self, values) -> None:
+        self._observe(values)
+
     def _write(self, block: str) -> None:
         for line in block[:-1].split("\n"):
-            values = line.split(",")
-            x = [float(values[i]) for i, _ in self.watched]
-            if self.first is None:
-                self.first = x
-            for k, (value, start) in enumerate(zip(x, self.first)):
-                change = abs(value - start) / (abs(start) if abs(start) >= DRIFT_ABSOLUTE else 1.0)
-                if not change <= self.drift[k]:
-                    self.drift[k] = change
-            if self.residual is not None:
-                self.largest_residual = max(self.largest_residual, float(values[self.residual]))
+            self._observe(line.split(","))
+
+    def _observe(self, values) -> None:
+        """One row: floats, or the strings of a CSV line."""
+        x = [float(values[i]) for i, _ in self.watched]
+        if self.first is None:
+            self.first = x
+        for k, (value, start) in enumerate(zip(x, self.first)):
+            change = abs(value - start) / (abs(start) if abs(start) >= DRIFT_ABSOLUTE else 1.0)
+            if not change <= self.drift[k]:
+                self.drift[k] = change
+        if self.residual is not None:
+            self.largest_residual = max(self.largest_residual, float(values[self.residual]))
 
     def summary(self, dt: float, steps_per_row: int) -> str:
         """The end-of-run line (stderr)."""
