@@ -8,7 +8,8 @@ import warnings
 
 import click
 
-from lagcli import __version__, commands
+from lagcli import commands
+from lagcli.version import __version__
 from lagcli.cli_options import LanguageChoice, note, quiet, quiet_option, settings_options, step_options
 from lagcli.targets import LANGUAGES
 from lagcli.render.escape import terminal_text

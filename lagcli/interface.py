@@ -335,7 +335,7 @@ def layout_of(d, start: Start | None = None, angles=frozenset()) -> Layout:
     """The layout of a `lagcli.derive.result.Derivation` (plain attribute reads: no sympy
     work here). `start` (the consistent initial state) and `angles` (the coordinates that
     are angles) are the System's, computed once (lagcli.system)."""
-    from lagcli import __version__
+    from lagcli.version import __version__
 
     model = d.model
     unit = units_of(model)

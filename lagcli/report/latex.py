@@ -21,7 +21,7 @@ from pathlib import Path
 
 import sympy as sp
 
-import lagcli
+from lagcli.version import __version__
 from lagcli.derive.result import Derivation
 from lagcli.render.escape import latex_comment, latex_text
 from lagcli.report.latex_printer import CONTENT_WIDTH, REPORT_NOTATION, LatexPrinter, Tex, tex_width
@@ -167,7 +167,7 @@ def latex_context(d: Derivation, r: dict) -> dict:
         return vector_rows(per_q(template), [values[q] for q in r["coordinates"]], name)
 
     return {
-        "version": lagcli.__version__,
+        "version": __version__,
         "in_document": False,          # a standalone document prints the description as its title
         "spec_file": latex_comment(Path(m.source).name if m.source else ""),   # in % comments only
         "spec_name": latex_comment(r["name"]),

@@ -19,7 +19,7 @@ import math
 import os
 from dataclasses import dataclass, field
 
-from lagcli import __version__
+from lagcli.version import __version__
 from lagcli.errors import LagcliError, SimulationError, UsageError
 from lagcli.runtime.run_rules import EXPLICIT_METHODS
 from lagcli.render.output import check_directory_output, resolve_target, write_output
