@@ -76,9 +76,5 @@ class HybridModule(PythonModule):
 
     def run(self, settings: RunSettings, values: dict[str, float], state, sink=None, progress=None,
             max_first_residual: float | None = None) -> RowSink:
-        layout = self.layout
-        params = {**layout.parameter_defaults, **values}
-        inputs = {**layout.input_defaults, **values}
-        u = [inputs[n] for n in layout.input_names] or None
-        return integrate_hybrid(self.module, [params[n] for n in layout.parameter_names], list(state),
-                                settings, self.hybrid, u, progress, sink)
+        p, u = self.vectors(values)
+        return integrate_hybrid(self.module, p, list(state), settings, self.hybrid, u, progress, sink)

@@ -54,12 +54,15 @@ class PythonModule:
     def run(self, settings: RunSettings, values: dict[str, float], state, sink=None, progress=None,
             max_first_residual: float | None = None) -> RowSink:
         """One run (the program protocol of lagcli.run.simulate); the state is used as given."""
+        p, u = self.vectors(values)
+        return integrate_module(self.module, p, list(state), settings, progress, sink, u)
+
+    def vectors(self, values: dict[str, float]) -> tuple[list[float], list[float] | None]:
+        """p and u in the layout's order (u None without inputs): `values` over the defaults."""
         layout = self.layout
         params = {**layout.parameter_defaults, **values}
         inputs = {**layout.input_defaults, **values}
-        u = [inputs[n] for n in layout.input_names] or None
-        return integrate_module(self.module, [params[n] for n in layout.parameter_names], list(state),
-                                settings, progress, sink, u)
+        return [params[n] for n in layout.parameter_names], [inputs[n] for n in layout.input_names] or None
 
 
 def cached_source(key: str) -> str | None:
