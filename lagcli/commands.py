@@ -342,7 +342,7 @@ def _symbolic_linear(system, points, inputs, fmt: str, closed: bool) -> str:
     d = system.derivation
     lin = system.linearize_symbolic(points, inputs, closed_loop=closed)
     if fmt == "latex":
-        return report.symbolic_latex(lin, LatexPrinter(d.model))
+        return report.symbolic_latex(d, lin, LatexPrinter(d.model))
     content = report.symbolic_content(d, lin, spec_str)
     return report.to_json(content) if fmt == "json" else report.symbolic_text(content)
 

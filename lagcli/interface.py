@@ -57,6 +57,12 @@ STEP_BUDGET_BASE = 20_000         # a run takes at most this many integrator ste
 STEP_BUDGET_PER_OUTPUT = 1_000    # this many per output interval, unless --max-steps says otherwise
 STEP_BUDGET_TEXT = ("the integration reached its bound of {steps} steps before t_end (a stiff or "
                     "blowing-up solution?); raise the bound with --max-steps N")
+# When a run with events ends at an accumulation (docs/simulate.md, "Events and input laws"):
+# lagcli/run/event_loop.py and the event loops of generated code (MATLAB/Octave) alike.
+ACCUMULATION_GAP = 1e-9           # the same event again within this x max(1, |t|)
+RESTING_SPEED = 1e-9              # separation speed below this x the largest approach speed
+EVENT_BUDGET = 100_000            # events of one run
+FIRST_STEP_SAMPLES = 8            # samples of the first step after an impact (its gap starts at 0)
 
 
 def default_max_steps(t_end: float, dt: float) -> int:

@@ -107,10 +107,9 @@ class System:
             content = report_content(self.derivation, spec_printer(), simplify)
             return content if format == "dict" else json.dumps(content, indent=2) + "\n"
         if format == "text":
-            from lagcli.render.templates import render
+            from lagcli.report.content import text_report
 
-            content = report_content(self.derivation, spec_printer(), simplify, named=True)
-            return render("report/derive.txt.jinja", r=content, parts=report_parts(parts))
+            return text_report(self.derivation, simplify, report_parts(parts))
         if format in ("latex", "latex-document"):
             from lagcli.report.latex import latex_document, latex_fragment
 

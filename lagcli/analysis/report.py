@@ -73,6 +73,7 @@ def linear_content(lin) -> dict:
         "negative_stiffness": lin.negative_stiffness,
         "verdict": lin.verdict,
         "round_off": {"relative": ROUND_OFF, "rule": ROUND_OFF_RULE},
+        "notation": lin.letters,
     }
 
 
@@ -120,26 +121,34 @@ def linear_text(c: dict) -> str:
         lines.append("warning: not an equilibrium or steady motion: "
                      + ", ".join(f"{s}' = {number(r)}" for s, r in zip(c["second_order"]["speeds"], rates)))
     lines.append("")
-    lines.append("x' = A x + B u,  x = (" + ", ".join(c["states"]) + ")"
-                 + (", u = (" + ", ".join(c["inputs"]) + ")" if c["inputs"] else ""))
-    lines += _matrix_text("A", c["states"], c["states"], np.array(c["A"]))
+    n, s = c["notation"], c["second_order"]
+    lines.append(first_order_line(n, c["states"], c["inputs"]))
+    lines += _matrix_text(n["A"], c["states"], c["states"], np.array(c["A"]))
     if c["inputs"]:
-        lines += _matrix_text("B", c["states"], c["inputs"], np.array(c["B"]))
-    s = c["second_order"]
+        lines += _matrix_text(n["B"], c["states"], c["inputs"], np.array(c["B"]))
     lines.append("")
-    lines.append("second-order form  M u' + C u + K q = B u_in,  u = (" + ", ".join(s["speeds"])
-                 + "), q = (" + ", ".join(s["coordinates"]) + ")")
-    lines += _matrix_text("M", s["speeds"], s["speeds"], np.array(s["M"]))
-    lines += _matrix_text("C", s["speeds"], s["speeds"], np.array(s["C"]))
+    lines.append(f"second-order form  {n['M']} {n['v']}' + {n['C']} {n['v']} + {n['K']} {n['q']} = "
+                 + (f"{n['F']} {n['u']}" if c["inputs"] else "0")
+                 + f",  {n['v']} = (" + ", ".join(s["speeds"]) + f"), {n['q']} = (" + ", ".join(s["coordinates"]) + ")")
+    lines += _matrix_text(n["M"], s["speeds"], s["speeds"], np.array(s["M"]))
+    lines += _matrix_text(n["C"], s["speeds"], s["speeds"], np.array(s["C"]))
     gyroscopic = shown(s["gyroscopic"], np.max(np.abs(np.array(s["C"])), initial=0.0))
     if np.any(gyroscopic):       # not round-off of a symmetric C printed as a physical effect
-        lines += _matrix_text("G = (C - C^T)/2 (gyroscopic)", s["speeds"], s["speeds"], gyroscopic)
-    lines += _matrix_text("K", s["speeds"], s["coordinates"], np.array(s["K"]))
+        lines += _matrix_text(f"{n['G']} = ({n['C']} - {n['C']}^T)/2 (gyroscopic)", s["speeds"], s["speeds"],
+                              gyroscopic)
+    lines += _matrix_text(n["K"], s["speeds"], s["coordinates"], np.array(s["K"]))
     if c["inputs"]:
-        lines += _matrix_text("B", s["speeds"], c["inputs"], np.array(s["B"]))
+        lines += _matrix_text(n["F"], s["speeds"], c["inputs"], np.array(s["B"]))
     lines.append("")
     lines += _modes_text(c)
     return "\n".join(lines) + "\n"
+
+
+def first_order_line(n: dict, states, inputs) -> str:
+    """`x' = A x + B u,  x = (...), u = (...)` in the output's letters `n` (`linear_letters`)."""
+    return (f"{n['x']}' = {n['A']} {n['x']}" + (f" + {n['B']} {n['u']}" if inputs else "")
+            + f",  {n['x']} = (" + ", ".join(states) + ")"
+            + (f", {n['u']} = (" + ", ".join(inputs) + ")" if inputs else ""))
 
 
 def _modes_text(c: dict) -> list[str]:
@@ -185,16 +194,25 @@ def bmatrix(a: np.ndarray) -> str:
 
 
 def linear_latex(c: dict, printer) -> str:
-    """A LaTeX fragment (amsmath): A, B, M, C, K and the eigenvalues; state names by `printer`."""
+    """A LaTeX fragment (amsmath): x' = A x + B u, M v' + C v + K q = F u with their
+    matrices, and the eigenvalues; state names by `printer`, letters `c["notation"]`."""
+    from lagcli.report.notation import linear_latex_letters
+
     def vec(names):
         return r"\begin{bmatrix}" + r" \\ ".join(printer(n) for n in names) + r"\end{bmatrix}"
 
-    s = c["second_order"]
+    s, n, inputs = c["second_order"], linear_latex_letters(c["notation"]), c["inputs"]
     out = [r"\begin{align*}",
-           rf"x &= {vec(c['states'])}, & A &= {bmatrix(np.array(c['A']))}"
-           + (rf", & B &= {bmatrix(np.array(c['B']))}" if c["inputs"] else "") + r" \\",
-           rf"M &= {bmatrix(np.array(s['M']))}, & C &= {bmatrix(np.array(s['C']))}, "
-           rf"& K &= {bmatrix(np.array(s['K']))}",
+           rf"{n['x']}' &= {n['A']}\,{n['x']}" + (rf" + {n['B']}\,{n['u']}" if inputs else "")
+           + rf", & {n['x']} &= {vec(c['states'])}" + (rf", & {n['u']} &= {vec(inputs)}" if inputs else "") + r" \\",
+           rf"{n['A']} &= {bmatrix(np.array(c['A']))}"
+           + (rf", & {n['B']} &= {bmatrix(np.array(c['B']))}" if inputs else "") + r" \\",
+           rf"{n['M']}\,{n['v']}' + {n['C']}\,{n['v']} + {n['K']}\,{n['q']} &= "
+           + (rf"{n['F']}\,{n['u']}" if inputs else "0")
+           + rf", & {n['v']} &= {vec(s['speeds'])}, & {n['q']} &= {vec(s['coordinates'])} \\",
+           rf"{n['M']} &= {bmatrix(np.array(s['M']))}, & {n['C']} &= {bmatrix(np.array(s['C']))}, "
+           rf"& {n['K']} &= {bmatrix(np.array(s['K']))}"
+           + (rf", & {n['F']} &= {bmatrix(np.array(s['B']))}" if inputs else ""),
            r"\end{align*}",
            "Eigenvalues: $" + ", ".join(complex_text(complex(*e), 6).replace("i", r"\,i")
                                          for e in c["eigenvalues"]) + "$; verdict: "
@@ -330,26 +348,37 @@ def hamilton_latex(form, d) -> str:
     return "\\begin{align*}\n" + " \\\\\n".join(hamilton_rows(form, d)) + "\n\\end{align*}\n"
 
 
+def symbolic_letters(d, lin) -> dict[str, str]:
+    """The letters of a symbolic linearization: none a name of the spec (its entries are
+    expressions of the parameters)."""
+    from lagcli.report.notation import linear_letters, user_names
+
+    return linear_letters((*user_names(d.model), *lin.states, *lin.inputs))
+
+
 def symbolic_content(d, lin, printer) -> dict:
     return {"name": d.model.name, "states": list(lin.states), "inputs": list(lin.inputs),
             "A": [[printer(e) for e in lin.A.row(i)] for i in range(lin.A.rows)],
-            "B": [[printer(e) for e in lin.B.row(i)] for i in range(lin.B.rows)]}
+            "B": [[printer(e) for e in lin.B.row(i)] for i in range(lin.B.rows)],
+            "notation": symbolic_letters(d, lin)}
 
 
 def symbolic_text(c: dict) -> str:
-    lines = [f"linearization of {c['name']} (symbolic)",
-             "x' = A x + B u,  x = (" + ", ".join(c["states"]) + ")"
-             + (", u = (" + ", ".join(c["inputs"]) + ")" if c["inputs"] else "")]
-    for label, rows in (("A", c["A"]), ("B", c["B"])):
+    n = c["notation"]
+    lines = [f"linearization of {c['name']} (symbolic)", first_order_line(n, c["states"], c["inputs"])]
+    for label, rows in ((n["A"], c["A"]), (n["B"], c["B"])):
         if rows and rows[0]:
             lines.append(f"{label} =")
             lines += [f"  {state}: [" + ", ".join(row) + "]" for state, row in zip(c["states"], rows)]
     return "\n".join(lines) + "\n"
 
 
-def symbolic_latex(lin, printer) -> str:
-    out = [r"\begin{align*}", rf"A &= {printer.doprint(lin.A)}"]
+def symbolic_latex(d, lin, printer) -> str:
+    from lagcli.report.notation import linear_latex_letters
+
+    n = linear_latex_letters(symbolic_letters(d, lin))
+    out = [r"\begin{align*}", rf"{n['A']} &= {printer.doprint(lin.A)}"]
     if lin.B.cols:
         out[-1] += r" \\"
-        out.append(rf"B &= {printer.doprint(lin.B)}")
+        out.append(rf"{n['B']} &= {printer.doprint(lin.B)}")
     return "\n".join(out + [r"\end{align*}", ""])

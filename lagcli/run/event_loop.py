@@ -31,14 +31,11 @@ import numpy as np
 from scipy.optimize import brentq
 
 from lagcli.errors import SimulationError
-from lagcli.interface import STEP_BUDGET_TEXT
+from lagcli.interface import (ACCUMULATION_GAP, EVENT_BUDGET, FIRST_STEP_SAMPLES, RESTING_SPEED,
+                              STEP_BUDGET_TEXT)
 from lagcli.run.impact import approach_speed, impact
 from lagcli.run.records import EventRecord
 
-ACCUMULATION_GAP = 1e-9
-RESTING_SPEED = 1e-9
-EVENT_BUDGET = 100_000
-FIRST_STEP_SAMPLES = 8
 _XTOL = 4 * np.finfo(float).eps
 
 

@@ -123,8 +123,9 @@ def _refuse_hybrid(derivation, lang: str) -> None:
     """Generated code does not carry events or the spec's input laws yet: refuse rather than
     drop them (lagcli simulate runs them on its Python backend)."""
     model = derivation.model
-    events = model.events if lang != "fmu" else ()      # the FMU has them (lagcli/targets/fmu_events.py)
-    keys = [key for key, used in (("events:", events), ("simulate: inputs:", model.laws)) if used]
+    events = model.events if lang not in ("fmu", "octave") else ()      # those have them (fmu_events.py, octave_hybrid.py)
+    laws = model.laws if lang not in ("octave", "fmu", "casadi", "jax") else ()
+    keys = [key for key, used in (("events:", events), ("simulate: inputs:", laws)) if used]
     if keys:
         from lagcli.errors import UsageError
 

@@ -11,7 +11,8 @@
 Variables, in value-reference order (lagcli_fmi2.c serves the same order): the states
 [q..., q'...] (outputs, so that a tool can plot them or close a loop on them;
 initial="exact", start: the spec's consistent initial state), their derivatives, the
-parameters (fixed, start: their defaults), the inputs (continuous, start 0), then the
+parameters (fixed, start: their defaults), the inputs (continuous, start 0; an input with a
+law runs the law inside the FMU, the FMU input added to it: `_with_laws`), then the
 other outputs: the multipliers and the invariant columns of `lagcli simulate` (energy,
 jacobi, p_<q>, constraint_residual). A unit of the run interface (the spec's `unit:`s:
 docs/simulate.md, "Units of the columns") becomes the variable's `unit` and a `<Unit>`
@@ -34,6 +35,7 @@ from pathlib import Path
 from lagcli.derive.result import Derivation
 from lagcli.targets.fmu_events import fmu_event_sources
 from lagcli.targets import c as c_target
+from lagcli.render.spec_printer import spec_str
 from lagcli.render.templates import render
 from lagcli.errors import Loc, Problem, SimulationError, SpecError
 from lagcli.interface import Layout
@@ -72,7 +74,8 @@ def model_variables(layout: Layout, initial: tuple[float, ...], descriptions: di
                             derivative=k + 1) for k, s in enumerate(layout.states)]
     parameters = [Variable(p.name, 0, descriptions.get(p.name) or "parameter", "parameter", "fixed", "exact",
                            repr(float(p.default)), unit=p.unit) for p in layout.parameters]
-    inputs = [Variable(u.name, 0, u.description or "input", "input", "continuous", start=repr(float(u.default)),
+    inputs = [Variable(u.name, 0, descriptions.get(u.name) or u.description or "input", "input", "continuous",
+                       start=repr(float(u.default)),
                        unit=u.unit) for u in layout.inputs]
     outputs = ([Variable(m.name, 0, f"multiplier of the {m.kind} constraint", "output", "continuous")
                 for m in layout.multipliers]
@@ -102,11 +105,12 @@ def fmu_sources(d: Derivation, layout: Layout, initial=None, initial_notes=()) -
     """{path in the FMU: text} of every file but the binary."""
     name = layout.name
     _check_file_names(d, name)
-    context = c_target.c_context(d, layout, initial, initial_notes)
+    context = c_target.c_context(_with_laws(d), layout, initial, initial_notes)
     c_sources = {**c_target.model_sources(context),
                  **{file: c_runtime_files()[file] for file in INTEGRATOR}, **fmi2_runtime_files(),
                  **fmu_event_sources(d, context)}
     descriptions = {p.symbol.name: p.description for p in d.model.parameters}
+    descriptions.update({law.symbol.name: f"added to its law {spec_str(law.expr)}" for law in d.model.laws})
     fmu = fmu_context(context, descriptions, sorted(f for f in c_sources if f.endswith(".c")),
                       len(d.events))
     guid = _guid(render("fmu/modelDescription.xml.jinja", guid="", **fmu), c_sources)
@@ -117,6 +121,18 @@ def fmu_sources(d: Derivation, layout: Layout, initial=None, initial_notes=()) -
         "sources/buildDescription.xml": render("fmu/buildDescription.xml.jinja", **fmu),
         "documentation/licenses/fmi2-headers.txt": fmi2_license(),
     }
+
+
+def _with_laws(d: Derivation) -> Derivation:
+    """The model the FMU computes: an input u with a law (`simulate: inputs:`) enters F as
+    law + u, so the law runs inside the FMU and the FMU input u (start 0) adds to it (a
+    disturbance or a feed-forward); an input without a law stays a plain input."""
+    if not d.model.laws:
+        return d
+    from lagcli.derive.closed_loop import closed_loop
+
+    symbols = {u.name: u for u in d.model.input_symbols}
+    return closed_loop(d, {law.symbol.name: law.expr + symbols[law.symbol.name] for law in d.model.laws})
 
 
 def fmu_context(c_context: dict, descriptions: dict, compiled: list[str], nevent: int = 0) -> dict:
