@@ -125,7 +125,9 @@ def _refuse_hybrid(derivation, lang: str) -> None:
     model = derivation.model
     events = model.events if lang not in ("fmu", "octave") else ()      # those have them (fmu_events.py, octave_hybrid.py)
     laws = model.laws if lang not in ("octave", "fmu", "casadi", "jax") else ()
-    keys = [key for key, used in (("events:", events), ("simulate: inputs:", laws)) if used]
+    rest = any(e.rest for e in model.events) and not events      # held contacts: lagcli simulate only
+    keys = [key for key, used in (("events:", events), ("an event's rest: true", rest),
+                                  ("simulate: inputs:", laws)) if used]
     if keys:
         from lagcli.errors import UsageError
 

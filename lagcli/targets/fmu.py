@@ -38,7 +38,7 @@ from lagcli.targets import c as c_target
 from lagcli.render.spec_printer import spec_str
 from lagcli.render.templates import render
 from lagcli.errors import Loc, Problem, SimulationError, SpecError
-from lagcli.interface import Layout
+from lagcli.interface import STEP_BUDGET_BASE, STEP_BUDGET_PER_OUTPUT, Layout
 from lagcli.runtime.run_rules import max_step
 from lagcli.runtime import c_runtime_files, fmi2_license, fmi2_runtime_files
 
@@ -147,6 +147,7 @@ def fmu_context(c_context: dict, descriptions: dict, compiled: list[str], nevent
                 inputs=[u.name for u in layout.inputs], units=sorted({v.unit for v in variables if v.unit}),
                 literal=c_context["literal"], method=method,
                 max_step=c_context["literal"](max_step(method, *i.baumgarte, layout.constrained)),
+                max_steps=STEP_BUDGET_BASE + STEP_BUDGET_PER_OUTPUT,
                 nevent=nevent,
                 **model_structure(variables))
 

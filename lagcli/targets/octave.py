@@ -28,7 +28,7 @@ from lagcli.targets.identifiers import identifiers
 from lagcli.targets.slots import SlotPrinter
 from lagcli.render.templates import render
 from lagcli.errors import Loc, Problem, SpecError
-from lagcli.interface import Layout
+from lagcli.interface import STEP_BUDGET_BASE, STEP_BUDGET_PER_OUTPUT, Layout
 from lagcli.runtime import octave_event_files
 from lagcli.targets.octave_hybrid import EVENT_FILES, hybrid_context
 from lagcli.runtime.run_rules import END_TOLERANCE, OUTPUT_SLACK
@@ -92,6 +92,7 @@ def octave_context(d: Derivation, layout: Layout, initial=None, initial_notes=()
     return dict(context, **hybrid_context(d, OctavePrinter), prefix=layout.name, settings=layout.settings,
                 # the output-time rule of lagcli/runtime/run_rules.py, restated in simulate.m
                 output_slack=_short_literal(OUTPUT_SLACK), end_tolerance=_short_literal(END_TOLERANCE),
+                step_budget={"base": STEP_BUDGET_BASE, "per_output": STEP_BUDGET_PER_OUTPUT},
                 inputs=layout.input_names,
                 input_defaults=tuple(OctavePrinter.literal(x.default) for x in layout.inputs),
                 header=i.header, fields=identifiers(i.fields, RESERVED, "MATLAB field"))
