@@ -13,7 +13,7 @@ from lagcli.version import __version__
 from lagcli.cli_options import LanguageChoice, note, quiet, quiet_option, settings_options, step_options
 from lagcli.targets import LANGUAGES
 from lagcli.render.escape import terminal_text
-from lagcli.errors import LagcliError, SpecWarning
+from lagcli.errors import LagcliError, RunNote, SpecWarning
 from lagcli.interface import METHODS
 from lagcli.render.interrupts import interrupt_on_termination
 from lagcli.render.output import open_output, write_output
@@ -58,11 +58,16 @@ def _spec_warnings_on_stderr():
     try:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always", SpecWarning)
+            warnings.simplefilter("always", RunNote)
             yield
     finally:
         shown = set()
         for item in caught:
-            if not isinstance(item.message, SpecWarning):
+            if isinstance(item.message, RunNote):
+                if str(item.message) not in shown:
+                    shown.add(str(item.message))
+                    note(str(item.message))          # -q silences it, like every note
+            elif not isinstance(item.message, SpecWarning):
                 warnings.showwarning(item.message, item.category, item.filename, item.lineno)
             elif str(item.message) not in shown and not quiet():
                 shown.add(str(item.message))

@@ -184,12 +184,8 @@ def _run_request(request, note, progress, sink, system):
     overrides = parse_overrides(layout, request.sets, request.inits)
     laws = input_laws(request.inputs, system)
     backend = request.backend or ("c" if compiler and settings.method in C_METHODS else "python")
-    python_only = system.hybrid(overrides.values, laws) is not None \
-        and system.compiled_laws(overrides.values, laws) is None
-    if python_only and request.backend is None:
-        backend = "python"
-        if compiler:
-            note("lagcli: events run on the Python backend (the C driver does not run them yet)")
+    if request.backend is None and system.compiled_laws(overrides.values, laws) is None:
+        backend = "python"                   # a Python callable as a law (the API's)
     start = system.start(overrides.values, overrides.initial)
     for text in runs.at_rest(layout.initial, overrides.initial) + list(start.notes):
         note(text)
@@ -228,7 +224,7 @@ def _warm_run(driver, request, note, progress, sink, spec_bytes):
     for text in runs.at_rest(layout.initial, overrides.initial) + list(notes):
         note(text)
     runs.drift_note(drift, settings, note)
-    return runs.Outcome(rows, "c", layout)
+    return runs.Outcome(rows, "c", layout, bool(layout.events))
 
 
 def input_laws(items, system) -> dict:

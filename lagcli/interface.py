@@ -240,6 +240,7 @@ class Layout:
     start: Start | None = None                       # the consistent default state (the System's)
     energy_conserved: bool = False                   # the energy column equals the Jacobi integral
     source: Source = field(default_factory=Source)
+    events: tuple[str, ...] = ()                     # the names of the spec's events, in order
 
     @property
     def coordinates(self) -> tuple[str, ...]:
@@ -334,7 +335,7 @@ class Layout:
                    start=None if start is None else Start(tuple(start["values"]), tuple(start["notes"]),
                                                           start["consistent"]),
                    energy_conserved=data["energy_conserved"],
-                   source=Source(**data["source"]))
+                   source=Source(**data["source"]), events=tuple(data.get("events", ())))
 
 
 def layout_of(d, start: Start | None = None, angles=frozenset()) -> Layout:
@@ -365,7 +366,8 @@ def layout_of(d, start: Start | None = None, angles=frozenset()) -> Layout:
                     tuple(Input(u.symbol.name, float(u.value), u.latex, u.description) for u in model.inputs),
                     initial={k: float(v) for k, v in model.initial.items()}, start=start,
                     energy_conserved=d.jacobi_integral is not None and bool(d.energy_is_jacobi),
-                    source=Source(PurePath(model.source).name, model.description or "", __version__))
+                    source=Source(PurePath(model.source).name, model.description or "", __version__),
+                    events=tuple(e.name for e in model.events))
     require_unique(layout)
     return layout
 

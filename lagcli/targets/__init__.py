@@ -123,7 +123,7 @@ def _refuse_hybrid(derivation, lang: str) -> None:
     """Generated code does not carry events or the spec's input laws yet: refuse rather than
     drop them (lagcli simulate runs them on its Python backend)."""
     model = derivation.model
-    events = model.events if lang not in ("fmu", "octave") else ()      # those have them (fmu_events.py, octave_hybrid.py)
+    events = model.events if lang not in ("c", "fmu", "octave") else ()   # those have them (event_code.py, octave_hybrid.py)
     laws = model.laws if lang not in ("octave", "fmu", "casadi", "jax") else ()
     rest = any(e.rest for e in model.events) and not events      # held contacts: lagcli simulate only
     keys = [key for key, used in (("events:", events), ("an event's rest: true", rest),

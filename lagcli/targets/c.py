@@ -78,9 +78,11 @@ def model_sources(context: dict) -> dict[str, str]:
 def c_context(d: Derivation, layout: Layout, initial=None, initial_notes=()) -> dict:
     """Everything the C templates need, pre-printed."""
     from lagcli.targets.discrete_code import variational_context
+    from lagcli.targets.event_code import event_context
 
     context = codegen.generated_context(d, CPrinter, layout, initial, initial_notes)
     context.update(variational_context(d, CPrinter))     # the variational integrator's functions
+    context.update(event_context(d))                     # the spec's events (none: empty)
     name = layout.name
     settings = layout.settings
     residual = context["i"].residual_index
