@@ -119,18 +119,20 @@ potential: T*th**2/2
 """
 
 
-def test_parameters_named_like_the_report_notation_are_shown_renamed(tmp_path):
+def test_parameters_named_like_the_report_notation_keep_their_names(tmp_path):
+    """The user's names win: the report's own T, L, M, h yield (Tkin, Lag, Mmat), the
+    parameters keep theirs (tests/test_user_names_win.py checks every surface)."""
     import re
 
     spec = tmp_path / "clash.yaml"
     spec.write_text(CLASHING_SPEC)
     text = _report(spec)
-    assert "L_ = 2.0, M_ = 1.0, h_ = 0.5, T_ = 3.0, g = 9.81" in text
-    assert "shown renamed     : L as L_, M as M_, h as h_, T as T_" in text
+    assert "L = 2.0, M = 1.0, h = 0.5, T = 3.0, g = 9.81" in text
+    assert "notation          : Tkin = the kinetic energy, Lag = the Lagrangian, Mmat = the mass matrix, hJac = the Jacobi integral (T, L, M and h are the spec's own)" in text
     for line in text.splitlines():
         label, _, expression = line.partition(" = ")
-        if expression and label.strip() in {"T  ", "T", "V", "L", "L  = T - V"}:
-            assert not re.search(r"\b[TLMh]\b", expression.split(" = ")[-1]), line
+        assert label.strip() not in {"T", "L", "M", "h"}, line
+    assert not re.search(r"\b[TLMh]_\b", text)
     report = json.loads(_report(spec, "--json"))
     assert set(report["parameters"]) == {"L", "M", "h", "T", "g"}     # the JSON parses back
     assert report["renamed_parameters"] == {}

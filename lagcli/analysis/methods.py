@@ -97,7 +97,8 @@ def equilibria(system, parameters=None, inputs=None, guesses=None) -> Equilibria
     values = _constants(system, parameters, inputs)
     found = find(d, values, default_guesses(d, _guesses(d, guesses)))
     return Equilibria(d.model.name, values, tuple(
-        Equilibrium(e.coordinates, e.symbolic, linearization(d, e.linear, e.stability) if e.linear else None)
+        Equilibrium(e.coordinates, e.symbolic, linearization(d, e.linear, e.stability) if e.linear else None,
+                    e.free)
         for e in found))
 
 

@@ -17,6 +17,7 @@ import sympy as sp
 from lagcli.derive.result import Derivation
 from lagcli.report.display import Display, signed_sum
 from lagcli.report.naming import Namer
+from lagcli.report.notation import notation_of, spoken_list
 from lagcli.report.hybrid_report import check_lines, hybrid_content
 
 
@@ -38,33 +39,10 @@ def report_parts(selection: str | None) -> tuple[str, ...]:
     return tuple(name for name in PARTS if name in chosen)
 
 
-# The names the text report gives its own quantities in every report (T = T2 + T1 + T0, V,
-# L, M, Q, Q', F, c, G), and those of some (`report_notation`): a parameter with one of
-# these names is shown renamed in the text report (`L` -> `L_`), so that `L` the length and
-# L the Lagrangian never look alike. The JSON keeps every name (its expressions parse back).
-TEXT_NOTATION = frozenset({"T", "T0", "T1", "T2", "V", "L", "M", "Q", "F", "G", "c"})
-
-
-def report_notation(d: Derivation, letters) -> frozenset:
-    """`letters` and the names this derivation's report also uses: the constraint rows'
-    A, a, d, their forces C and R, momenta p, the Jacobi integral h and the energy E."""
-    letters = set(letters)
-    if d.constraints:
-        letters |= set("AadC")
-    if d.particle_constraint_forces:
-        letters.add("R")
-    if d.ignorable:
-        letters.add("p")
-    if d.jacobi_integral is not None:
-        letters |= set("hE")
-    return frozenset(letters)
-
-
 @dataclass(frozen=True)
 class ReportPrinter:
     expr: Callable[[sp.Expr], str]                 # one expression
     terms: Callable[[Sequence[sp.Expr]], str]      # an ordered sum, signs pulled out
-    notation: frozenset = frozenset()              # parameter names renamed in named reports
 
 
 def spec_printer() -> ReportPrinter:
@@ -72,22 +50,7 @@ def spec_printer() -> ReportPrinter:
     from lagcli.render.spec_printer import remembering_spec_str
 
     spec_str = remembering_spec_str()
-    return ReportPrinter(spec_str, lambda terms: signed_sum(terms, spec_str), TEXT_NOTATION)
-
-
-def renamed_parameters(m, notation, taken) -> dict:
-    """{parameter symbol: its shown symbol} for the parameters named like the report's
-    notation: the name with "_" appended (more while that is taken)."""
-    taken = set(taken)
-    renamed = {}
-    for symbol in m.parameter_symbols:
-        if symbol.name in notation:
-            name = symbol.name + "_"
-            while name in taken:
-                name += "_"
-            taken.add(name)
-            renamed[symbol] = sp.Symbol(name, real=True)
-    return renamed
+    return ReportPrinter(spec_str, lambda terms: signed_sum(terms, spec_str))
 
 
 def report_content(d: Derivation, printer: ReportPrinter, simplify: bool = True,
@@ -99,27 +62,35 @@ def report_content(d: Derivation, printer: ReportPrinter, simplify: bool = True,
     shown = Display(d, simplify)
     taken = (m.t, *m.q, *m.qd, *m.qdd, *m.parameter_symbols, *m.input_symbols, *d.multipliers)
     namer = Namer(s.name for s in taken) if named else None
-    renamed = (renamed_parameters(m, report_notation(d, printer.notation), (s.name for s in taken))
-               if named and printer.notation else {})
-
-    def shown_as(expr):
-        return expr.xreplace(renamed) if renamed else expr
 
     def p(expr) -> str:
-        return printer.expr(shown_as(namer(expr) if namer else expr))
+        return printer.expr(namer(expr) if namer else expr)
 
     def terms(items) -> str:
-        return printer.terms([shown_as(e) for e in (namer.terms(items) if namer else items)])
+        return printer.terms(namer.terms(items) if namer else items)
 
     content = _content(d, shown, p, terms)
     content.update(hybrid_content(d, p))
-    content["parameters"] = {renamed.get(pi.symbol, pi.symbol).name: pi.value for pi in m.parameters}
-    content["renamed_parameters"] = {old.name: new.name for old, new in renamed.items()}
-    units = content["units"]                       # a renamed parameter keeps its unit
-    units.update({new.name: units[old.name] for old, new in renamed.items() if old.name in units})
+    content["parameters"] = {pi.symbol.name: pi.value for pi in m.parameters}
+    content["renamed_parameters"] = {}       # kept for old readers: the user's names are never renamed
     content["named_quantities"] = [] if namer is None else [
-        {"name": symbol.name, "expr": printer.expr(shown_as(value))} for symbol, value in namer.definitions]
+        {"name": symbol.name, "expr": printer.expr(value)} for symbol, value in namer.definitions]
     return content
+
+
+def text_report(d: Derivation, simplify: bool = True, parts=PARTS) -> str:
+    """`lagcli derive --text`: the content in the spec language, the report's own letters
+    yielding to the spec's names (`lagcli.report.notation`)."""
+    from lagcli.render.templates import render
+
+    content = report_content(d, spec_printer(), simplify, named=True)
+    n = notation_of(d)
+    legend = n.legend(n.text)
+    line = ", ".join(f"{shown} = {meaning}" for _, shown, meaning in legend)
+    if legend:
+        line += f" ({spoken_list([letter for letter, _, _ in legend])} the spec's own)"
+    return render("report/derive.txt.jinja", r=content, parts=parts, n=n.texts, legend=legend,
+                  legend_line=line, no_jacobi_reason=n.sentence(content["no_jacobi_reason"] or ""))
 
 
 def _content(d: Derivation, shown: Display, p, terms) -> dict:

@@ -21,11 +21,12 @@ from pathlib import Path
 
 import sympy as sp
 
-import lagcli
+from lagcli.version import __version__
 from lagcli.derive.result import Derivation
 from lagcli.render.escape import latex_comment, latex_text
-from lagcli.report.latex_printer import CONTENT_WIDTH, REPORT_NOTATION, LatexPrinter, Tex, tex_width
-from lagcli.report.content import PARTS, ReportPrinter, report_content, report_notation
+from lagcli.report.latex_printer import CONTENT_WIDTH, LatexPrinter, Tex, tex_width
+from lagcli.report.content import PARTS, ReportPrinter, report_content
+from lagcli.report.notation import Notation, notation_of, spoken_list
 from lagcli.render.templates import render
 
 PLANAR_AXES = ("x", "y", "z")
@@ -35,14 +36,7 @@ LIST_SEP = r", \allowbreak "   # inline lists of symbols may break after a comma
 
 def latex_printer(derivation: Derivation) -> LatexPrinter:
     """The printer for one derivation's symbols (coordinates, parameters, multipliers)."""
-    return LatexPrinter(derivation.model, notation=latex_notation(derivation),
-                        multipliers=[(c.multiplier, c.label) for c in derivation.constraints])
-
-
-def latex_notation(d: Derivation) -> frozenset:
-    """The letters this derivation's report uses for its own quantities (a parameter with
-    one of these names is set in sans-serif: `lagcli.report.latex_printer.distinct_from_notation`)."""
-    return report_notation(d, REPORT_NOTATION)
+    return LatexPrinter(derivation.model, multipliers=[(c.multiplier, c.label) for c in derivation.constraints])
 
 
 def latex_fragment(derivation: Derivation, simplify: bool = True, parts=PARTS) -> str:
@@ -54,7 +48,7 @@ def latex_document(derivation: Derivation, simplify: bool = True, parts=PARTS) -
     return render("latex/document.tex.jinja", body=_body(context), **context)
 
 
-def latex_files(d: Derivation, initial=None, initial_notes=()) -> dict[str, str]:
+def latex_files(d: Derivation, layout=None, initial=None, initial_notes=()) -> dict[str, str]:
     """`lagcli generate --lang latex` (lagcli.targets.LANGUAGES): the standalone document."""
     return {f"{d.model.name}.tex": latex_document(d)}
 
@@ -157,6 +151,8 @@ def latex_context(d: Derivation, r: dict) -> dict:
     rows, also shown one part at a time in notebooks (`lagcli.report.parts`)."""
     m = d.model
     printer = latex_printer(d)
+    notation = notation_of(d)
+    n = notation.latexes
     qtex = {q.name: printer.doprint(q) for q in m.q}
     qs = [qtex[name] for name in r["coordinates"]]
 
@@ -167,7 +163,9 @@ def latex_context(d: Derivation, r: dict) -> dict:
         return vector_rows(per_q(template), [values[q] for q in r["coordinates"]], name)
 
     return {
-        "version": lagcli.__version__,
+        "n": n,
+        "legend": _legend(notation, printer, m),
+        "version": __version__,
         "in_document": False,          # a standalone document prints the description as its title
         "spec_file": latex_comment(Path(m.source).name if m.source else ""),   # in % comments only
         "spec_name": latex_comment(r["name"]),
@@ -188,81 +186,102 @@ def latex_context(d: Derivation, r: dict) -> dict:
         "counts": {"n": r["counts"]["coordinates"], "d": r["counts"]["holonomic"],
                    "g": r["counts"]["nonholonomic"], "dof": r["dof"]},
         "scleronomic": r["scleronomic"],
-        "energy_rows": _energy_rows(r),
-        "mass_matrix": matrix_block("M", r["mass_matrix"], "symmetric"),
-        "potential_rows": [*rows("V", r["potential_energy"]), *rows("L", r["lagrangian"], "T - V")],
-        "force_rows": column(r["generalized_forces"], "Q_{@}", "Q"),
-        "nonconservative_rows": column(r["nonconservative_forces"], "Q'_{@}", "Q'"),
+        "energy_rows": _energy_rows(r, n["T"]),
+        "mass_matrix": matrix_block(n["M"], r["mass_matrix"], "symmetric"),
+        "potential_rows": [*rows(n["V"], r["potential_energy"]),
+                           *rows(n["L"], r["lagrangian"], f"{n['T']} - {n['V']}")],
+        "force_rows": column(r["generalized_forces"], n["Q"] + "_{@}", n["Q"]),
+        "nonconservative_rows": column(r["nonconservative_forces"], n["Q"] + "'_{@}", n["Q"] + "'"),
         "nonconservative_vanish": all(e == "0" for e in r["nonconservative_forces"].values()),
         "forces_conservative": r["forces_conservative"],
-        "force_potential_rows": [] if r["force_potential"] is None else rows("V'", r["force_potential"]),
+        "force_potential_rows": [] if r["force_potential"] is None else rows(n["V"] + "'", r["force_potential"]),
         "constrained": bool(r["constraints"]),
         "equations": [row for name, eq in zip(r["coordinates"], r["equations"])
                       for row in equation_rows(rf"{qtex[name]}\colon", eq["lhs"], eq["rhs"])],
-        "constraints": [_constraint(j, c, row, printer, qs) for j, (c, row)
+        "constraints": [_constraint(j, c, row, printer, qs, n) for j, (c, row)
                         in enumerate(zip(r["constraints"], d.constraints), start=1)],
         "multipliers": LIST_SEP.join(printer.doprint(c.multiplier) for c in d.constraints),
-        "constraint_force_rows": _constraint_forces(r, m, per_q),
+        "constraint_force_rows": _constraint_forces(r, per_q, n),
         "particle_forces": bool(r["constraint_forces"]["particles"]),
         "explicit_rows": [
-            *column(r["explicit_form"]["velocity_terms"], "c_{@}", "c"),
-            *column(r["explicit_form"]["mass_rate_terms"], r"(\partial_t M\,\dot q)_{@}",
-                    r"\partial_t M\,\dot q"),
-            *column(r["explicit_form"]["t1_rate_terms"], r"\partial_t a_{@}", r"\partial_t a"),
-            *column(r["explicit_form"]["position_terms"], r"\partial_{@}(V - T_0)",
-                    r"\partial_q (V - T_0)"),
-            *column(r["explicit_form"]["forcing"], "F_{@}", "F"),
+            *column(r["explicit_form"]["velocity_terms"], n["c"] + "_{@}", n["c"]),
+            *column(r["explicit_form"]["mass_rate_terms"], rf"(\partial_t {n['M']}\,\dot q)_{{@}}",
+                    rf"\partial_t {n['M']}\,\dot q"),
+            *column(r["explicit_form"]["t1_rate_terms"], rf"\partial_t {n['a']}_{{@}}", rf"\partial_t {n['a']}"),
+            *column(r["explicit_form"]["position_terms"], rf"\partial_{{@}}({n['V']} - {n['T']}_0)",
+                    rf"\partial_q ({n['V']} - {n['T']}_0)"),
+            *column(r["explicit_form"]["forcing"], n["F"] + "_{@}", n["F"]),
         ],
-        "gyroscopic": matrix_block("G", r["gyroscopic_matrix"], "skew"),
+        "gyroscopic": matrix_block(n["G"], r["gyroscopic_matrix"], "skew"),
         "ignorable": LIST_SEP.join(qtex[name] for name in r["ignorable_coordinates"]),
-        "conserved_rows": _conserved(r, qtex, r["energy_is_jacobi"]),
+        "conserved_rows": _conserved(r, qtex, r["energy_is_jacobi"], n),
         "named": [(printer.doprint(sp.Symbol(named["name"])), named["expr"])
                   for named in r["named_quantities"]],
         "jacobi": r["jacobi_integral"] is not None,
         "energy_is_jacobi": r["energy_is_jacobi"],
-        "no_jacobi_reason": _math_words(r["no_jacobi_reason"] or ""),
+        "no_jacobi_reason": _math_words(r["no_jacobi_reason"] or "", n),
         "law_rows": [row for name, e in r.get("input_laws", {}).items()
                      for row in rows(printer.doprint(m.symbol(name)), e)],
-        "events": [_event(e, printer, m) for e in r.get("events", [])],
+        "events": [_event(e, printer, m, n) for e in r.get("events", [])],
     }
 
 
-def _event(e: dict, printer, m) -> dict:
+def _legend(notation: Notation, printer: LatexPrinter, m) -> str:
+    """The sentence saying what the report's yielded letters are ("" when none)."""
+    legend = notation.legend(notation.latex)
+    if not legend:
+        return ""
+    said = ", ".join(f"${shown}$ denotes {meaning}" for _, shown, meaning in legend)
+    mine = spoken_list([f"${_user_latex(letter, printer, m)}$" for letter, _, _ in legend])
+    return f"Notation: {said} ({mine} the spec's own)."
+
+
+def _user_latex(letter: str, printer: LatexPrinter, m) -> str:
+    """The spec's symbol named `letter` as the report prints it (the letter itself else)."""
+    try:
+        return printer.doprint(m.symbol(letter))
+    except KeyError:
+        return letter
+
+
+def _event(e: dict, printer, m, n: dict) -> dict:
     """One event of the report: what happens where g crosses zero, and its rows."""
-    out = [*rows("g", e["when"])]
+    g = n["g"]
+    out = [*rows(g, e["when"])]
     if e["action"] == "impact":
-        out += [rf"G = \partial g/\partial q &= \begin{{pmatrix}} {' & '.join(e['G'])} \end{{pmatrix}}",
-                *rows(r"\partial_t g", e["g_t"]), *rows("e", e["restitution"])]
+        out += [rf"G = \partial {g}/\partial q &= \begin{{pmatrix}} {' & '.join(e['G'])} \end{{pmatrix}}",
+                *rows(rf"\partial_t {g}", e["g_t"]), *rows(n["e"], e["restitution"])]
     for name, value in e.get("reset", {}).items():
         out += rows(f"{printer.doprint(m.symbol(name))}^{{+}}", value)
     return {"name": latex_text(e["name"]), "action": e["action"], "direction": e["direction"], "rows": out}
 
 
-# The symbols in lagcli's own sentences (invariants.jacobi_obstacle), set as math.
-_MATH_WORDS = {"Q'": "$Q'$", "row a": "row $a$", "term d": "term $d$", "L depends": "$L$ depends",
+# The symbols in lagcli's own sentences (invariants.jacobi_obstacle), set as math, the
+# report's letters as the notation shows them.
+_MATH_WORDS = {"Q'": "${Q}'$", "row a": "row ${a}$", "term d": "term ${d}$", "L depends": "${L}$ depends",
                "on t": "on $t$"}
 
 
-def _math_words(sentence: str) -> str:
+def _math_words(sentence: str, n: dict) -> str:
     for word, tex in _MATH_WORDS.items():
-        sentence = sentence.replace(word, tex)
+        sentence = sentence.replace(word, tex.format(**n))
     return sentence
 
 
-def _energy_rows(r: dict) -> list[str]:
+def _energy_rows(r: dict, T: str) -> list[str]:
     """T and its parts; one row `T = T_2` when T1 and T0 vanish (nothing printed twice)."""
     kinetic = r["kinetic_energy"]
     if r["T_is_T2"]:
-        return [*rows("T", kinetic["T"], "T_2"), "T_1 &= T_0 = 0"]
-    return [*rows("T", kinetic["T"]),
-            *(row for k in ("T2", "T1", "T0") for row in rows(f"T_{k[1]}", kinetic[k]))]
+        return [*rows(T, kinetic["T"], f"{T}_2"), f"{T}_1 &= {T}_0 = 0"]
+    return [*rows(T, kinetic["T"]),
+            *(row for k in ("T2", "T1", "T0") for row in rows(f"{T}_{k[1]}", kinetic[k]))]
 
 
-def _constraint(j: int, c: dict, row, printer: LatexPrinter, qs: list[str]) -> dict:
-    a = c["a"]
-    a_rows = ([rf"(a_{{{j}k}})_k &= \left({', '.join(a)}\right)"]
+def _constraint(j: int, c: dict, row, printer: LatexPrinter, qs: list[str], n: dict) -> dict:
+    a, a_name = c["a"], n["a"]
+    a_rows = ([rf"({a_name}_{{{j}k}})_k &= \left({', '.join(a)}\right)"]
               if all(len(e.lines) == 1 for e in a) and sum(e.width + 1 for e in a) + 4 <= CONTENT_WIDTH
-              else [r for q, e in zip(qs, a) for r in rows(f"a_{{{j},{q}}}", e)])
+              else [r for q, e in zip(qs, a) for r in rows(f"{a_name}_{{{j},{q}}}", e)])
     return {
         "index": j,
         "kind": c["kind"],
@@ -270,33 +289,35 @@ def _constraint(j: int, c: dict, row, printer: LatexPrinter, qs: list[str]) -> d
         "multiplier": printer.doprint(row.multiplier),
         "name": latex_text(c["name"] or ""),
         "rows": [*equation_rows(rf"{printer.doprint(row.multiplier)}\colon", c["expr"], Tex("0")),
-                 *a_rows, *rows(f"d_{{{j}}}", c["d"])],
+                 *a_rows, *rows(f"{n['d']}_{{{j}}}", c["d"])],
     }
 
 
-def _constraint_forces(r: dict, m, per_q) -> list[str]:
+def _constraint_forces(r: dict, per_q, n: dict) -> list[str]:
     generalized = r["constraint_forces"]["generalized"]
-    out = [row for label, q in zip(per_q("C_{@}"), r["coordinates"]) if q in generalized
+    out = [row for label, q in zip(per_q(n["C"] + "_{@}"), r["coordinates"]) if q in generalized
            for row in rows(label, generalized[q])]
     for name, vector in r["constraint_forces"]["particles"].items():
         for axis, e in zip(PLANAR_AXES, vector):
-            out.extend(rows(rf"R_{{\mathrm{{{latex_text(name)}}},{axis}}}", e))
+            out.extend(rows(rf"{n['R']}_{{\mathrm{{{latex_text(name)}}},{axis}}}", e))
     return out
 
 
-def _conserved(r: dict, qtex: dict, energy_is_jacobi: bool) -> list[str]:
+def _conserved(r: dict, qtex: dict, energy_is_jacobi: bool, n: dict) -> list[str]:
     """Conserved momenta, h and E (one row `h = T_2 - T_0 + V = T + V` when they are equal)."""
     momenta = {f"p_{name}": tex for name, tex in qtex.items()}
     kinds = {c["kind"] for c in r["conserved_quantities"]}
     merged = energy_is_jacobi and {"jacobi", "energy"} <= kinds
     out = []
+    T, V, E = n["T"], n["V"], n["E"]
     for c in r["conserved_quantities"]:
         if c["kind"] == "momentum":
-            out.extend(rows(f"p_{{{momenta.get(c['name'], latex_text(c['name']))}}}", c["expr"]))
+            out.extend(rows(f"{n['p']}_{{{momenta.get(c['name'], latex_text(c['name']))}}}", c["expr"]))
         elif c["kind"] == "jacobi":
-            out.extend(rows("h", c["expr"], "T_2 - T_0 + V = T + V = E" if merged else "T_2 - T_0 + V"))
+            h_is = f"{T}_2 - {T}_0 + {V}"
+            out.extend(rows(n["h"], c["expr"], f"{h_is} = {T} + {V} = {E}" if merged else h_is))
         elif not merged:
-            out.extend(rows("E", c["expr"], "T + V"))
+            out.extend(rows(E, c["expr"], f"{T} + {V}"))
     return out
 
 

@@ -33,11 +33,6 @@ LINE_WIDTH = 76.0
 LABEL_WIDTH = 9.0                     # the label column of `align*` (e.g. "Q'_{\theta_{1}}" or "\ddot x\colon")
 CONTENT_WIDTH = LINE_WIDTH - LABEL_WIDTH - 4.0   # minus "= " and the "\quad" of continuation lines
 
-# The report's own notation (T, V, L, M, Q, F, G, c in every report; see
-# `lagcli.report.content.report_notation` for the rest): a parameter typeset as one of these
-# letters is set in sans-serif instead, so that `L` the length and L the Lagrangian never
-# look alike on the page.
-REPORT_NOTATION = frozenset("TVLMQFGc")
 THIN_SPACE = r"\,"                    # between the factors of a product: m\,l\,\dot\theta, never "ml"
 MIN_ROOM = 12.0                       # do not start a long term on a line with less room left
 _DELIMITERS = (r"\biggl(", r"\biggr)"), (r"\Bigl(", r"\Bigr)"), (r"\bigl(", r"\bigr)")
@@ -63,7 +58,7 @@ class LatexPrinter(SympyLatexPrinter):
     delimiters = _DELIMITERS                # around a broken sum, by nesting depth
     times = r"\times"                       # a product continued on the next line
 
-    def __init__(self, model, settings: dict | None = None, multipliers=(), notation=REPORT_NOTATION):
+    def __init__(self, model, settings: dict | None = None, multipliers=()):
         super().__init__({"symbol_names": {}, "mul_symbol": THIN_SPACE, **(settings or {})})
         names = self._settings["symbol_names"] = dict(self._settings["symbol_names"])
         for q, qd, qdd in zip(model.q, model.qd, model.qdd):
@@ -72,7 +67,7 @@ class LatexPrinter(SympyLatexPrinter):
             names[qd] = self._accented(r"\dot", q, user)
             names[qdd] = self._accented(r"\ddot", q, user)
         for info in (*model.parameters, *model.inputs):
-            names[info.symbol] = distinct_from_notation(info.latex or self._name(info.symbol.name), notation)
+            names[info.symbol] = info.latex or self._name(info.symbol.name)     # the user's names win
         for multiplier, label in multipliers:
             names[multiplier] = multiplier_latex(multiplier, label)
         # Printed LaTeX and term order per subexpression: the line breaking measures a
@@ -220,11 +215,6 @@ class LatexPrinter(SympyLatexPrinter):
         return [f"{left}{inner[0]}", *inner[1:-1], f"{inner[-1]}{right}"]
 
 
-def distinct_from_notation(tex: str, notation=REPORT_NOTATION) -> str:
-    """A parameter's LaTeX, or `\\mathsf{L}` when it is one of the report's letters."""
-    return rf"\mathsf{{{tex}}}" if tex in notation else tex
-
-
 def _room(out: list[str], width: float, first: float) -> float:
     """Room left on the last line of `out` (whose first line has `first`)."""
     if not out:
@@ -247,7 +237,8 @@ _TOKEN = re.compile(r"\\[A-Za-z]+|\\.|[{}^_]|[^\s\\{}^_]")
 _FUNCTIONS = {"sin", "cos", "tan", "sinh", "cosh", "tanh", "asin", "acos", "atan", "log", "exp",
               "operatorname", "min", "max", "arcsin", "arccos", "arctan", "sign", "ln"}
 _INVISIBLE = {r"\left", r"\right", r"\bigl", r"\bigr", r"\Bigl", r"\Bigr", r"\biggl", r"\biggr",
-              r"\mathrm", r"\dot", r"\ddot", r"\mathit", r"\mathbf", r"\operatorname", r"\displaystyle"}
+              r"\mathrm", r"\dot", r"\ddot", r"\mathit", r"\mathbf", r"\mathcal", r"\operatorname",
+              r"\displaystyle"}
 _SPACES = {r"\quad": 2.0, r"\qquad": 4.0, r"\,": 0.3, r"\;": 0.5, r"\:": 0.4, r"\!": -0.3, r"\ ": 0.5}
 # Widths of math italic letters and digits at 10 pt (Computer Modern), in units of 6 pt;
 # any other single character or command (a Greek letter) counts 1.

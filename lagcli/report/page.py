@@ -27,6 +27,7 @@ import sympy as sp
 
 from lagcli.render.escape import html_text
 from lagcli.report.mathml import math_block, mathml, mathml_terms, mi, model_names
+from lagcli.report.notation import notation_of, spoken_list
 
 STYLE = """
 body { font-family: system-ui, sans-serif; max-width: 60rem; margin: 2rem auto; padding: 0 1rem;
@@ -64,9 +65,9 @@ def page_html(system, pictures: bool = True) -> str:
 
 
 def _version() -> str:
-    import lagcli
+    from lagcli.version import __version__
 
-    return lagcli.__version__
+    return __version__
 
 
 def _content(system) -> dict:
@@ -104,12 +105,14 @@ def _system_section(system, r: dict) -> str:
 
 
 def _equations_section(d, r: dict) -> str:
-    own = _own_letters(d)
-    out = ["<h2>Energies</h2>", _eq(own["T"], r["kinetic_energy"]["T"]), _eq(own["V"], r["potential_energy"]),
-           _eq(own["L"], r["lagrangian"]), "<p>Mass matrix (the bold M: T<sub>2</sub> = ½ q̇ᵀ 𝐌 q̇):</p>",
+    n = notation_of(d)
+    T, L, Q, a = (html_text(n.unicode(letter)) for letter in "TLQa")
+    out = ["<h2>Energies</h2>", *_legend(n), _eq(n.mathml("T"), r["kinetic_energy"]["T"]),
+           _eq(n.mathml("V"), r["potential_energy"]), _eq(n.mathml("L"), r["lagrangian"]),
+           f"<p>Mass matrix (the bold M: {T}<sub>2</sub> = ½ q̇ᵀ 𝐌 q̇):</p>",
            _eq(mi("\U0001d40c"), _matrix(r["mass_matrix"]))]
-    out.append("<h2>Equations of motion</h2>\n<p>d/dt(∂L/∂q̇<sub>i</sub>) − ∂L/∂q<sub>i</sub> − "
-               "Q′<sub>i</sub> = Σ<sub>j</sub> λ<sub>j</sub> a<sub>ji</sub>, one per coordinate:</p>")
+    out.append(f"<h2>Equations of motion</h2>\n<p>d/dt(∂{L}/∂q̇<sub>i</sub>) − ∂{L}/∂q<sub>i</sub> − "
+               f"{Q}′<sub>i</sub> = Σ<sub>j</sub> λ<sub>j</sub> {a}<sub>ji</sub>, one per coordinate:</p>")
     out += [_block(eq["lhs"], "<mo>=</mo>", eq["rhs"]) for eq in r["equations"]]
     if r["constraints"]:
         out.append("<h2>Constraints</h2>")
@@ -117,7 +120,7 @@ def _equations_section(d, r: dict) -> str:
     conserved = r["conserved_quantities"]
     if conserved:
         out.append("<h2>Conserved quantities</h2>")
-        out += [_eq(_name(c["name"]), c["expr"]) for c in conserved]
+        out += [_eq(_name(c["name"], n), c["expr"]) for c in conserved]
     if r["named_quantities"]:
         out.append("<h2>Named quantities</h2>\n<p>Expressions too large to print whole use these:</p>")
         out += [_eq(_name(q["name"]), q["expr"]) for q in r["named_quantities"]]
@@ -181,15 +184,14 @@ def _animation(system, trajectory) -> str | None:
             return base64.b64encode(f.read()).decode("ascii")
 
 
-# The page's own quantities in letters no spec name can take: the mass matrix bold, and
-# T, V, L in script letters when a parameter or input is called T, V or L (the user's
-# names win: the spec's L stays L).
-SCRIPT = {"T": "\U0001d4af", "V": "\U0001d4b1", "L": "\u2112"}
-
-
-def _own_letters(d) -> dict:
-    taken = {s.name for s in (*d.model.parameter_symbols, *d.model.input_symbols)}
-    return {letter: mi(SCRIPT[letter] if letter in taken else letter) for letter in SCRIPT}
+def _legend(n) -> list[str]:
+    """The paragraph saying what the page's yielded letters are (none when nothing yields)."""
+    legend = n.legend(n.unicode)
+    if not legend:
+        return []
+    said = ", ".join(f"{html_text(shown)} denotes {html_text(meaning)}" for _, shown, meaning in legend)
+    mine = spoken_list([html_text(letter) for letter, _, _ in legend])
+    return [f"<p>Notation: {said} ({mine} the spec's own).</p>"]
 
 
 def _math(body: str) -> str:
@@ -208,8 +210,11 @@ def _list(symbols, names: dict) -> str:
     return "<mo>,</mo>".join(mathml(s, names) for s in symbols)
 
 
-def _name(name: str) -> str:
-    """A quantity's name as the printer shows a symbol of that name (p_phi -> p with φ)."""
+def _name(name: str, n=None) -> str:
+    """A quantity's name as the printer shows a symbol of that name (p_phi -> p with φ,
+    the p bold when the spec names something p: `lagcli.report.notation`)."""
+    if n is not None and name.startswith("p_"):
+        name = n.unicode("p") + name[1:]
     return mathml(sp.Symbol(name))
 
 

@@ -90,6 +90,13 @@ class Parts:
         tex = latex_content(self._d)
         return tex, latex_context(self._d, tex), report_content(self._d, spec_printer())
 
+    @functools.cached_property
+    def _notation(self):
+        """The report's letters as this derivation's reports show them (the user's names win)."""
+        from lagcli.report.notation import notation_of
+
+        return notation_of(self._d, also=("E", "A", "b"))
+
     def _part(self, name: str) -> Part:
         d = self._d
         if name == "equations":
@@ -117,14 +124,16 @@ class Parts:
         from lagcli.report.latex import matrix_block, rows
 
         tex, ctx, r = self._report
-        symbol = PARTS[name][0]
+        n, letter = self._notation, PARTS[name][0]
+        symbol = n.text(letter) if letter else letter
         coordinates = r["coordinates"]
         if name == "kinetic_energy":
-            return ctx["energy_rows"], f"T = {r['kinetic_energy']['T']}"
+            return ctx["energy_rows"], f"{symbol} = {r['kinetic_energy']['T']}"
         if name == "potential_energy":
-            return rows("V", tex["potential_energy"]), f"V = {r['potential_energy']}"
+            return rows(n.latex("V"), tex["potential_energy"]), f"{symbol} = {r['potential_energy']}"
         if name == "lagrangian":
-            return rows("L", tex["lagrangian"], "T - V"), f"L = {r['lagrangian']}"
+            return (rows(n.latex("L"), tex["lagrangian"], f"{n.latex('T')} - {n.latex('V')}"),
+                    f"{symbol} = {r['lagrangian']}")
         if name == "mass_matrix":
             block = ctx["mass_matrix"]
             return [block["matrix"]] if block["matrix"] else block["rows"], _matrix_text(symbol, r[name])
@@ -132,14 +141,16 @@ class Parts:
             return ctx["force_rows"], _vector_text(symbol, [r[name][q] for q in coordinates])
         if name == "forcing":
             forcing = r["explicit_form"]["forcing"]
-            return ([row for row in ctx["explicit_rows"] if row.startswith("F")],
+            return ([row for row in ctx["explicit_rows"] if row.startswith(n.latex("F"))],
                     _vector_text(symbol, [forcing[q] for q in coordinates]))
         if name == "constraint_matrix":
-            block = matrix_block("A", [c["a"] for c in tex["constraints"]], "general")
+            block = matrix_block(n.latex("A"), [c["a"] for c in tex["constraints"]], "general")
             return ([block["matrix"]] if block["matrix"] else block["rows"],
                     _matrix_text(symbol, [c["a"] for c in r["constraints"]]))
         if name == "jacobi_integral":
-            return rows("h", tex["jacobi_integral"], "T_2 - T_0 + V"), f"h = {r['jacobi_integral']}"
+            T, V = n.latex("T"), n.latex("V")
+            return (rows(n.latex("h"), tex["jacobi_integral"], f"{T}_2 - {T}_0 + {V}"),
+                    f"{symbol} = {r['jacobi_integral']}")
         if name == "equations":
             return ctx["equations"], "\n".join(f"{e['lhs']} = {e['rhs']}" for e in r["equations"])
         if name == "constraints":
@@ -154,15 +165,16 @@ class Parts:
         from lagcli.report.latex import latex_printer
         from lagcli.render.spec_printer import spec_str
 
-        symbol, shown, printer = PARTS[name][0], Display(self._d), latex_printer(self._d)
+        n, letter = self._notation, PARTS[name][0]
+        shown, printer = Display(self._d), latex_printer(self._d)
         if name == "energy":
             terms = shown.energy
-            return ([f"E &= T + V = {printer.tex_terms(terms)}"],
-                    f"E = {signed_sum(terms, spec_str)}")
+            return ([f"{n.latex('E')} &= {n.latex('T')} + {n.latex('V')} = {printer.tex_terms(terms)}"],
+                    f"{n.text('E')} = {signed_sum(terms, spec_str)}")
         entries = [[shown.tidy(x) for x in row] for row in value.tolist()]
         tex = r" \\ ".join(" & ".join(printer.doprint(x) for x in row) for row in entries)
-        return ([rf"{symbol} = \begin{{pmatrix}} {tex} \end{{pmatrix}}"],
-                _matrix_text(symbol, [[spec_str(x) for x in row] for row in entries]))
+        return ([rf"{n.latex(letter)} = \begin{{pmatrix}} {tex} \end{{pmatrix}}"],
+                _matrix_text(n.text(letter), [[spec_str(x) for x in row] for row in entries]))
 
     def _with_named(self, latex_rows: list[str]) -> str:
         """The rows in an aligned block, followed by the named quantities they use."""

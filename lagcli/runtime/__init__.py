@@ -1,5 +1,6 @@
 """lagcli's runtime: plain sources shipped with the package and copied, unchanged, next
-to generated code (`lagcli generate --lang c` copies `c/`, `--lang rust` copies `rust/`;
+to generated code (`lagcli generate --lang c` copies `c/`, `--lang rust` copies `rust/`, `--lang octave`
+`octave/` for a spec with events;
 `--lang fmu` puts `fmi2/` and part of `c/` into the FMU's sources/). They are not
 templates: one copy per language, usable on their own by someone embedding a generated
 model (docs/codegen.md, docs/c-integrator.md).
@@ -19,10 +20,11 @@ import functools
 from importlib import resources
 
 C_RUNTIME = ("lagcli_model.h", "lagcli_linalg.h", "lagcli_ode.h", "lagcli_ode.c", "lagcli_driver.h", "lagcli_driver.c",
-             "lagcli_variational.h", "lagcli_variational.c")
+             "lagcli_variational.h", "lagcli_variational.c", "lagcli_events.h", "lagcli_events.c")
 FMI2_RUNTIME = ("fmi2Functions.h", "fmi2FunctionTypes.h", "fmi2TypesPlatform.h", "lagcli_fmi2.c")
 FMI2_LICENSE = "LICENSE.txt"
 RUST_RUNTIME = ("ode.rs", "driver.rs")
+OCTAVE_EVENT_RUNTIME = ("lagcli_event_loop.m", "lagcli_event_report.m")
 
 
 @functools.lru_cache(maxsize=None)
@@ -39,6 +41,11 @@ def c_runtime_files() -> dict[str, str]:
 def fmi2_runtime_files() -> dict[str, str]:
     """{file name: text} of the FMI 2.0 functions and the standard's headers."""
     return dict(_texts("fmi2", FMI2_RUNTIME))
+
+
+def octave_event_files() -> dict[str, str]:
+    """{file name: text} of the MATLAB/Octave event loop (shipped with a spec that has events)."""
+    return dict(_texts("octave", OCTAVE_EVENT_RUNTIME))
 
 
 def fmi2_license() -> str:

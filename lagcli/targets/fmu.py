@@ -11,7 +11,8 @@
 Variables, in value-reference order (lagcli_fmi2.c serves the same order): the states
 [q..., q'...] (outputs, so that a tool can plot them or close a loop on them;
 initial="exact", start: the spec's consistent initial state), their derivatives, the
-parameters (fixed, start: their defaults), the inputs (continuous, start 0), then the
+parameters (fixed, start: their defaults), the inputs (continuous, start 0; an input with a
+law runs the law inside the FMU, the FMU input added to it: `_with_laws`), then the
 other outputs: the multipliers and the invariant columns of `lagcli simulate` (energy,
 jacobi, p_<q>, constraint_residual). A unit of the run interface (the spec's `unit:`s:
 docs/simulate.md, "Units of the columns") becomes the variable's `unit` and a `<Unit>`
@@ -34,9 +35,10 @@ from pathlib import Path
 from lagcli.derive.result import Derivation
 from lagcli.targets.fmu_events import fmu_event_sources
 from lagcli.targets import c as c_target
+from lagcli.render.spec_printer import spec_str
 from lagcli.render.templates import render
 from lagcli.errors import Loc, Problem, SimulationError, SpecError
-from lagcli.interface import Layout, layout_of
+from lagcli.interface import STEP_BUDGET_BASE, STEP_BUDGET_PER_OUTPUT, Layout
 from lagcli.runtime.run_rules import max_step
 from lagcli.runtime import c_runtime_files, fmi2_license, fmi2_runtime_files
 
@@ -72,7 +74,8 @@ def model_variables(layout: Layout, initial: tuple[float, ...], descriptions: di
                             derivative=k + 1) for k, s in enumerate(layout.states)]
     parameters = [Variable(p.name, 0, descriptions.get(p.name) or "parameter", "parameter", "fixed", "exact",
                            repr(float(p.default)), unit=p.unit) for p in layout.parameters]
-    inputs = [Variable(u.name, 0, u.description or "input", "input", "continuous", start=repr(float(u.default)),
+    inputs = [Variable(u.name, 0, descriptions.get(u.name) or u.description or "input", "input", "continuous",
+                       start=repr(float(u.default)),
                        unit=u.unit) for u in layout.inputs]
     outputs = ([Variable(m.name, 0, f"multiplier of the {m.kind} constraint", "output", "continuous")
                 for m in layout.multipliers]
@@ -98,17 +101,17 @@ def model_structure(variables: tuple[Variable, ...]) -> dict:
     return dict(outputs=outputs, derivatives=derivatives, initial_unknowns=sorted(computed + derivatives))
 
 
-def fmu_sources(d: Derivation, initial=None, initial_notes=()) -> dict[str, str]:
+def fmu_sources(d: Derivation, layout: Layout, initial=None, initial_notes=()) -> dict[str, str]:
     """{path in the FMU: text} of every file but the binary."""
-    layout = layout_of(d)
     name = layout.name
     _check_file_names(d, name)
-    context = c_target.c_context(d, initial, initial_notes)
+    context = c_target.c_context(_with_laws(d), layout, initial, initial_notes)
     c_sources = {**c_target.model_sources(context),
                  **{file: c_runtime_files()[file] for file in INTEGRATOR}, **fmi2_runtime_files(),
                  **fmu_event_sources(d, context)}
     descriptions = {p.symbol.name: p.description for p in d.model.parameters}
-    fmu = fmu_context(layout, context, descriptions, sorted(f for f in c_sources if f.endswith(".c")),
+    descriptions.update({law.symbol.name: f"added to its law {spec_str(law.expr)}" for law in d.model.laws})
+    fmu = fmu_context(context, descriptions, sorted(f for f in c_sources if f.endswith(".c")),
                       len(d.events))
     guid = _guid(render("fmu/modelDescription.xml.jinja", guid="", **fmu), c_sources)
     return {
@@ -120,18 +123,31 @@ def fmu_sources(d: Derivation, initial=None, initial_notes=()) -> dict[str, str]
     }
 
 
-def fmu_context(layout: Layout, c_context: dict, descriptions: dict, compiled: list[str],
-                nevent: int = 0) -> dict:
-    """What the templates of templates/fmu/ need: the variables of `layout`, the
+def _with_laws(d: Derivation) -> Derivation:
+    """The model the FMU computes: an input u with a law (`simulate: inputs:`) enters F as
+    law + u, so the law runs inside the FMU and the FMU input u (start 0) adds to it (a
+    disturbance or a feed-forward); an input without a law stays a plain input."""
+    if not d.model.laws:
+        return d
+    from lagcli.derive.closed_loop import closed_loop
+
+    symbols = {u.name: u for u in d.model.input_symbols}
+    return closed_loop(d, {law.symbol.name: law.expr + symbols[law.symbol.name] for law in d.model.laws})
+
+
+def fmu_context(c_context: dict, descriptions: dict, compiled: list[str], nevent: int = 0) -> dict:
+    """What the templates of templates/fmu/ need: the variables of the run interface, the
     `Interface` and settings of the C context, the C files to compile; `nevent`: the
     spec's events, the FMU's event indicators (then it is Model Exchange only)."""
     i = c_context["i"]
+    layout = i.layout
     variables = model_variables(layout, i.initial, descriptions)
     method = c_context["driver_method"]
     return dict(i=i, variables=variables, sources=compiled, settings=layout.settings, baumgarte=i.baumgarte,
                 inputs=[u.name for u in layout.inputs], units=sorted({v.unit for v in variables if v.unit}),
                 literal=c_context["literal"], method=method,
                 max_step=c_context["literal"](max_step(method, *i.baumgarte, layout.constrained)),
+                max_steps=STEP_BUDGET_BASE + STEP_BUDGET_PER_OUTPUT,
                 nevent=nevent,
                 **model_structure(variables))
 
@@ -145,7 +161,7 @@ def _check_file_names(d: Derivation, name: str) -> None:
                                 f"({', '.join(sorted(taken))})", "set another `name:` in the spec"))
 
 
-def fmu_files(d: Derivation, initial=None, initial_notes=()) -> dict[str, bytes]:
+def fmu_files(d: Derivation, layout: Layout, initial=None, initial_notes=()) -> dict[str, bytes]:
     """{`<name>.fmu`: the zip's bytes}: `fmu_sources` plus the binary compiled from them."""
     from lagcli.runtime.toolchain import find_compiler
 
@@ -154,7 +170,7 @@ def fmu_files(d: Derivation, initial=None, initial_notes=()) -> dict[str, bytes]
     if compiler is None:
         raise SimulationError("--lang fmu compiles the FMU's binary with a C compiler, but 'cc' was "
                               "not found on PATH (install gcc or clang); nothing was written")
-    files: dict[str, str | bytes] = dict(fmu_sources(d, initial, initial_notes))
+    files: dict[str, str | bytes] = dict(fmu_sources(d, layout, initial, initial_notes))
     folder, suffix = platform_folder()
     files[f"binaries/{folder}/{name}{suffix}"] = compile_binary(compiler, files, name + suffix)
     return {f"{name}.fmu": archive(files)}
