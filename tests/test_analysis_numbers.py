@@ -56,7 +56,7 @@ def test_round_off_is_shown_as_zero_and_kept_in_json(tmp_path):
     assert np.allclose(lin.C, [[c, 0], [0, 0]], rtol=0, atol=1e-14)
     assert np.allclose(lin.K, [[k, 0], [0, m * g * l]], rtol=0, atol=1e-13)
     text = commands.linearize(path)
-    matrices = text[text.index("M =\n"):text.index("eigenvalues")]
+    matrices = text[text.index("second-order form"):text.index("eigenvalues")]  # M: M_lin
     assert "e-1" not in matrices and "gyroscopic" not in matrices
     assert "  theta_dot       0 2.0601" in matrices                # K's second row
     content = json.loads(commands.linearize(path, fmt="json"))

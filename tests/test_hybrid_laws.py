@@ -140,3 +140,13 @@ def test_the_compiled_driver_runs_laws_in_c_and_never_reuses_a_driver_for_anothe
     assert len(entries) == 3                       # one driver per law set
     with pytest.raises(LagcliError, match="callable"):
         system.simulate(t_end=1.0, backend="c", inputs={"F": lambda t, y: 0.0})
+
+
+@pytest.mark.parametrize("lang", ["rust", "c", "python"])
+def test_targets_without_laws_refuse_them_clearly(lang, tmp_path):
+    """Rust (and the plain C and Python targets of `generate`) do not carry the laws: a
+    located refusal, exit 2, nothing written (the Octave, FMU, CasADi and JAX targets do)."""
+    result = run("generate", SPECS / "hybrid" / "cart_pole_lqr.yaml", "--lang", lang, "-o", tmp_path / "out")
+    assert result.exit_code == 2
+    assert "cart_pole_lqr.yaml: --lang" in result.stderr and "does not implement simulate: inputs: yet" in result.stderr
+    assert not (tmp_path / "out").exists()

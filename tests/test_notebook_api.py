@@ -181,7 +181,7 @@ def test_every_result_shows_itself_in_a_notebook(cart_pole, hoop):
     lin = cart_pole.linearize()
     well_formed_latex(lin._repr_latex_())
     html = well_formed_html(lin._repr_html_())
-    assert [c.text for c in html.iter("caption")] == ["A", "B", "M", "C", "K"]
+    assert [c.text for c in html.iter("caption")] == ["A", "B", "M", "C", "K", "H"]     # H: F is an input
     assert r"\dot{\theta}" in lin._repr_latex_() and "unstable" in lin._repr_latex_()
     assert repr(lin).startswith("<Linearization of cart_pole about x = 0, theta = 0") and len(repr(lin)) < 200
     found = hoop.equilibria()

@@ -32,6 +32,21 @@ SPECS = ["bouncing_ball", "cart_pole_lqr", "cartesian_pendulum_floor", "pendulum
          "rimless_wheel"]
 T_END = {"bouncing_ball": 10.0, "rimless_wheel": 6.0}        # the others: their spec's t_end
 TOL = 1e-6
+# Two stop events crossing in the same ode45 step: ode45 reports the lower index
+# (landed, at 1.31339 s); the earlier one (far, at 1.31269 s) is the event.
+TWO_EVENTS = """
+name: two_events
+coordinates: [x, y]
+parameters: {m: 1.0, g: 9.81, v: 10.0, a: 0.7}
+gravity: [0, -g]
+particles:
+  P: {mass: m, position: [x, y]}
+events:
+  - {name: landed, when: y, direction: falling, action: stop}
+  - {name: far, when: x - 10.04, direction: rising, action: stop}
+initial: {x: 0.0, y: 0.0, x_dot: v*cos(a), y_dot: v*sin(a)}
+simulate: {t_end: 5.0, dt: 0.01}
+"""
 
 
 def read_csv(path):
@@ -47,7 +62,9 @@ def runs(tmp_path_factory):
     <folder>/<spec>/run.csv, events.csv and the standard error of each run."""
     folder = tmp_path_factory.mktemp("octave_hybrid")
     (folder / "oscillator.yaml").write_text(OSCILLATOR.replace("coordinates:", "name: oscillator\ncoordinates:"))
-    specs = {name: HYBRID / f"{name}.yaml" for name in SPECS} | {"oscillator": folder / "oscillator.yaml"}
+    (folder / "two_events.yaml").write_text(TWO_EVENTS)
+    specs = {name: HYBRID / f"{name}.yaml" for name in SPECS} | {"oscillator": folder / "oscillator.yaml",
+                                                                 "two_events": folder / "two_events.yaml"}
     script = []
     for name, path in specs.items():
         files = lagcli.load(path).generate("octave")
@@ -56,7 +73,7 @@ def runs(tmp_path_factory):
         for file, text in files.items():
             (out / file).write_text(text)
         options = f"{{'t_end', {T_END[name]!r}}}" if name in T_END else "{}"
-        events = f"events_file = '{out}/events.csv';" if name in SPECS and name != "cart_pole_lqr" else ""
+        events = f"events_file = '{out}/events.csv';" if name not in ("cart_pole_lqr", "oscillator") else ""
         script.append(f"cd('{out}'); clear options csv_file events_file; options = {options}; "
                       f"csv_file = '{out}/run.csv'; {events} {name}_run;")
     script.append(f"cd('{folder}/oscillator'); [h, r] = oscillator_simulate('u', @(t, y) -18 * y(1)); "
@@ -66,7 +83,7 @@ def runs(tmp_path_factory):
     return folder, specs, done.stderr
 
 
-@pytest.mark.parametrize("name", SPECS)
+@pytest.mark.parametrize("name", [*SPECS, "two_events"])
 def test_rows_and_events_agree_with_lagcli_simulate(runs, name):
     folder, specs, _ = runs
     expected = lagcli.load(specs[name]).simulate(t_end=T_END.get(name), backend="python")

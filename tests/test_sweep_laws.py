@@ -93,3 +93,16 @@ def test_bad_sweep_laws_are_exit_2(oscillator, tmp_path, law, message):
     result = run("sweep", oscillator, "--grid", "k=2:8:2", "--input", law, "-o", tmp_path / "s.csv")
     assert result.exit_code == 2 and message in result.stderr, result.stderr
     assert not (tmp_path / "s.csv").exists()
+
+
+def test_a_spec_with_events_is_refused_clearly_while_the_driver_does_not_run_them(tmp_path):
+    system = lagcli.load(HYBRID / "bouncing_ball.yaml")
+    try:
+        system.program("c")
+    except UsageError:
+        pass
+    else:
+        pytest.skip("the compiled driver runs events: the sweep takes such a spec")
+    result = run("sweep", HYBRID / "bouncing_ball.yaml", "--grid", "e=0.5:0.9:2", "-o", tmp_path / "s.csv")
+    assert result.exit_code == 2 and "bouncing_ball.yaml: lagcli sweep runs the compiled C driver" in result.stderr
+    assert not (tmp_path / "s.csv").exists()

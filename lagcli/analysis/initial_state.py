@@ -38,12 +38,13 @@ import numpy as np
 import sympy as sp
 
 from lagcli.render.spec_printer import spec_str
-from lagcli.errors import UsageError
+from lagcli.errors import UsageError, clip
+from lagcli.analysis.velocity_scale import NATURAL_FACTOR, ROUNDING, VelocityScale
 from lagcli.interface import CONSTRAINT_TOLERANCE as TOLERANCE
 
 _SOLVE_TOL = 1e-11      # what the least-squares solves aim for
+_ROW_ECHO = 60          # characters of a row's expression in a message: every row must fit
 _RCOND = 1e-8           # singular values of the free velocities' columns below this (relative) are not used
-_LARGEST_CHANGE = 1e3   # a repair may change velocities by at most this times the spec's scale
 
 
 @dataclass(frozen=True)
@@ -101,6 +102,10 @@ class _Origin:
         self.changed = [(p.symbol.name, params[p.symbol.name]) for p in d.model.parameters
                         if params[p.symbol.name] != p.value]
 
+    def overridden(self) -> bool:
+        """Whether the run changed anything of the spec's (values given for it, parameters)."""
+        return bool(self.given - self.soft or self.changed)
+
     def source(self, name: str) -> str:
         return self.sources.spec if name in self.soft else self.sources.override
 
@@ -130,7 +135,10 @@ class _Origin:
             said.append(f"{self.sources.override} gave {', '.join(overrides)}")
         if self.changed:
             said.append(f"{self.sources.parameter} gave {', '.join(n for n, _ in self.changed)}")
-        said = "; ".join(said) + "; " if said else ""
+        if not said:
+            return (f"  hint: correct the spec's {self.sources.spec} values, or leave out the ones the rows "
+                    "determine (they are solved for)")
+        said = "; ".join(said) + "; "
         return (f"  hint: {said}give fewer coordinates/velocities with {self.sources.override} "
                 "(the others are solved for), or a consistent state")
 
@@ -185,7 +193,12 @@ class _ConstraintFunctions:
         self._jac = sp.lambdify([q], phi.jacobian(q) if self.rows else phi, "numpy")
         self._A = sp.lambdify([q], A, "numpy")
         self._d = sp.lambdify([q], bias, "numpy")
+        self._M = lambda: sp.lambdify([q], sp.Matrix(d.mass_matrix).xreplace(subs), "numpy")
         self.n, self.m = len(q), len(d.constraints)
+
+    def mass_matrix(self, q) -> np.ndarray:
+        """M(q, t0); made only when a velocity repair is judged."""
+        return np.asarray(self._M()(q), dtype=float).reshape(self.n, self.n)
 
     def phi(self, q) -> np.ndarray:
         return np.asarray(self._phi(q), dtype=float).reshape(len(self.rows))
@@ -258,12 +271,13 @@ def _solve_velocities(f: _ConstraintFunctions, q, qd, free, d, origin) -> np.nda
         _fail(d, list(zip(d.constraints, residual)), "every velocity is given, so none can be solved for",
               origin, level="velocity")
     A = f.A(q)
-    scale = max(1.0, _worst(qd), _worst(residual))   # the spec's own scale of velocities
+    given = qd
     qd = qd.copy()       # unknowns not given are 0 here; soft ones keep their given values
     # least-norm change; directions the free velocities move only by a hair (singular values
     # below RCOND of the largest) are not used: they would "fix" a row with a huge velocity
-    change = np.linalg.lstsq(A[:, free], -(A @ qd + f.d(q)), rcond=_RCOND)[0]
-    qd[free] += change
+    change = np.zeros_like(qd)
+    change[free] = np.linalg.lstsq(A[:, free], -(A @ qd + f.d(q)), rcond=_RCOND)[0]
+    qd += change
     after = f.velocity_residual(q, qd)
     names = ", ".join(str(d.model.qd[k]) for k in free)
     if not np.all(np.isfinite(after)) or _worst(after) > TOLERANCE * 1e-2:
@@ -271,11 +285,32 @@ def _solve_velocities(f: _ConstraintFunctions, q, qd, free, d, origin) -> np.nda
                        if not abs(now) <= TOLERANCE * 1e-2]
         _fail(d, unsatisfied, f"the velocities solved for ({names}) cannot satisfy these rows", origin,
               level="velocity")
-    if _worst(change) > _LARGEST_CHANGE * scale:
-        _fail(d, list(zip(d.constraints, residual)),
-              f"the velocities solved for ({names}) would change by up to {_worst(change):.3g}, far beyond "
-              f"the given velocities' scale ({scale:.3g})", origin, level="velocity")
+    _judge_in_scale(VelocityScale.of(f.mass_matrix(q), given, A, residual), change, free, d, origin,
+                    list(zip(d.constraints, residual)))
     return qd
+
+
+def _judge_in_scale(scale: VelocityScale, change, free, d, origin: _Origin, rows) -> None:
+    """Refuse a repair out of the state's scale (lagcli.analysis.velocity_scale)."""
+    symbols = d.model.qd
+    fast = scale.too_fast(change, free)
+    if fast:
+        said = ", ".join(f"{symbols[k]} by {value:.3g} (natural velocity {natural:.3g})"
+                         for k, value, natural in fast)
+        _fail(d, rows, f"solving for the velocities would change {said}: over {NATURAL_FACTOR:g} times "
+              "the natural velocity of the given state's kinetic energy; the rows are ill-conditioned there",
+              origin, level="velocity")
+    moved = [k for k in free if symbols[k].name in origin.soft and change[k] != 0]
+    if moved and not origin.overridden():
+        only = np.zeros_like(change)
+        only[moved] = change[moved]
+        size = scale.relative(only)
+        if size > ROUNDING:
+            largest = sorted(moved, key=lambda k: -abs(change[k]))[:3]
+            said = ", ".join(f"{symbols[k]} by {change[k]:.3g}" for k in largest)
+            _fail(d, rows, f"the velocities not given cannot satisfy these rows; satisfying them would change "
+                  f"the spec's {origin.sources.spec} velocities by {size:.0%} of the state's scale ({said}), "
+                  f"more than rounding ({ROUNDING:.0%})", origin, level="velocity")
 
 
 def _worst(values) -> float:
@@ -287,8 +322,10 @@ def _fail(d, rows_and_residuals, reason: str, origin: _Origin, level: str = "pos
     lines = [f"{d.model.source}: the initial state violates the constraints ({reason}):"]
     for row, value in rows_and_residuals:
         if abs(value) > TOLERANCE or not np.isfinite(value):
+            # a named row with a long expression (a rolling contact's, pages long) by its name only
             label = f"{row.label!r}" if row.label else row.multiplier.name
-            lines.append(f"  constraint {label}: {spec_str(row.expr)} = 0 "
-                         f"({row.kind}; {level} residual {value:.3g})")
+            text = spec_str(row.expr)
+            written = label if row.label and len(text) > _ROW_ECHO else f"{label}: {clip(text, _ROW_ECHO)} = 0"
+            lines.append(f"  constraint {written} ({row.kind}; {level} residual {value:.3g})")
     lines.append(origin.hint())
     raise UsageError("\n".join(lines))

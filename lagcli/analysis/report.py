@@ -13,11 +13,15 @@ import numpy as np
 import sympy as sp
 
 from lagcli.analysis.stability import on_imaginary_axis
+from lagcli.report.notation import analysis_letters
 
 
 ROUND_OFF = 1000 * float(np.finfo(float).eps)   # relative size below which an entry is round-off
 ROUND_OFF_RULE = ("text and LaTeX show an entry as 0 when |entry| <= round_off x max|entry| of its matrix "
                   "(of G: of C); the JSON keeps every float as computed")
+
+POINT_ROUND_OFF_RULE = ("text shows a coordinate as 0 when |value| <= round_off x max(1, max|value|) "
+                        "of its point; the JSON keeps every float as computed")
 
 
 def shown(a, scale: float | None = None) -> np.ndarray:
@@ -26,6 +30,13 @@ def shown(a, scale: float | None = None) -> np.ndarray:
     a = np.asarray(a, dtype=float)
     size = np.max(np.abs(a), initial=0.0) if scale is None else scale
     return np.where(np.abs(a) <= ROUND_OFF * size, 0.0, a)
+
+
+def shown_point(point: dict) -> np.ndarray:
+    """The values of a point {coordinate: value} as text shows them: round-off of 0
+    (relative to the largest value, or to 1) is 0, so 7e-13 is not read as a position."""
+    values = np.array(list(point.values()), dtype=float)
+    return shown(values, max(1.0, float(np.max(np.abs(values), initial=0.0))))
 
 
 def number(x: float, digits: int = 10) -> str:
@@ -73,6 +84,7 @@ def linear_content(lin) -> dict:
         "negative_stiffness": lin.negative_stiffness,
         "verdict": lin.verdict,
         "round_off": {"relative": ROUND_OFF, "rule": ROUND_OFF_RULE},
+        "notation": lin.letters,
     }
 
 
@@ -120,26 +132,34 @@ def linear_text(c: dict) -> str:
         lines.append("warning: not an equilibrium or steady motion: "
                      + ", ".join(f"{s}' = {number(r)}" for s, r in zip(c["second_order"]["speeds"], rates)))
     lines.append("")
-    lines.append("x' = A x + B u,  x = (" + ", ".join(c["states"]) + ")"
-                 + (", u = (" + ", ".join(c["inputs"]) + ")" if c["inputs"] else ""))
-    lines += _matrix_text("A", c["states"], c["states"], np.array(c["A"]))
+    n, s = c["notation"], c["second_order"]
+    lines.append(first_order_line(n, c["states"], c["inputs"]))
+    lines += _matrix_text(n["A"], c["states"], c["states"], np.array(c["A"]))
     if c["inputs"]:
-        lines += _matrix_text("B", c["states"], c["inputs"], np.array(c["B"]))
-    s = c["second_order"]
+        lines += _matrix_text(n["B"], c["states"], c["inputs"], np.array(c["B"]))
     lines.append("")
-    lines.append("second-order form  M u' + C u + K q = B u_in,  u = (" + ", ".join(s["speeds"])
-                 + "), q = (" + ", ".join(s["coordinates"]) + ")")
-    lines += _matrix_text("M", s["speeds"], s["speeds"], np.array(s["M"]))
-    lines += _matrix_text("C", s["speeds"], s["speeds"], np.array(s["C"]))
+    lines.append(f"second-order form  {n['M']} {n['v']}' + {n['C']} {n['v']} + {n['K']} {n['q']} = "
+                 + (f"{n['F']} {n['u']}" if c["inputs"] else "0")
+                 + f",  {n['v']} = (" + ", ".join(s["speeds"]) + f"), {n['q']} = (" + ", ".join(s["coordinates"]) + ")")
+    lines += _matrix_text(n["M"], s["speeds"], s["speeds"], np.array(s["M"]))
+    lines += _matrix_text(n["C"], s["speeds"], s["speeds"], np.array(s["C"]))
     gyroscopic = shown(s["gyroscopic"], np.max(np.abs(np.array(s["C"])), initial=0.0))
     if np.any(gyroscopic):       # not round-off of a symmetric C printed as a physical effect
-        lines += _matrix_text("G = (C - C^T)/2 (gyroscopic)", s["speeds"], s["speeds"], gyroscopic)
-    lines += _matrix_text("K", s["speeds"], s["coordinates"], np.array(s["K"]))
+        lines += _matrix_text(f"{n['G']} = ({n['C']} - {n['C']}^T)/2 (gyroscopic)", s["speeds"], s["speeds"],
+                              gyroscopic)
+    lines += _matrix_text(n["K"], s["speeds"], s["coordinates"], np.array(s["K"]))
     if c["inputs"]:
-        lines += _matrix_text("B", s["speeds"], c["inputs"], np.array(s["B"]))
+        lines += _matrix_text(n["F"], s["speeds"], c["inputs"], np.array(s["B"]))
     lines.append("")
     lines += _modes_text(c)
     return "\n".join(lines) + "\n"
+
+
+def first_order_line(n: dict, states, inputs) -> str:
+    """`x' = A x + B u,  x = (...), u = (...)` in the output's letters `n` (`linear_letters`)."""
+    return (f"{n['x']}' = {n['A']} {n['x']}" + (f" + {n['B']} {n['u']}" if inputs else "")
+            + f",  {n['x']} = (" + ", ".join(states) + ")"
+            + (f", {n['u']} = (" + ", ".join(inputs) + ")" if inputs else ""))
 
 
 def _modes_text(c: dict) -> list[str]:
@@ -185,16 +205,25 @@ def bmatrix(a: np.ndarray) -> str:
 
 
 def linear_latex(c: dict, printer) -> str:
-    """A LaTeX fragment (amsmath): A, B, M, C, K and the eigenvalues; state names by `printer`."""
+    """A LaTeX fragment (amsmath): x' = A x + B u, M v' + C v + K q = F u with their
+    matrices, and the eigenvalues; state names by `printer`, letters `c["notation"]`."""
+    from lagcli.report.notation import linear_latex_letters
+
     def vec(names):
         return r"\begin{bmatrix}" + r" \\ ".join(printer(n) for n in names) + r"\end{bmatrix}"
 
-    s = c["second_order"]
+    s, n, inputs = c["second_order"], linear_latex_letters(c["notation"]), c["inputs"]
     out = [r"\begin{align*}",
-           rf"x &= {vec(c['states'])}, & A &= {bmatrix(np.array(c['A']))}"
-           + (rf", & B &= {bmatrix(np.array(c['B']))}" if c["inputs"] else "") + r" \\",
-           rf"M &= {bmatrix(np.array(s['M']))}, & C &= {bmatrix(np.array(s['C']))}, "
-           rf"& K &= {bmatrix(np.array(s['K']))}",
+           rf"{n['x']}' &= {n['A']}\,{n['x']}" + (rf" + {n['B']}\,{n['u']}" if inputs else "")
+           + rf", & {n['x']} &= {vec(c['states'])}" + (rf", & {n['u']} &= {vec(inputs)}" if inputs else "") + r" \\",
+           rf"{n['A']} &= {bmatrix(np.array(c['A']))}"
+           + (rf", & {n['B']} &= {bmatrix(np.array(c['B']))}" if inputs else "") + r" \\",
+           rf"{n['M']}\,{n['v']}' + {n['C']}\,{n['v']} + {n['K']}\,{n['q']} &= "
+           + (rf"{n['F']}\,{n['u']}" if inputs else "0")
+           + rf", & {n['v']} &= {vec(s['speeds'])}, & {n['q']} &= {vec(s['coordinates'])} \\",
+           rf"{n['M']} &= {bmatrix(np.array(s['M']))}, & {n['C']} &= {bmatrix(np.array(s['C']))}, "
+           rf"& {n['K']} &= {bmatrix(np.array(s['K']))}"
+           + (rf", & {n['F']} &= {bmatrix(np.array(s['B']))}" if inputs else ""),
            r"\end{align*}",
            "Eigenvalues: $" + ", ".join(complex_text(complex(*e), 6).replace("i", r"\,i")
                                          for e in c["eigenvalues"]) + "$; verdict: "
@@ -211,9 +240,11 @@ def equilibria_content(found, printer) -> dict:
             "eigenvalues": [_pair(s) for s in e.eigenvalues] if e.linearization else None,
             "frequencies": list(e.frequencies),
             "verdict": e.verdict,
+            "free": list(e.free),
         }
 
-    return {"name": found.name, "equilibria": [one(e) for e in found]}
+    return {"name": found.name, "equilibria": [one(e) for e in found],
+            "round_off": {"relative": ROUND_OFF, "rule": POINT_ROUND_OFF_RULE}}
 
 
 def equilibria_text(c: dict) -> str:
@@ -221,8 +252,10 @@ def equilibria_text(c: dict) -> str:
         return f"{c['name']}: no equilibrium found\n  hint: give a starting point with --guess NAME=VALUE,...\n"
     lines = [f"equilibria of {c['name']} (q' = 0):"]
     for k, e in enumerate(c["equilibria"], 1):
-        where = ", ".join(f"{q} = {number(v, 12)}" for q, v in e["coordinates"].items())
+        where = ", ".join(f"{q} = {number(v, 12)}" for q, v in zip(e["coordinates"], shown_point(e["coordinates"])))
         lines.append(f"{k}. {where}: {e['verdict']}")
+        if e["free"]:
+            lines.append(f"   the same for any {', '.join(e['free'])} (the equations at rest do not fix them)")
         if e["closed_form"]:
             lines.append("   closed form: " + ", ".join(f"{q} = {v}" for q, v in e["closed_form"].items()))
         if e["eigenvalues"] is not None:
@@ -246,6 +279,7 @@ def routh_content(r, printer) -> dict:
         "steady_motions": [{"coordinates": m.coordinates, "cyclic_rates": m.cyclic_rates,
                             "eigenvalues": [_pair(s) for s in m.eigenvalues],
                             "frequencies": list(m.frequencies)} for m in r.steady_motions],
+        "notation": analysis_letters(r.derivation)["text"],
     }
 
 
@@ -257,7 +291,8 @@ def routh_rows(r, d) -> list[str]:
     model = d.model
     printer._settings["symbol_names"].update({sp.Symbol(p, real=True): f"p_{{{printer.doprint(model.symbol(c))}}}"
                                               for p, c in zip(r.momenta, r.cyclic)})
-    rows = [rf"R &= {printer.doprint(r.R)}", rf"V_{{\mathrm{{eff}}}} &= {printer.doprint(r.effective_potential)}"]
+    R = analysis_letters(d)["latex"]["R"]
+    rows = [rf"{R} &= {printer.doprint(r.R)}", rf"V_{{\mathrm{{eff}}}} &= {printer.doprint(r.effective_potential)}"]
     rows += [rf"{printer.doprint(model.symbol(name))} &= {printer.doprint(e)}"
              for name, e in r.cyclic_velocities.items()]
     return rows + [rf"0 &= {printer.doprint(e)}" for e in r.reduced_equations]
@@ -266,7 +301,7 @@ def routh_rows(r, d) -> list[str]:
 def routh_text(c: dict) -> str:
     lines = [f"Routh reduction of {c['name']} over {', '.join(c['cyclic'])} "
              f"(momenta {', '.join(c['momenta'])} held constant)",
-             f"R = {c['routhian']}", f"V_eff = {c['effective_potential']}"]
+             f"{c['notation']['R']} = {c['routhian']}", f"V_eff = {c['effective_potential']}"]
     lines += [f"{name} = {expr}" for name, expr in c["cyclic_velocities"].items()]
     lines += ["reduced equations (= 0):"] + [f"  {e}" for e in c["reduced_equations"]]
     if not c["steady_motions"]:
@@ -288,34 +323,39 @@ def hamilton_content(h, printer) -> dict:
         "hamiltonian": printer(h.H) if h.H is not None else None,
         "equations": {name: printer(e) for name, e in h.equations.items()} if h.H is not None else None,
         "solved_form": h.H is None,
+        "notation": analysis_letters(h.derivation)["text"],
     }
 
 
 def hamilton_text(c: dict) -> str:
+    n = c["notation"]
+    H, M, a = n["H"], n["M"], n["a"]
     lines = [f"Hamilton's equations of {c['name']}", "momenta:"]
     lines += [f"  {p} = {e}" for p, e in c["momenta"].items()]
     if c["solved_form"]:
-        lines += ["H = 1/2 (p - a)^T M^-1 (p - a) - T0 + V   (M full and larger than 2 x 2: kept solved)",
-                  "q_dot = M^-1 (p - a),  p_dot = dL/dq + Q'  at that q_dot"]
+        lines += [f"{H} = 1/2 (p - {a})^T {M}^-1 (p - {a}) - {n['T']}0 + {n['V']}   "
+                  f"({M} full and larger than 2 x 2: kept solved)",
+                  f"q_dot = {M}^-1 (p - {a}),  p_dot = dL/dq + Q'  at that q_dot"]
     else:
-        lines.append(f"H = {c['hamiltonian']}")
+        lines.append(f"{H} = {c['hamiltonian']}")
         lines += [f"  {k} = {e}" for k, e in c["equations"].items()]
     return "\n".join(lines) + "\n"
 
 
-SOLVED_H = r"H &= \tfrac12 (p - a)^\mathsf{T} M^{-1} (p - a) - T_0 + V"
+SOLVED_H = r"{H} &= \tfrac12 (p - {a})^\mathsf{{T}} {M}^{{-1}} (p - {a}) - {T}_0 + {V}"
 
 
 def hamilton_rows(form, d) -> list[str]:
     """`lhs &= rhs` LaTeX rows: H and Hamilton's equations (H alone, solved, when M is large)."""
     from lagcli.report.latex_printer import LatexPrinter
 
+    n = analysis_letters(d)["latex"]
     if form.H is None:
-        return [SOLVED_H]
+        return [SOLVED_H.format(**n)]
     model = d.model
     printer = LatexPrinter(model)
     printer._settings["symbol_names"].update({p: f"p_{{{printer.doprint(q)}}}" for p, q in zip(form.momenta, model.q)})
-    rows = [rf"H &= {printer.doprint(form.H)}"]
+    rows = [rf"{n['H']} &= {printer.doprint(form.H)}"]
     for q, qd, pd in zip(model.q, form.qdot, form.pdot):
         rows.append(rf"\dot{{{printer.doprint(q)}}} &= {printer.doprint(qd)}")
         rows.append(rf"\dot p_{{{printer.doprint(q)}}} &= {printer.doprint(pd)}")
@@ -326,30 +366,41 @@ def hamilton_latex(form, d) -> str:
     """The command's LaTeX fragment (amsmath align*)."""
     if form.H is None:
         return ("% M is full and larger than 2 x 2: H is kept in its solved form\n"
-                r"\[ H = \tfrac12 (p - a)^\mathsf{T} M^{-1} (p - a) - T_0 + V \]" + "\n")
+                r"\[ " + SOLVED_H.format(**analysis_letters(d)["latex"]).replace("&=", "=") + r" \]" + "\n")
     return "\\begin{align*}\n" + " \\\\\n".join(hamilton_rows(form, d)) + "\n\\end{align*}\n"
+
+
+def symbolic_letters(d, lin) -> dict[str, str]:
+    """The letters of a symbolic linearization: none a name of the spec (its entries are
+    expressions of the parameters)."""
+    from lagcli.report.notation import linear_letters, user_names
+
+    return linear_letters((*user_names(d.model), *lin.states, *lin.inputs))
 
 
 def symbolic_content(d, lin, printer) -> dict:
     return {"name": d.model.name, "states": list(lin.states), "inputs": list(lin.inputs),
             "A": [[printer(e) for e in lin.A.row(i)] for i in range(lin.A.rows)],
-            "B": [[printer(e) for e in lin.B.row(i)] for i in range(lin.B.rows)]}
+            "B": [[printer(e) for e in lin.B.row(i)] for i in range(lin.B.rows)],
+            "notation": symbolic_letters(d, lin)}
 
 
 def symbolic_text(c: dict) -> str:
-    lines = [f"linearization of {c['name']} (symbolic)",
-             "x' = A x + B u,  x = (" + ", ".join(c["states"]) + ")"
-             + (", u = (" + ", ".join(c["inputs"]) + ")" if c["inputs"] else "")]
-    for label, rows in (("A", c["A"]), ("B", c["B"])):
+    n = c["notation"]
+    lines = [f"linearization of {c['name']} (symbolic)", first_order_line(n, c["states"], c["inputs"])]
+    for label, rows in ((n["A"], c["A"]), (n["B"], c["B"])):
         if rows and rows[0]:
             lines.append(f"{label} =")
             lines += [f"  {state}: [" + ", ".join(row) + "]" for state, row in zip(c["states"], rows)]
     return "\n".join(lines) + "\n"
 
 
-def symbolic_latex(lin, printer) -> str:
-    out = [r"\begin{align*}", rf"A &= {printer.doprint(lin.A)}"]
+def symbolic_latex(d, lin, printer) -> str:
+    from lagcli.report.notation import linear_latex_letters
+
+    n = linear_latex_letters(symbolic_letters(d, lin))
+    out = [r"\begin{align*}", rf"{n['A']} &= {printer.doprint(lin.A)}"]
     if lin.B.cols:
         out[-1] += r" \\"
-        out.append(rf"B &= {printer.doprint(lin.B)}")
+        out.append(rf"{n['B']} &= {printer.doprint(lin.B)}")
     return "\n".join(out + [r"\end{align*}", ""])

@@ -17,7 +17,7 @@ from html import escape
 
 import numpy as np
 
-from lagcli.analysis.report import bmatrix, complex_text, number, shown
+from lagcli.analysis.report import bmatrix, complex_text, number, shown, shown_point
 from lagcli.analysis.stability import Mode, modes_of
 
 _HTML_DIGITS = 6
@@ -43,7 +43,8 @@ class OperatingPoint:
 class Linearization:
     """x' = A x + B u about `point`, x = `states` (independent coordinates, then
     independent speeds), u = `inputs`; the second-order form
-    M u' + C u + K q = B_second u_in over `speeds` and `coordinates`.
+    M v' + C v + K q = F u over v = `speeds` and q = `coordinates`, F = `B_second`.
+    Displays write these letters as `letters` gives them (none a spec name).
     `eigenvalues` are A's without the zero modes there by structure (`neutral` names
     their states); `verdict` as docs/analysis.md, "Stability verdict"."""
 
@@ -68,6 +69,15 @@ class Linearization:
     latex_names: dict = field(default_factory=dict, repr=False)   # state/input name -> LaTeX
 
     @property
+    def letters(self) -> dict[str, str]:
+        """The letters its displays use for x, u, v, q, A, B, M, C, K, F, G: each one a
+        letter no name of the spec in the output takes (`lagcli.report.notation`)."""
+        from lagcli.report.notation import linear_letters
+
+        return linear_letters((*self.point.state, *self.point.parameters, *self.point.inputs,
+                               *self.states, *self.inputs))
+
+    @property
     def gyroscopic(self) -> np.ndarray:
         from lagcli.analysis.linearize import gyroscopic_part
 
@@ -89,13 +99,23 @@ class Linearization:
         return f"<Linearization of {self.name} about {where}: {self.verdict}; eigenvalues {values}>"
 
     def _repr_latex_(self) -> str:
-        name = self.latex_names.get
-        vector = ", ".join(name(s, _texttt(s)) for s in self.states)
-        rows = [rf"x &= \left({vector}\right)^\mathsf{{T}}"
-                + (r", \quad u = \left(" + ", ".join(name(u, _texttt(u)) for u in self.inputs) + r"\right)"
-                   if self.inputs else ""),
-                rf"A &= {bmatrix(self.A)}" + (rf", \quad B = {bmatrix(self.B)}" if self.inputs else ""),
-                rf"M &= {bmatrix(self.M)}, \quad C = {bmatrix(self.C)}, \quad K = {bmatrix(self.K)}",
+        from lagcli.report.notation import linear_latex_letters
+
+        name, n = self.latex_names.get, linear_latex_letters(self.letters)
+
+        def vector(names) -> str:
+            return r"\left(" + ", ".join(name(s, _texttt(s)) for s in names) + r"\right)^\mathsf{T}"
+
+        inputs = self.inputs
+        rows = [rf"{n['x']}' &= {n['A']}\,{n['x']}" + (rf" + {n['B']}\,{n['u']}" if inputs else "")
+                + rf", \quad {n['x']} = {vector(self.states)}"
+                + (rf", \quad {n['u']} = {vector(inputs)}" if inputs else ""),
+                rf"{n['A']} &= {bmatrix(self.A)}" + (rf", \quad {n['B']} = {bmatrix(self.B)}" if inputs else ""),
+                rf"{n['M']}\,{n['v']}' + {n['C']}\,{n['v']} + {n['K']}\,{n['q']} &= "
+                + (rf"{n['F']}\,{n['u']}" if inputs else "0")
+                + rf", \quad {n['v']} = {vector(self.speeds)}, \quad {n['q']} = {vector(self.coordinates)}",
+                rf"{n['M']} &= {bmatrix(self.M)}, \quad {n['C']} = {bmatrix(self.C)}, \quad {n['K']} = {bmatrix(self.K)}"
+                + (rf", \quad {n['F']} = {bmatrix(self.B_second)}" if inputs else ""),
                 r"\text{eigenvalues} &: " + (", ".join(complex_text(s, 6).replace("i", r"\,i")
                                                        for s in self.eigenvalues) or r"\text{none}"),
                 rf"\text{{verdict}} &: \text{{{self.verdict}}}"]
@@ -103,15 +123,22 @@ class Linearization:
 
     def _repr_html_(self) -> str:
         where = ", ".join(f"{k} = {number(v, _HTML_DIGITS)}" for k, v in self.point.state.items())
-        parts = [f"<p><b>{escape(self.name)}</b> linearized about {escape(where)}</p>",
-                 _html_matrix("A", self.A, self.states, self.states)]
+        n = self.letters
+        first = f"{n['x']}' = {n['A']} {n['x']}" + (f" + {n['B']} {n['u']}" if self.inputs else "")
+        second = (f"{n['M']} {n['v']}' + {n['C']} {n['v']} + {n['K']} {n['q']} = "
+                  + (f"{n['F']} {n['u']}" if self.inputs else "0"))
+        parts = [f"<p><b>{escape(self.name)}</b> linearized about {escape(where)}: "
+                 f"{escape(first)}; {escape(second)}</p>",
+                 _html_matrix(n["A"], self.A, self.states, self.states)]
         if self.inputs:
-            parts.append(_html_matrix("B", self.B, self.states, self.inputs))
-        parts += [_html_matrix("M", self.M, self.speeds, self.speeds),
-                  _html_matrix("C", self.C, self.speeds, self.speeds),
-                  _html_matrix("K", self.K, self.speeds, self.coordinates),
-                  f"<p>eigenvalues: {escape(', '.join(complex_text(s, _HTML_DIGITS) for s in self.eigenvalues))}"
-                  f"<br/>verdict: <b>{escape(self.verdict)}</b></p>"]
+            parts.append(_html_matrix(n["B"], self.B, self.states, self.inputs))
+        parts += [_html_matrix(n["M"], self.M, self.speeds, self.speeds),
+                  _html_matrix(n["C"], self.C, self.speeds, self.speeds),
+                  _html_matrix(n["K"], self.K, self.speeds, self.coordinates)]
+        if self.inputs:
+            parts.append(_html_matrix(n["F"], self.B_second, self.speeds, self.inputs))
+        parts.append(f"<p>eigenvalues: {escape(', '.join(complex_text(s, _HTML_DIGITS) for s in self.eigenvalues))}"
+                     f"<br/>verdict: <b>{escape(self.verdict)}</b></p>")
         return "<div>" + "".join(parts) + "</div>"
 
 
@@ -119,11 +146,13 @@ class Linearization:
 class Equilibrium:
     """A point of rest (q' = 0): `point` {coordinate: value}, `closed_form` {coordinate:
     sympy expression of the parameters} when solved symbolically, and its linearization
-    (None where the mass matrix is singular)."""
+    (None where the mass matrix is singular); `free`: the coordinates it is an equilibrium
+    for any value of (a disc upright anywhere, at any heading), shown at one value."""
 
     point: dict[str, float]
     closed_form: dict | None
     linearization: Linearization | None
+    free: tuple[str, ...] = ()
 
     @property
     def eigenvalues(self) -> np.ndarray:
@@ -140,7 +169,7 @@ class Equilibrium:
                              if m.eigenvalue.imag > 0}))
 
     def __repr__(self) -> str:
-        where = ", ".join(f"{k} = {number(v, 6)}" for k, v in self.point.items())
+        where = ", ".join(f"{k} = {number(v, 6)}" for k, v in zip(self.point, shown_point(self.point)))
         return f"<Equilibrium {where}: {self.verdict}>"
 
 
@@ -163,13 +192,14 @@ class Equilibria:
 
     def __repr__(self) -> str:
         return (f"<Equilibria of {self.name}: {len(self)} found" + "".join(
-            f"; {', '.join(f'{k} = {number(v, 6)}' for k, v in e.point.items())} {e.verdict}" for e in self) + ">")
+            f"; {', '.join(f'{k} = {number(v, 6)}' for k, v in zip(e.point, shown_point(e.point)))} {e.verdict}"
+            for e in self) + ">")
 
     def _repr_html_(self) -> str:
         names = list(self.found[0].point) if self.found else []
         head = "".join(f"<th>{escape(n)}</th>" for n in ["", *names, "verdict", "eigenvalues"])
         rows = "".join(
-            f"<tr><td>{k}</td>" + "".join(f"<td>{number(v, _HTML_DIGITS)}</td>" for v in e.point.values())
+            f"<tr><td>{k}</td>" + "".join(f"<td>{number(v, _HTML_DIGITS)}</td>" for v in shown_point(e.point))
             + f"<td>{escape(e.verdict)}</td>"
             + f"<td>{escape(', '.join(complex_text(s, _HTML_DIGITS) for s in e.eigenvalues))}</td></tr>"
             for k, e in enumerate(self, 1))

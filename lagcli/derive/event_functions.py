@@ -28,15 +28,26 @@ class EventFunction:
     restitution: sp.Expr | None = None       # impact: e (parameters only)
     reset: tuple[tuple[str, sp.Expr], ...] = ()
     loc: Loc | None = None
+    hold_bias: sp.Expr | None = None         # rest: G q'' = hold_bias keeps g'' = 0 (see below)
 
 
 def event_functions(model: Model) -> tuple[EventFunction, ...]:
     """One `EventFunction` per item of the spec's `events:`, in spec order."""
     result = []
     for e in model.events:
-        G, g_t = (), sp.S.Zero
+        G, g_t, hold = (), sp.S.Zero, None
         if e.action == "impact":
             G = tuple(sp.diff(e.when, q) for q in model.q)
             g_t = sp.diff(e.when, model.t)
-        result.append(EventFunction(e.name, e.action, e.direction, e.when, G, g_t, e.restitution, e.reset, e.loc))
+        if e.rest:
+            hold = _hold_bias(model, G, g_t)
+        result.append(EventFunction(e.name, e.action, e.direction, e.when, G, g_t, e.restitution, e.reset, e.loc,
+                                    hold))
     return tuple(result)
+
+
+def _hold_bias(model: Model, G, g_t) -> sp.Expr:
+    """A held contact (`rest: true`) is the constraint g = 0: with w = G q' + g_t its
+    velocity, g'' = G q'' + dw/dt|q'' = 0 gives G q'' = -(dw/dt + sum_j dw/dq_j q'_j)."""
+    w = sum((G_k * qd for G_k, qd in zip(G, model.qd)), g_t)
+    return -(sp.diff(w, model.t) + sum(sp.diff(w, q) * qd for q, qd in zip(model.q, model.qd)))

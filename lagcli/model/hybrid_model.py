@@ -99,7 +99,7 @@ def _event(builder, checks: _Checks, e) -> EventSpec:
         restitution = builder.expr(e.restitution, check=checks.constant)
         _in_unit_interval(builder, restitution, e.restitution)
     reset = tuple((item.name, builder.expr(item.expr, check=checks.state)) for item in e.reset)
-    return EventSpec(e.name, when, e.direction, e.action, restitution, reset, e.loc)
+    return EventSpec(e.name, when, e.direction, e.action, restitution, reset, e.loc, e.rest)
 
 
 def _in_unit_interval(builder, value: sp.Expr, src: Src) -> None:

@@ -137,6 +137,7 @@ class EventSpec:
     restitution: sp.Expr | None        # impact: parameters only
     reset: tuple[tuple[str, sp.Expr], ...] = ()   # state name -> new value (of the state before)
     loc: Loc | None = None
+    rest: bool = False                 # impact: hold the contact g = 0 after an accumulation
 
 
 @dataclass(frozen=True)

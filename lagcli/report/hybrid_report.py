@@ -20,6 +20,8 @@ def _event(e, p) -> dict:
     item = {"name": e.name, "action": e.action, "direction": e.direction, "when": p(e.g)}
     if e.action == "impact":
         item.update(G=[p(x) for x in e.G], g_t=p(e.g_t), restitution=p(e.restitution))
+        if e.hold_bias is not None:
+            item["rest"] = True
     if e.action == "reset":
         item["reset"] = {name: p(value) for name, value in e.reset}
     return item
@@ -34,6 +36,8 @@ def check_lines(d) -> list[str]:
         line = f"event       : {e.name}: {e.action} where {spec_str(e.g)} crosses 0 ({e.direction})"
         if e.action == "impact":
             line += f"; G = [{', '.join(spec_str(x) for x in e.G)}], e = {spec_str(e.restitution)}"
+            if e.hold_bias is not None:
+                line += "; held at rest after an accumulation (rest: true)"
         if e.action == "reset":
             line += "; " + ", ".join(f"{name} <- {spec_str(v)}" for name, v in e.reset)
         lines.append(line)

@@ -180,3 +180,65 @@ def notation_of(d, also: tuple[str, ...] = ()) -> Notation:
             name += "_"
         texts.append((letter, name))
     return Notation(yielded, tuple(texts))
+
+
+# -- the letters of a linear model (`lagcli linearize`, `Linearization`) ---------------
+#
+#     x' = A x + B u                 x: state, u: inputs
+#     M v' + C v + K q = F u         v: independent speeds, q: independent coordinates,
+#                                    F: the second-order form's input matrix
+#
+# One letter, one thing in one output: a letter the spec uses for a name of its own
+# (a coordinate x, an input F, a parameter K) yields to the next candidate; a matrix
+# with no candidate left is written `A_lin` (LaTeX: bold A).
+LINEAR_CANDIDATES = {
+    "x": ("x", "z", "s", "w"),
+    "u": ("u", "w", "e", "r"),
+    "v": ("v", "w", "s", "r"),
+    "q": ("q", "r", "p"),
+    "A": ("A",), "B": ("B",), "M": ("M",), "C": ("C",), "K": ("K",), "G": ("G",),
+    "F": ("F", "H", "E"),
+}
+
+
+def linear_letters(names) -> dict[str, str]:
+    """{role: shown letter} of a linear model's own letters (LINEAR_CANDIDATES), none of
+    them one of `names` (the spec's names in that output) nor another role's letter."""
+    taken = set(names)
+    letters = {}
+    for role, candidates in LINEAR_CANDIDATES.items():
+        letter = next((c for c in candidates if c not in taken), None)
+        if letter is None:
+            letter = role + "_lin"
+            while letter in taken:
+                letter += "_"
+        taken.add(letter)
+        letters[role] = letter
+    return letters
+
+
+def linear_latex_letters(letters: dict[str, str]) -> dict[str, str]:
+    """The same letters in LaTeX (a yielded matrix bold)."""
+    return {role: rf"\mathbf{{{role}}}" if "_lin" in letter else letter for role, letter in letters.items()}
+
+
+# The analyses' own scalars: the Hamiltonian H (`lagcli hamiltonian`) and the Routhian R
+# (`lagcli routh`), which yield like the report's letters.
+ANALYSIS_QUANTITIES = {q.letter: q for q in (
+    Quantity("H", "Ham", "script", "the Hamiltonian"),
+    Quantity("R", "Routh", "script", "the Routhian"),
+)}
+
+
+def analysis_letters(d) -> dict[str, dict[str, str]]:
+    """{"text": {letter: name}, "latex": {letter: LaTeX}} of the analyses' H and R and of
+    the report's letters their displays use (M, a, T, V): each one the letter itself
+    unless the spec names something with it."""
+    taken = user_names(d.model)
+    report = notation_of(d)
+    text = {letter: report.text(letter) for letter in "MaTV"}
+    latex = {letter: report.latex(letter) for letter in "MaTV"}
+    for letter, quantity in ANALYSIS_QUANTITIES.items():
+        text[letter] = quantity.text if letter in taken else letter
+        latex[letter] = quantity.latex if letter in taken else letter
+    return {"text": text, "latex": latex}

@@ -23,7 +23,9 @@ infinitely often before a finite time). It ends, with a note, at the event where
 the last row is the state after that event, at its time. Right after an event, the
 event just handled is watched on 8 samples of the first step's dense output (its g
 starts at zero): a return to zero within that step is found too, and one that cannot
-be resolved there counts as an accumulation.
+be resolved there counts as an accumulation. An impact event with `rest: true` that
+accumulates does not end the run: its contact is held from there on as a constraint
+(lagcli/run/contact.py), without that event, and the run goes on to t_end with a note.
 """
 from __future__ import annotations
 
@@ -33,8 +35,10 @@ from scipy.optimize import brentq
 from lagcli.errors import SimulationError
 from lagcli.interface import (ACCUMULATION_GAP, EVENT_BUDGET, FIRST_STEP_SAMPLES, RESTING_SPEED,
                               STEP_BUDGET_TEXT)
+from lagcli.run.contact import hold_contact, hold_note
 from lagcli.run.impact import approach_speed, impact
-from lagcli.run.records import EventRecord
+from lagcli.runtime.run_rules import max_step
+from lagcli.run.records import EventRecord, end_note
 
 _XTOL = 4 * np.finfo(float).eps
 
@@ -42,8 +46,8 @@ _XTOL = 4 * np.finfo(float).eps
 class _End(Exception):
     """The run ends early at an event (stop, accumulation, budget): `note` says why."""
 
-    def __init__(self, note: str | None):
-        self.note = note
+    def __init__(self, note: str | None, event: int | None = None, why: str = ""):
+        self.note, self.event, self.why = note, event, why     # event: the one that accumulates
 
 
 def run_events(solver_class, fun, row, y0, s, cap, hybrid, times, sink, progress, check, residual):
@@ -56,16 +60,23 @@ def run_events(solver_class, fun, row, y0, s, cap, hybrid, times, sink, progress
     t0, y, fired = 0.0, np.array(y0, dtype=float), None
     pending = next(times, None)
     budget = _StepBudget(s.step_budget)
-    try:
-        while True:
+    held = None                       # the note of a contact held after its accumulation (rest: true)
+    while True:
+        try:
             solver = solver_class(fun, t0, y, s.t_end, rtol=s.rtol, atol=s.atol, max_step=cap)
-            hit, pending = _segment(solver, hybrid, fired, pending, times, row, sink, progress, check, budget)
+            hit, pending = _segment(solver, state.hybrid, fired, pending, times, row, sink, progress, check,
+                                    budget)
             if hit is None:
-                return None
+                return held
             t0, y, fired = state.act(*hit, residual)
-    except _End as end:
-        sink.add_row(row(state.t, state.y))
-        return end.note
+        except _End as end:
+            if end.event is None or held is not None or state.hybrid.events[end.event].hold_bias is None:
+                sink.add_row(row(state.t, state.y))
+                return end.note
+            name = state.hybrid.events[end.event].name
+            fun, state.hybrid, y = hold_contact(state.hybrid, end.event, fun, state.t, state.y, s.alpha, s.beta)
+            t0, fired, held = state.t, None, hold_note(name, state.t, end.why)
+            cap = max_step(s.method, s.alpha, s.beta, True)
 
 
 class _StepBudget:
@@ -116,7 +127,7 @@ def _earliest(events, g_old, g_new, t_old, t_new, dense, fired):
     best = None
     for k, e in enumerate(events):
         if fired is not None and k == fired[0]:
-            bracket = _bracket_after_event(e, t_old, t_new, dense, fired[1])
+            bracket = _bracket_after_event(k, e, t_old, t_new, dense, fired[1])
         else:
             bracket = (t_old, t_new) if _crosses(e.direction, g_old[k], g_new[k]) else None
         if bracket is None:
@@ -134,7 +145,7 @@ def _crosses(direction: str, before: float, after: float) -> bool:
     return falling if direction == "falling" else rising if direction == "rising" else falling or rising
 
 
-def _bracket_after_event(e, t_old, t_new, dense, from_zero: bool):
+def _bracket_after_event(k, e, t_old, t_new, dense, from_zero: bool):
     """The event just handled, in the first step after it: where, if anywhere, does g
     cross again in its direction? Found on FIRST_STEP_SAMPLES samples of the step
     (`from_zero`: after an impact g starts at exactly zero)."""
@@ -147,8 +158,7 @@ def _bracket_after_event(e, t_old, t_new, dense, from_zero: bool):
     wrong_side = first is not None and ((e.direction == "falling" and first < 0)
                                         or (e.direction == "rising" and first > 0))
     if first is None or (from_zero and wrong_side):
-        raise _End(f"event '{e.name}' recurs at t = {t_old:.10g} faster than the integrator's step can "
-                   "resolve (accumulation); the run ends there")
+        raise _End(end_note("unresolved", e.name, t_old, t_old), k, "it recurs faster than a step resolves")
     return None
 
 
@@ -165,7 +175,7 @@ class _State:
         e = self.hybrid.events[k]
         y_minus = np.asarray(y_minus, dtype=float)
         self.t, self.y = t, y_minus
-        impulse, note = None, None
+        impulse, note, why = None, None, ""
         if e.action == "stop":
             self._record(t, e, y_minus, y_minus, None)
             raise _End(None)
@@ -174,17 +184,18 @@ class _State:
             self._check_constraints(e, t, y_plus, residual)
         else:
             y_plus, impulse, note = self._impact(e, t, y_minus)
+            why = "the contact has come to rest"
         self._record(t, e, y_minus, y_plus, impulse)
         self.y = y_plus
         gap = t - self.last.get(e.name, -np.inf)
         self.last[e.name] = t
         if note is None and gap < ACCUMULATION_GAP * max(1.0, abs(t)):
-            note = (f"event '{e.name}' recurred after {gap:.3g} s at t = {t:.10g} "
-                    f"(accumulation: closer than {ACCUMULATION_GAP:g} x max(1, t)); the run ends there")
+            note = end_note("recurred", e.name, t, gap)
+            why = f"it recurred after {gap:.3g} s"
         if note is None and len(self.records) >= EVENT_BUDGET:
-            note = f"{EVENT_BUDGET} events (the budget of one run) by t = {t:.10g}; the run ends there"
+            raise _End(end_note("budget", e.name, t, EVENT_BUDGET))
         if note is not None:
-            raise _End(note)
+            raise _End(note, k, why)
         return t, y_plus, k
 
     def _impact(self, e, t, y_minus):
@@ -201,9 +212,7 @@ class _State:
         self.fastest[e.name] = max(self.fastest.get(e.name, 0.0), before)
         note = None
         if after <= RESTING_SPEED * self.fastest[e.name]:
-            note = (f"event '{e.name}' at t = {t:.10g}: separation speed {after:.3g} after the impact "
-                    f"(below {RESTING_SPEED:g} x the largest approach speed: the contact has come to rest); "
-                    "the run ends there")
+            note = end_note("resting", e.name, t, after)
         return y_plus, P, note
 
     def _check_constraints(self, e, t, y_plus, residual) -> None:

@@ -8,6 +8,7 @@
         direction: falling                # falling (default) | rising | either
         action: impact                    # impact | reset | stop
         restitution: e                    # impact: a constant expression in [0, 1]
+        rest: true                        # impact: after an accumulation, hold g = 0 (default false)
       - {name: step, when: theta + alpha, action: reset, reset: {theta: theta + 2*alpha}}
 
 Shapes, names and references are checked here; what the expressions may depend on
@@ -65,9 +66,23 @@ def _event(checker, path: KeyPath, value: Any, names: set[str]) -> Event | None:
     when = checker.expr(path + ("when",), table["when"]) if "when" in table else None
     restitution = _restitution(checker, path, table, action)
     reset = _reset(checker, path, table, action)
-    if None in (name, direction, action, when, reset):
+    rest = _rest(checker, path, table, action)
+    if None in (name, direction, action, when, reset, rest):
         return None
-    return Event(name, when, direction, action, restitution, reset, checker.raw.loc(path))
+    return Event(name, when, direction, action, restitution, reset, checker.raw.loc(path), rest)
+
+
+def _rest(checker, path: KeyPath, table: dict, action: str | None) -> bool | None:
+    """`rest: true`: after an accumulation, hold the impact's contact g = 0 as a constraint."""
+    value = table.get("rest", False)
+    if not isinstance(value, bool):
+        checker.fail(path + ("rest",), f"expected true or false; got {value!r}")
+        return None
+    if value and action not in ("impact", None):
+        checker.fail(path + ("rest",), f"'rest' belongs to an impact, not a {action}",
+                     "a contact can rest only where an impact closes it")
+        return None
+    return value
 
 
 def _choice(checker, path: KeyPath, value: Any, choices: tuple[str, ...], what: str) -> str | None:

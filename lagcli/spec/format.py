@@ -70,6 +70,7 @@ NAME = ref("name")
 EXPRESSION = ref("expression")
 VECTOR = ref("vector")
 STRING = {"type": "string"}
+BOOLEAN = {"type": "boolean"}
 
 # The shapes every table uses, by name ($defs of the JSON Schema).
 SHAPES: dict[str, dict] = {
@@ -115,7 +116,7 @@ ACTIONS = ("impact", "reset", "stop")
 EVENT = Table("event", "what happens where g = `when` crosses zero: an impact, a reset or a stop",
               {"name": NAME, "when": EXPRESSION, "direction": {"enum": list(DIRECTIONS)},
                "action": {"enum": list(ACTIONS)}, "restitution": EXPRESSION,
-               "reset": mapping_of(EXPRESSION, names=False)}, ("when", "action"))
+               "reset": mapping_of(EXPRESSION, names=False), "rest": BOOLEAN}, ("when", "action"))
 FRAME = Table("frame", "a frame: rotations from its parent (default: the inertial frame)",
               {"parent": STRING, "rotations": ROTATIONS}, ("rotations",))
 WHEEL = Table("wheel", "a disc rolling on its rim", {"radius": EXPRESSION, "axis": {"enum": list(AXES)}},

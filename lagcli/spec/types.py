@@ -188,6 +188,7 @@ class Event:
     restitution: Src | None                  # impact only
     reset: tuple[Named, ...]                 # reset only: state name -> new value
     loc: Loc
+    rest: bool = False                       # impact only: hold the contact after an accumulation
 
 
 @dataclass(frozen=True)

@@ -10,6 +10,7 @@ every Function that uses it) and wraps them as `casadi.Function`s:
     mass_matrix, forcing, constraint_matrix, constraint_bias, multipliers, energy,
     invariants (t, x, p, u)
     dae() -> {"t", "x", "p", "u", "ode"}       for casadi.integrator
+    inputs(t, x, p) -> u, rhs_closed_loop(t, x, p) -> ode     the spec's input laws (if any)
 
 casadi itself is imported by the generated module only (`pip install "lagcli[casadi]"`).
 Everything but the printer and the template is shared with the other languages
@@ -20,7 +21,9 @@ from __future__ import annotations
 from sympy.printing.pycode import PythonCodePrinter
 
 from lagcli.derive.result import Derivation
+from lagcli.interface import Layout
 from lagcli.targets import codegen
+from lagcli.targets.laws import printed_laws
 from lagcli.targets.python import PythonPrinter
 from lagcli.targets.slots import SlotPrinter
 from lagcli.render.templates import render
@@ -56,14 +59,17 @@ class CasadiPrinter(SlotPrinter, PythonCodePrinter):
         return self.nested_call("casadi.fmax", expr.args)
 
 
-def casadi_module(d: Derivation, initial=None, initial_notes=()) -> str:
+def casadi_module(d: Derivation, layout: Layout, initial=None, initial_notes=()) -> str:
     """The text of the generated CasADi module for `d` (`initial`, `initial_notes`: see
     `lagcli.targets.about.interface`)."""
-    context = codegen.generated_context(d, CasadiPrinter, initial, initial_notes)
+    context = codegen.generated_context(d, CasadiPrinter, layout, initial, initial_notes)
     holonomic = tuple(name for name, row in zip(context["i"].multipliers, d.constraints)
                       if row.kind == "holonomic")
+    laws = printed_laws(d, CasadiPrinter)
+    defaults = [CasadiPrinter.literal(default) for _, default in context["i"].inputs]
     return render("casadi/module.py.jinja", **context, shared=_shared_temporaries(context),
-                  holonomic=holonomic)
+                  holonomic=holonomic, laws=laws,
+                  laws_code=[code if code is not None else default for (_, code, _), default in zip(laws, defaults)])
 
 
 def _shared_temporaries(context: dict) -> tuple[tuple[str, str], ...]:
@@ -78,5 +84,5 @@ def _shared_temporaries(context: dict) -> tuple[tuple[str, str], ...]:
     return tuple(ordered)
 
 
-def casadi_files(d: Derivation, initial=None, initial_notes=()) -> dict[str, str]:
-    return {f"{d.model.name}.py": casadi_module(d, initial, initial_notes)}
+def casadi_files(d: Derivation, layout: Layout, initial=None, initial_notes=()) -> dict[str, str]:
+    return {f"{layout.name}.py": casadi_module(d, layout, initial, initial_notes)}

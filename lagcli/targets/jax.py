@@ -3,6 +3,7 @@
     mass_matrix, forcing, constraint_matrix, constraint_bias (t, y, p, u=None)
     accelerations(t, y, p, u=None, baumgarte=None) -> (q'', lambda)
     rhs, multipliers, invariants (t, y, p, u=None)
+    inputs(t, y, p), rhs_closed_loop(t, y, p)            the spec's input laws (if any)
 
 Each is a pure function of arrays (no Python branch on a value, no side effect), so
 `jax.jit`, `jax.vmap`, `jax.grad` and `jax.jacfwd` take it; the augmented system
@@ -17,7 +18,9 @@ from __future__ import annotations
 from sympy.printing.numpy import JaxPrinter as SympyJaxPrinter
 
 from lagcli.derive.result import Derivation
+from lagcli.interface import Layout
 from lagcli.targets import codegen
+from lagcli.targets.laws import printed_laws
 from lagcli.targets.python import PythonPrinter
 from lagcli.targets.slots import SlotPrinter
 from lagcli.render.templates import render
@@ -43,8 +46,8 @@ class JaxPrinter(SlotPrinter, SympyJaxPrinter):
         return self.nested_call("jax.numpy.maximum", expr.args)
 
 
-def jax_files(d: Derivation, initial=None, initial_notes=()) -> dict[str, str]:
+def jax_files(d: Derivation, layout: Layout, initial=None, initial_notes=()) -> dict[str, str]:
     """{<name>.py: the text of the generated JAX module} (`initial`, `initial_notes`: see
     `lagcli.targets.about.interface`)."""
-    context = codegen.generated_context(d, JaxPrinter, initial, initial_notes)
-    return {f"{d.model.name}.py": render("jax/module.py.jinja", **context)}
+    context = codegen.generated_context(d, JaxPrinter, layout, initial, initial_notes)
+    return {f"{layout.name}.py": render("jax/module.py.jinja", **context, laws=printed_laws(d, JaxPrinter))}

@@ -26,6 +26,7 @@ class NumericEvent:
     g_t: Callable | None         # impact: (t, y) -> dg/dt
     restitution: float | None
     reset: Callable | None       # reset: (t, y) -> new y
+    hold_bias: Callable | None = None   # rest: (t, y) -> the held contact's G q'' (lagcli/derive/event_functions.py)
 
 
 @dataclass(frozen=True)
@@ -94,7 +95,8 @@ def _numeric_event(e, function, model, values) -> NumericEvent:
             for k, f in slots:                      # every value from the state before
                 new[k] = f(t, y)
             return new
-    return NumericEvent(e.name, e.action, e.direction, function(e.g), G, g_t, restitution, reset)
+    hold = function(e.hold_bias) if e.hold_bias is not None else None
+    return NumericEvent(e.name, e.action, e.direction, function(e.g), G, g_t, restitution, reset, hold)
 
 
 def _inputs(model, inputs: dict, function) -> Callable | None:

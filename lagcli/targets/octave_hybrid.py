@@ -14,7 +14,7 @@ from __future__ import annotations
 from lagcli.interface import ACCUMULATION_GAP, EVENT_BUDGET, FIRST_STEP_SAMPLES, RESTING_SPEED
 from lagcli.targets.fmu_events import DIRECTION_CODES
 from lagcli.render.spec_printer import spec_str
-from lagcli.targets.slots import check_slots
+from lagcli.targets.laws import printed_laws, state_printer
 
 EVENT_FILES = ("events", "event_action")
 
@@ -22,19 +22,9 @@ EVENT_FILES = ("events", "event_action")
 def hybrid_context(d, printer_class) -> dict:
     """`laws` (per input: its law printed, or None) and `events` (their printed parts)."""
     model = d.model
-    base, subscript = printer_class.index_base, printer_class.subscript
-    table = {model.t: "t"}
-    table.update({s: subscript.format(array="y", index=k + base) for k, s in enumerate((*model.q, *model.qd))})
-    table.update({s: subscript.format(array="p", index=k + base) for k, s in enumerate(model.parameter_symbols)})
-    printer = printer_class(table)
-
-    def code(expr) -> str:
-        check_slots([expr], table)
-        return printer.code(expr)
-
-    given = {law.symbol.name: law.expr for law in model.laws}
-    laws = tuple((u.name, code(given[u.name]), spec_str(given[u.name])) if u.name in given else (u.name, None, None)
-                 for u in model.input_symbols) if given else ()
+    base = printer_class.index_base
+    code = state_printer(d, printer_class)
+    laws = printed_laws(d, printer_class)
     names = [s.name for s in (*model.q, *model.qd)]
     events = tuple(dict(name=e.name, action=e.action, direction=DIRECTION_CODES[e.direction], g=code(e.g),
                         when=spec_str(e.g),

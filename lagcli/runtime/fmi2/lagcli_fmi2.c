@@ -18,7 +18,8 @@
  * the augmented system with Baumgarte terms, alpha = LAGCLI_FMU_ALPHA, beta =
  * LAGCLI_FMU_BETA. Inputs live at the end of the model's value vector p, so setting one
  * changes the equations like a parameter. Co-Simulation integrates each communication step
- * with lagcli_ode (LAGCLI_FMU_METHOD, the spec's tolerances, the step cap of the C driver).
+ * with lagcli_ode (LAGCLI_FMU_METHOD, the spec's tolerances, the step cap of the C driver),
+ * in at most LAGCLI_FMU_MAX_STEPS steps (then fmi2Error, logged: a run never goes on for ever).
  *
  * A spec with `events:` defines LAGCLI_FMU_NEVENT (lagcli_fmu_model.h) and brings
  * lagcli_fmu_events.c: its event functions are the event indicators, and where one has
@@ -659,10 +660,16 @@ fmi2Status fmi2DoStep(fmi2Component component, fmi2Real currentCommunicationPoin
         say(c, fmi2Error, "logStatusError", "fmi2DoStep: the step size must be positive");
         return fmi2Error;
     }
-    rc = lagcli_ode_integrate(LAGCLI_FMU_METHOD, step_rhs, step_end, c, MODEL->nstate,
-                              currentCommunicationPoint, c->y, end, &end, 1, MODEL->rtol, MODEL->atol,
-                              LAGCLI_FMU_MAX_STEP, &stats);
+    rc = lagcli_ode_integrate_bounded(LAGCLI_FMU_METHOD, step_rhs, step_end, c, MODEL->nstate,
+                                      currentCommunicationPoint, c->y, end, &end, 1, MODEL->rtol, MODEL->atol,
+                                      LAGCLI_FMU_MAX_STEP, LAGCLI_FMU_MAX_STEPS, &stats);
     c->stale = 1;
+    if (rc == LAGCLI_ODE_ERR_MAX_STEPS) {
+        say(c, fmi2Error, "logStatusError", "fmi2DoStep: at t = %.17g: the integration reached its bound of %ld "
+            "steps in one communication step (a stiff or blowing-up solution?); use shorter communication steps",
+            stats.t, LAGCLI_FMU_MAX_STEPS);
+        return fmi2Error;
+    }
     if (rc != LAGCLI_ODE_OK) {
         say(c, fmi2Error, "logStatusError", "fmi2DoStep: integration failed at t = %.17g: %s", stats.t,
             stats.message);

@@ -55,7 +55,7 @@ while true
     [k, t_star, y_minus, ended] = locate(gfun, fun, IE(1), T(ja), Y(ja, :).', TE(1), T, fired, model);
     if ended
         note = sprintf(['event ''%s'' recurs at t = %.10g faster than the integrator''s step can ', ...
-                        'resolve (accumulation); the run ends there'], model.names{IE(1)}, t0);
+                        'resolve (accumulation); the run ends there'], model.names{k}, t0);
         [times_out, states] = add_rows(times_out, states, times, t0, t0, y, [], [], fun, true);
         return;
     end
@@ -110,59 +110,87 @@ end
 end
 
 function [k, t_star, y_star, ended] = locate(gfun, fun, k, ta, ya, t_guess, T, fired, model)
-% The root of event k's g after the accepted step (ta, ya), in its direction.
-[~, ~, direction] = gfun(ta, ya);
-dir = direction(k);
+% The earliest zero crossing, in its event's direction, of any event after the accepted
+% step (ta, ya), where ode45 reported event k near t_guess: (event, time, state there).
+[g_ta, ~, direction] = gfun(ta, ya);
+g_ta = g_ta(:).';
+if fired > 0
+    g_ta(fired) = 0;
+end
 step = @(t) dp_step(fun, ta, ya, t - ta);
-g = @(t) pick(gfun(t, step(t)), k);
+g = @(t) row(gfun(t, step(t)));
 later = T(T > ta);
 hi = max([t_guess, later(1:min(1, end))]);
 if hi <= ta
     hi = ta + max(eps(ta), 1e-12);
 end
 ended = false;
-g_ta = pick(gfun(ta, ya), k);
-if fired == k
-    g_ta = 0;
-end
+t_star = ta;
+y_star = ya;
 while true
     samples = linspace(ta, hi, model.samples + 1);
-    values = [g_ta, zeros(1, model.samples)];
+    before = g_ta;
     for j = 2:numel(samples)
-        values(j) = g(samples(j));
-        if crosses(dir, values(j - 1), values(j))
-            [t_star, y_star] = illinois(g, step, samples(j - 1), samples(j), values(j - 1), values(j));
+        after = g(samples(j));
+        [found, k, t_star, y_star] = earliest(g, step, direction, samples(j - 1), samples(j), before, after);
+        if found
             return;
         end
+        if j == 2
+            second = after;
+        end
+        before = after;
     end
-    if fired ~= k || dir == 0 || values(2) * dir < 0
+    if fired == 0 || direction(fired) == 0 || second(fired) * direction(fired) < 0
         break;                  % the first sample on the side before a crossing
     end
-    % just after an impact of this event, the first sample is already past a crossing:
-    % the next impact came sooner; look closer, down to the accumulation gap
+    % just after an impact, the first sample is already past a crossing of its gap: the
+    % next impact came sooner; look closer, down to the accumulation gap
     if samples(2) - ta < model.gap * max(1, abs(ta))
+        k = fired;
         ended = true;
-        t_star = ta;
-        y_star = ya;
         return;
     end
     hi = samples(2);
 end
 % the crossing lies beyond the estimate: widen the window
 a = hi;
-ga = values(end);
+before = g(a);
 for widen = 1:30
     b = ta + 2 * (a - ta);
-    gb = g(b);
-    if crosses(dir, ga, gb)
-        [t_star, y_star] = illinois(g, step, a, b, ga, gb);
+    after = g(b);
+    [found, k, t_star, y_star] = earliest(g, step, direction, a, b, before, after);
+    if found
         return;
     end
     a = b;
-    ga = gb;
+    before = after;
 end
 error('lagcli:event', 'event ''%s'': its zero crossing could not be located after t = %.10g', ...
       model.names{k}, ta);
+end
+
+function [found, k, t_star, y_star] = earliest(g, step, direction, a, b, before, after)
+% The earliest root in [a, b] among the events whose g crosses there in their direction.
+found = false;
+k = 0;
+t_star = Inf;
+y_star = [];
+for i = 1:numel(after)
+    if crosses(direction(i), before(i), after(i))
+        [t, y] = illinois(@(t) pick(g(t), i), step, a, b, before(i), after(i));
+        if t < t_star
+            found = true;
+            k = i;
+            t_star = t;
+            y_star = y;
+        end
+    end
+end
+end
+
+function values = row(values)
+values = values(:).';
 end
 
 function value = pick(values, k)

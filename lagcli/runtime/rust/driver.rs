@@ -5,6 +5,7 @@
 //!
 //!     <name> [--t-end T] [--dt DT] [--method RK45|DOP853] [--rtol R] [--atol A]
 //!            [--set NAME=VALUE]... [--init NAME=VALUE]... [--baumgarte ALPHA BETA]
+//!            [--max-steps N]
 //!                               (--set: a parameter, or an input held at VALUE; inputs
 //!                               not set keep the spec's defaults, as in the C driver)
 //!     <name> --rhs              read lines "t y... p..." on stdin, print dy/dt per line
@@ -17,8 +18,10 @@
 //! multipliers are those of the Baumgarte-stabilised system integrated, the step is capped
 //! at 1/|lambda| of its constraint-error mode, and an initial state violating the
 //! constraints by more than CONSTRAINT_TOLERANCE is integrated as given, with a warning.
+//! A run takes at most --max-steps accepted steps (default STEP_BUDGET_BASE plus
+//! STEP_BUDGET_PER_OUTPUT per output interval, as the C driver and `lagcli simulate`).
 //! On failure: "error: at t = ...: reason" on stderr, exit status 1, the rows so far
-//! kept; bad options: exit status 2. The numbers below are lagcli/interface.py's
+//! kept; bad options, or a spec's method this driver does not implement: exit status 2. The numbers below are lagcli/interface.py's
 //! (tests/test_codegen_rust.py checks that both say the same).
 
 use std::io::{BufRead, BufWriter, Write};
@@ -28,6 +31,8 @@ use crate::ode;
 const OUTPUT_SLACK: f64 = 1e-9; // t_end/dt this close below an integer reaches it
 const END_TOLERANCE: f64 = 1e-12; // relative: a last t_k this close to t_end is t_end
 const CONSTRAINT_TOLERANCE: f64 = 1e-8; // largest |constraint| of a consistent initial state
+const STEP_BUDGET_BASE: u64 = 20000; // default --max-steps: this many steps ...
+const STEP_BUDGET_PER_OUTPUT: u64 = 1000; // ... plus this many per output interval (t_end/dt)
 
 /// Why a model function failed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -77,11 +82,12 @@ pub struct Model {
 struct Settings {
     t_end: f64,
     dt: f64,
-    method: ode::Method,
+    method: Option<ode::Method>,
     rtol: f64,
     atol: f64,
     alpha: f64,
     beta: f64,
+    max_steps: u64,
     p: Vec<f64>,
     u: Vec<f64>,
     y0: Vec<f64>,
@@ -116,7 +122,8 @@ pub fn main(model: &Model) -> i32 {
 
 fn usage(program: &str) -> String {
     format!("usage: {} [--t-end T] [--dt DT] [--method RK45|DOP853] [--rtol R] [--atol A]\n       \
-             [--set NAME=VALUE]... [--init NAME=VALUE]... [--baumgarte ALPHA BETA] [--rhs]", program)
+             [--set NAME=VALUE]... [--init NAME=VALUE]... [--baumgarte ALPHA BETA] [--max-steps N] [--rhs]",
+            program)
 }
 
 /// A finite number, the whole of `text`.
@@ -138,8 +145,8 @@ fn assign(option: &str, item: &str, names: &[&str], what: &str, values: &mut [f6
 fn parse(model: &Model, args: &[String]) -> Result<Settings, String> {
     let mut s = Settings {
         t_end: model.t_end, dt: model.dt,
-        method: ode::Method::from_name(model.method).unwrap_or(ode::Method::Dop853),
-        rtol: model.rtol, atol: model.atol, alpha: model.baumgarte[0], beta: model.baumgarte[1],
+        method: ode::Method::from_name(model.method),
+        rtol: model.rtol, atol: model.atol, alpha: model.baumgarte[0], beta: model.baumgarte[1], max_steps: 0,
         p: model.parameter_defaults.to_vec(), u: model.input_defaults.to_vec(),
         y0: model.initial_state.to_vec(), mode: Mode::Simulate,
     };
@@ -167,8 +174,10 @@ fn parse(model: &Model, args: &[String]) -> Result<Settings, String> {
             "--dt" => s.dt = positive("--dt")?,
             "--rtol" => s.rtol = positive("--rtol")?,
             "--atol" => s.atol = positive("--atol")?,
-            "--method" => s.method = ode::Method::from_name(&value)
-                .ok_or("--method: the Rust driver implements RK45 and DOP853")?,
+            "--method" => s.method = Some(ode::Method::from_name(&value)
+                .ok_or("--method: the Rust driver implements RK45 and DOP853")?),
+            "--max-steps" => s.max_steps = number(&value).filter(|v| *v >= 1.0 && *v <= 1e15 && v.fract() == 0.0)
+                .ok_or("--max-steps: expected a whole number of steps from 1 to 1e15")? as u64,
             "--set" if model.input_names.iter().any(|n| value.split_once('=').map_or(false, |(name, _)| name == *n)) =>
                 assign("--set", &value, model.input_names, "input", &mut s.u)?,
             "--set" => assign("--set", &value, model.parameter_names,
@@ -189,7 +198,20 @@ fn parse(model: &Model, args: &[String]) -> Result<Settings, String> {
         }
         i += 1;
     }
+    if s.method.is_none() && matches!(s.mode, Mode::Simulate) {
+        return Err(format!("the spec's method '{}' is not implemented by the Rust driver (RK45 and DOP853 \
+                            are); choose one with --method", model.method));
+    }
     Ok(s)
+}
+
+/// The steps a run may take: --max-steps, else STEP_BUDGET_BASE plus STEP_BUDGET_PER_OUTPUT
+/// per output interval (lagcli.interface.default_max_steps).
+fn step_budget(s: &Settings) -> u64 {
+    if s.max_steps > 0 {
+        return s.max_steps;
+    }
+    STEP_BUDGET_BASE + STEP_BUDGET_PER_OUTPUT * (s.t_end / s.dt - OUTPUT_SLACK).ceil().max(0.0) as u64
 }
 
 /// The output times t_k = k dt, k = 0 .. floor(t_end/dt + OUTPUT_SLACK), then t_end if
@@ -278,8 +300,8 @@ fn simulate(model: &Model, s: &Settings) -> i32 {
         }
     };
     let result = if times.len() > 1 {
-        ode::integrate(s.method, rhs, &mut row, 0.0, &s.y0, s.t_end, &times[1..], s.rtol, s.atol,
-                       max_step(model, s.alpha, s.beta))
+        ode::integrate_bounded(s.method.unwrap_or(ode::Method::Dop853), rhs, &mut row, 0.0, &s.y0, s.t_end,
+                               &times[1..], s.rtol, s.atol, max_step(model, s.alpha, s.beta), step_budget(s))
     } else {
         Ok(ode::Stats::default())
     };
@@ -291,6 +313,9 @@ fn simulate(model: &Model, s: &Settings) -> i32 {
             Some((t, e)) => fail(t, e.message()),
             None => fail(stats.t, "cannot write the output"),
         },
+        Err((ode::OdeError::MaxSteps, stats)) => fail(stats.t, &format!(
+            "the integration reached its bound of {} steps before t_end (a stiff or blowing-up solution?); \
+             raise the bound with --max-steps N", step_budget(s))),
         Err((e, stats)) => fail(stats.t, e.message()),
     }
 }

@@ -8,6 +8,7 @@
 //! allocated inside the step loop.
 //!
 //!     integrate(method, rhs, out, t0, y0, t_end, t_out, rtol, atol, max_step)
+//!     integrate_bounded(..., max_step, max_steps)   at most max_steps accepted steps (0: no bound)
 //!
 //! rhs(t, y, dydt) -> bool   false: failure (`OdeError::Rhs`)
 //! out(t, y) -> bool         called once per output time with the dense-output value;
@@ -55,6 +56,8 @@ pub enum OdeError {
     Interrupted,
     /// Bad tolerances, max_step, state size or output times.
     Args,
+    /// max_steps steps were accepted before t_end (the C integrator's LAGCLI_ODE_ERR_MAX_STEPS).
+    MaxSteps,
 }
 
 impl OdeError {
@@ -66,6 +69,7 @@ impl OdeError {
             OdeError::NonFinite => "the solution became non-finite (inf or nan)",
             OdeError::Interrupted => "integration stopped by the output callback",
             OdeError::Args => "invalid arguments (tolerances, max_step or output times)",
+            OdeError::MaxSteps => "the step budget was reached before t_end",
         }
     }
 }
@@ -279,6 +283,7 @@ struct Solver<'a, R> {
     rtol: f64,
     atol: f64,
     max_step: f64,
+    max_steps: u64,
     direction: f64,
     t_end: f64,
     error_exponent: f64,
@@ -553,6 +558,9 @@ impl<'a, R: FnMut(f64, &[f64], &mut [f64]) -> bool> Solver<'a, R> {
         self.h_abs = self.initial_step()?;
         loop {
             let mut dense_ready = false;
+            if self.max_steps > 0 && self.stats.n_accepted >= self.max_steps {
+                return Err(OdeError::MaxSteps);
+            }
             self.step()?;
             // Output times up to and including t come from this step's interpolant.
             while next < t_out.len() && self.direction * (t_out[next] - self.t) <= 0.0 {
@@ -596,9 +604,22 @@ fn times_ok(t0: f64, t_end: f64, t_out: &[f64]) -> bool {
 /// `t_out` (see the top of this file). Returns the statistics, or the reason it stopped
 /// with the statistics so far.
 #[allow(clippy::too_many_arguments)]
-pub fn integrate<R, O>(method: Method, mut rhs: R, mut out: O, t0: f64, y0: &[f64], t_end: f64,
+pub fn integrate<R, O>(method: Method, rhs: R, out: O, t0: f64, y0: &[f64], t_end: f64,
                        t_out: &[f64], rtol: f64, atol: f64, max_step: f64)
                        -> Result<Stats, (OdeError, Stats)>
+where
+    R: FnMut(f64, &[f64], &mut [f64]) -> bool,
+    O: FnMut(f64, &[f64]) -> bool,
+{
+    integrate_bounded(method, rhs, out, t0, y0, t_end, t_out, rtol, atol, max_step, 0)
+}
+
+/// `integrate`, stopping with `OdeError::MaxSteps` before a step beyond `max_steps`
+/// accepted ones (0: no bound), as lagcli_ode_integrate_bounded does.
+#[allow(clippy::too_many_arguments)]
+pub fn integrate_bounded<R, O>(method: Method, mut rhs: R, mut out: O, t0: f64, y0: &[f64], t_end: f64,
+                               t_out: &[f64], rtol: f64, atol: f64, max_step: f64, max_steps: u64)
+                               -> Result<Stats, (OdeError, Stats)>
 where
     R: FnMut(f64, &[f64], &mut [f64]) -> bool,
     O: FnMut(f64, &[f64]) -> bool,
@@ -621,6 +642,7 @@ where
         rtol: if rtol < 100.0 * f64::EPSILON { 100.0 * f64::EPSILON } else { rtol }, // as scipy
         atol,
         max_step,
+        max_steps,
         direction: if t_end >= t0 { 1.0 } else { -1.0 },
         t_end,
         error_exponent: -1.0 / (tab.error_order + 1) as f64,

@@ -5,7 +5,9 @@ function [header, rows] = double_pendulum_simulate(varargin)
 %   t_k = k dt, k = 0 .. floor(t_end/dt + 1e-9), then t_end if not reached:
 %   t, state, multipliers (of the Baumgarte-stabilised system), invariants.
 %   Options, as name-value pairs: 't_end', 'dt', 'rtol', 'atol' (numbers), 'p'
-%   (parameter column), 'y0' (state column), 'u' (inputs), 'baumgarte' ([alpha, beta]).
+%   (parameter column), 'y0' (state column), 'u' (inputs), 'baumgarte' ([alpha, beta]),
+%   'max_steps' (the steps ode45 may take; default 20000 + 1000 per output
+%   interval, as `lagcli simulate --max-steps`: beyond it, an error naming the bound).
 %   ode45 runs with RelTol = rtol, AbsTol = atol and, on a constrained system, the
 %   step capped at 1/|lambda| of the stabilisation mode (as `lagcli simulate`).
 %
@@ -28,6 +30,7 @@ p = info.parameter_defaults;
 y0 = info.initial;
 u = [];
 baumgarte = info.baumgarte;
+max_steps = 0;
 for k = 1:2:numel(varargin)
     value = varargin{k + 1};
     switch varargin{k}
@@ -47,6 +50,8 @@ for k = 1:2:numel(varargin)
             u = value(:);
         case 'baumgarte'
             baumgarte = value;
+        case 'max_steps'
+            max_steps = value;
         otherwise
             error('double_pendulum_simulate:option', 'unknown option %s', varargin{k});
     end
@@ -58,7 +63,12 @@ times = (0:count) * dt;
 if times(end) < t_end - 1e-12 * max(1, t_end)
     times(end + 1) = t_end;
 end
-options = odeset('RelTol', rtol, 'AbsTol', atol);
+if max_steps <= 0
+    max_steps = 20000 + 1000 * ceil(t_end / dt - 1e-9);
+end
+step_budget('reset', max_steps);
+quiet = warning('off', 'integrate_adaptive:unexpected_termination');   % the budget's stop is reported below
+options = odeset('RelTol', rtol, 'AbsTol', atol, 'OutputFcn', @(t, y, flag) step_budget(flag, t));
 fun = @(t, y) double_pendulum_rhs(t, y, p, u, alpha, beta);
 if numel(times) == 1
     states = y0.';
@@ -69,11 +79,42 @@ elseif numel(times) == 2
 else
     [~, states] = ode45(fun, times, y0, options);
 end
+warning(quiet);
+[exceeded, t_reached] = step_budget('read', []);
+if exceeded
+    error('double_pendulum_simulate:max_steps', ['at t = %.10g: the integration reached its bound of %d steps ', ...
+          'before t_end (a stiff or blowing-up solution?); raise the bound with the ''max_steps'' option'], ...
+          t_reached, max_steps);
+end
 header = 't,theta1,theta2,theta1_dot,theta2_dot,energy,jacobi';
 rows = zeros(numel(times), 7);
 for k = 1:numel(times)
     y = states(k, :).';
     [~, lambda] = double_pendulum_rhs(times(k), y, p, u, alpha, beta);
     rows(k, :) = [times(k), y.', lambda.', double_pendulum_invariants(times(k), y, p, u)];
+end
+end
+
+function varargout = step_budget(flag, t)
+% ode45's OutputFcn: counts the accepted steps and stops the run before one beyond the
+% budget ('reset' sets it; 'read' tells whether it stopped a run, and where).
+persistent budget used t_end t_last
+switch flag
+    case 'reset'
+        budget = t;
+        used = 0;
+        t_end = Inf;
+        t_last = 0;
+    case 'init'
+        t_end = t(end);
+        varargout{1} = false;
+    case ''
+        used = used + 1;
+        t_last = t(end);
+        varargout{1} = used >= budget && t_last < t_end;
+    case 'read'
+        varargout = {used >= budget && t_last < t_end, t_last};
+    otherwise
+        varargout{1} = false;
 end
 end

@@ -15,11 +15,12 @@
 #include "double_pendulum.h"
 
 #define LAGCLI_FMU_MODEL double_pendulum_model
-#define LAGCLI_FMU_GUID "{3b6f680b-c095-eb6a-2c31-bfd757a14296}"
+#define LAGCLI_FMU_GUID "{c103dc2c-3df5-a064-44cd-c467f6469498}"
 #define LAGCLI_FMU_NINPUT 0u
 #define LAGCLI_FMU_ALPHA 10.0        /* Baumgarte stabilisation (constrained systems) */
 #define LAGCLI_FMU_BETA 10.0
 #define LAGCLI_FMU_METHOD "DOP853"       /* Co-Simulation: lagcli_ode's method, */
 #define LAGCLI_FMU_MAX_STEP HUGE_VAL   /* and its largest step (the C driver's cap) */
+#define LAGCLI_FMU_MAX_STEPS 21000L   /* steps one fmi2DoStep may take (the budget of one output interval) */
 
 #endif /* LAGCLI_FMU_MODEL_H */

@@ -15,11 +15,12 @@
 #include "ex6_9_two_wheels_axle.h"
 
 #define LAGCLI_FMU_MODEL ex6_9_two_wheels_axle_model
-#define LAGCLI_FMU_GUID "{a5d5393d-901b-efec-70b2-335032f317d0}"
+#define LAGCLI_FMU_GUID "{c789ef10-5137-e306-524d-cea0577bfb1b}"
 #define LAGCLI_FMU_NINPUT 0u
 #define LAGCLI_FMU_ALPHA 10.0        /* Baumgarte stabilisation (constrained systems) */
 #define LAGCLI_FMU_BETA 10.0
 #define LAGCLI_FMU_METHOD "DOP853"       /* Co-Simulation: lagcli_ode's method, */
 #define LAGCLI_FMU_MAX_STEP 0.1   /* and its largest step (the C driver's cap) */
+#define LAGCLI_FMU_MAX_STEPS 21000L   /* steps one fmi2DoStep may take (the budget of one output interval) */
 
 #endif /* LAGCLI_FMU_MODEL_H */
