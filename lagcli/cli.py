@@ -193,7 +193,7 @@ def report(ctx, spec, output, no_pictures):
 @click.option("--variational/--no-variational", default=None,
               help="python, c: with (or without) the variational integrator's functions "
                    "(--method variational). Default: with them when the system is small (every "
-                   "bundled spec; the N-link chain up to N = 10): for a big system they cost several "
+                   "bundled spec; the N-link chain up to N = 13): for a big system they cost several "
                    "times the rest of the code.")
 @quiet_option
 @click.pass_context

@@ -19,7 +19,6 @@ from dataclasses import dataclass, replace
 from lagcli.derive.discrete import HOLONOMIC, JACOBIAN, MOMENTA, METHOD, discrete_groups, refusal
 from lagcli.targets import codegen
 from lagcli.targets.cse import eliminate
-from lagcli.targets.expressions import collect
 from lagcli.targets.slots import slots
 from lagcli.render.tidy import small, tidy_expression
 
@@ -37,11 +36,10 @@ VARIATIONAL_MAX_NODES = codegen.TIDY_MAX_TOTAL_NODES   # tree nodes of the model
 
 
 def included(d) -> bool:
-    """Whether the variational functions are generated when nobody asked: when the
-    model's generated expressions (M, F, ... as derived) have at most
-    VARIATIONAL_MAX_NODES tree nodes together (every bundled spec; the chain up to ~10 links)."""
-    return small([e for exprs in collect(d, tidy=False).groups().values() for e in exprs],
-                 VARIATIONAL_MAX_NODES)
+    """Whether the variational functions are generated when nobody asked: when M and F
+    as derived have at most VARIATIONAL_MAX_NODES tree nodes together (every bundled
+    spec; the planar chain up to 13 links)."""
+    return small([*d.mass_matrix, *d.forcing], VARIATIONAL_MAX_NODES)
 
 
 def variational_context(d, printer_class, wanted: bool | None = None) -> dict:
