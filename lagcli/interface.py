@@ -286,6 +286,22 @@ class Layout:
         return tuple(c for c in self.columns if c.kind in INVARIANT_KINDS)
 
     @property
+    def invariant_names(self) -> tuple[str, ...]:
+        return tuple(c.name for c in self.invariants)
+
+    @property
+    def residual_index(self) -> int | None:
+        """The place of `constraint_residual` among the invariant columns (None: unconstrained)."""
+        kinds = [c.kind for c in self.invariants]
+        return kinds.index("residual") if "residual" in kinds else None
+
+    @property
+    def fields(self) -> tuple[str, ...]:
+        """The names a code target makes identifiers of, in one namespace (a struct's
+        fields, index constants): the states, parameters, multipliers and invariant columns."""
+        return self.state_names + self.parameter_names + self.multiplier_names + self.invariant_names
+
+    @property
     def constrained(self) -> bool:
         return bool(self.multipliers)
 
@@ -326,7 +342,7 @@ def layout_of(d, start: Start | None = None, angles=frozenset()) -> Layout:
     """The layout of a `lagcli.derive.result.Derivation` (plain attribute reads: no sympy
     work here). `start` (the consistent initial state) and `angles` (the coordinates that
     are angles) are the System's, computed once (lagcli.system)."""
-    from lagcli import __version__
+    from lagcli.version import __version__
 
     model = d.model
     unit = units_of(model)

@@ -127,11 +127,11 @@ class System:
         directory = None
         if path is not None and language is not None and language.directory:
             directory = check_directory_output(str(path))    # before any work
-        initial, notes = None, ()
+        initial, notes, layout = None, (), None
         if language is not None and language.embeds_initial:   # solved for once, here, not in emit
-            start, _ = self.spec_start()
-            initial, notes = start.values, start.notes
-        files = emit(self.derivation, target, initial, notes)
+            layout = self.layout
+            initial, notes = layout.start.values, layout.start.notes
+        files = emit(self.derivation, target, initial, notes, layout)
         if directory is not None:
             directory.mkdir(exist_ok=True)
             for name, text in files.items():      # a name may have a folder: src/lib.rs
@@ -454,7 +454,7 @@ class System:
         from lagcli.targets import program_sources
 
         start = self.layout.start
-        return program_sources(derivation or self.derivation, target, start.values, start.notes)
+        return program_sources(derivation or self.derivation, target, start.values, start.notes, self.layout)
 
     def _once(self, name: str, make):
         if name not in self.__dict__:

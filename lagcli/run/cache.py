@@ -52,8 +52,8 @@ import threading
 from dataclasses import dataclass
 from pathlib import Path
 
-from lagcli import __version__
 from lagcli.errors import RunNote
+from lagcli.version import __version__
 
 MANIFEST = "manifest.json"
 _SOURCE_ROOTS = (Path(__file__).resolve().parents[1], Path(__file__).resolve().parents[2] / "templates")
