@@ -261,7 +261,7 @@ class Display:
 
         out: Terms = []
         for monomial in sorted(buckets, key=key):
-            coefficient = self.tidy_assembled(sign * buckets[monomial])
+            coefficient = self.tidy_assembled(buckets[monomial] if sign == 1 else sign * buckets[monomial])
             if coefficient == 0:
                 continue
             if monomial == 1:
