@@ -112,3 +112,31 @@ def test_a_spec_without_such_names_keeps_the_letters():
     assert "notation " not in text and "L  = T - V = " in text and "mass matrix M (" in text
     assert "Notation:" not in system.report("latex")
     assert repr(system.parts.mass_matrix).startswith("M = [[")
+
+
+HEIGHT_AND_RADIUS = """\
+name: bowl
+coordinates: [theta, phi]
+parameters: {m: 1.0, R: 1.0, g: 9.81, H: 0.2}
+gravity: [0, 0, -g]
+particles:
+  P: {mass: m, position: [R*sin(theta)*cos(phi), R*sin(theta)*sin(phi), H - R*cos(theta)]}
+initial: {theta: 1.0, phi_dot: 1.0}
+"""
+
+
+def test_the_analyses_letters_yield_too(tmp_path):
+    """A height H and a radius R: the Hamiltonian is Ham (script H), the Routhian Routh."""
+    from lagcli import commands
+
+    path = tmp_path / "bowl.yaml"
+    path.write_text(HEIGHT_AND_RADIUS)
+    text = commands.hamiltonian(str(path))
+    assert "\nHam = " in text and "\nH = " not in text and "*H*" in text     # the spec's H inside
+    latex = commands.hamiltonian(str(path), fmt="latex")
+    assert r"\mathcal{H} &= " in latex
+    system = lagcli.load(path)
+    assert r"\mathcal{H} &= " in system.hamiltonian()._repr_latex_()
+    reduction = system.routh(momenta={"p_phi": 0.5}, guesses=[{"theta": 1.0}])
+    assert "Routh = " in commands.routh(str(path), momenta=["p_phi=0.5"], guesses=["theta=1"])
+    assert r"\mathcal{R} &= " in reduction._repr_latex_()

@@ -13,11 +13,15 @@ import numpy as np
 import sympy as sp
 
 from lagcli.analysis.stability import on_imaginary_axis
+from lagcli.report.notation import analysis_letters
 
 
 ROUND_OFF = 1000 * float(np.finfo(float).eps)   # relative size below which an entry is round-off
 ROUND_OFF_RULE = ("text and LaTeX show an entry as 0 when |entry| <= round_off x max|entry| of its matrix "
                   "(of G: of C); the JSON keeps every float as computed")
+
+POINT_ROUND_OFF_RULE = ("text shows a coordinate as 0 when |value| <= round_off x max(1, max|value|) "
+                        "of its point; the JSON keeps every float as computed")
 
 
 def shown(a, scale: float | None = None) -> np.ndarray:
@@ -26,6 +30,13 @@ def shown(a, scale: float | None = None) -> np.ndarray:
     a = np.asarray(a, dtype=float)
     size = np.max(np.abs(a), initial=0.0) if scale is None else scale
     return np.where(np.abs(a) <= ROUND_OFF * size, 0.0, a)
+
+
+def shown_point(point: dict) -> np.ndarray:
+    """The values of a point {coordinate: value} as text shows them: round-off of 0
+    (relative to the largest value, or to 1) is 0, so 7e-13 is not read as a position."""
+    values = np.array(list(point.values()), dtype=float)
+    return shown(values, max(1.0, float(np.max(np.abs(values), initial=0.0))))
 
 
 def number(x: float, digits: int = 10) -> str:
@@ -229,9 +240,11 @@ def equilibria_content(found, printer) -> dict:
             "eigenvalues": [_pair(s) for s in e.eigenvalues] if e.linearization else None,
             "frequencies": list(e.frequencies),
             "verdict": e.verdict,
+            "free": list(e.free),
         }
 
-    return {"name": found.name, "equilibria": [one(e) for e in found]}
+    return {"name": found.name, "equilibria": [one(e) for e in found],
+            "round_off": {"relative": ROUND_OFF, "rule": POINT_ROUND_OFF_RULE}}
 
 
 def equilibria_text(c: dict) -> str:
@@ -239,8 +252,10 @@ def equilibria_text(c: dict) -> str:
         return f"{c['name']}: no equilibrium found\n  hint: give a starting point with --guess NAME=VALUE,...\n"
     lines = [f"equilibria of {c['name']} (q' = 0):"]
     for k, e in enumerate(c["equilibria"], 1):
-        where = ", ".join(f"{q} = {number(v, 12)}" for q, v in e["coordinates"].items())
+        where = ", ".join(f"{q} = {number(v, 12)}" for q, v in zip(e["coordinates"], shown_point(e["coordinates"])))
         lines.append(f"{k}. {where}: {e['verdict']}")
+        if e["free"]:
+            lines.append(f"   the same for any {', '.join(e['free'])} (the equations at rest do not fix them)")
         if e["closed_form"]:
             lines.append("   closed form: " + ", ".join(f"{q} = {v}" for q, v in e["closed_form"].items()))
         if e["eigenvalues"] is not None:
@@ -264,6 +279,7 @@ def routh_content(r, printer) -> dict:
         "steady_motions": [{"coordinates": m.coordinates, "cyclic_rates": m.cyclic_rates,
                             "eigenvalues": [_pair(s) for s in m.eigenvalues],
                             "frequencies": list(m.frequencies)} for m in r.steady_motions],
+        "notation": analysis_letters(r.derivation)["text"],
     }
 
 
@@ -275,7 +291,8 @@ def routh_rows(r, d) -> list[str]:
     model = d.model
     printer._settings["symbol_names"].update({sp.Symbol(p, real=True): f"p_{{{printer.doprint(model.symbol(c))}}}"
                                               for p, c in zip(r.momenta, r.cyclic)})
-    rows = [rf"R &= {printer.doprint(r.R)}", rf"V_{{\mathrm{{eff}}}} &= {printer.doprint(r.effective_potential)}"]
+    R = analysis_letters(d)["latex"]["R"]
+    rows = [rf"{R} &= {printer.doprint(r.R)}", rf"V_{{\mathrm{{eff}}}} &= {printer.doprint(r.effective_potential)}"]
     rows += [rf"{printer.doprint(model.symbol(name))} &= {printer.doprint(e)}"
              for name, e in r.cyclic_velocities.items()]
     return rows + [rf"0 &= {printer.doprint(e)}" for e in r.reduced_equations]
@@ -284,7 +301,7 @@ def routh_rows(r, d) -> list[str]:
 def routh_text(c: dict) -> str:
     lines = [f"Routh reduction of {c['name']} over {', '.join(c['cyclic'])} "
              f"(momenta {', '.join(c['momenta'])} held constant)",
-             f"R = {c['routhian']}", f"V_eff = {c['effective_potential']}"]
+             f"{c['notation']['R']} = {c['routhian']}", f"V_eff = {c['effective_potential']}"]
     lines += [f"{name} = {expr}" for name, expr in c["cyclic_velocities"].items()]
     lines += ["reduced equations (= 0):"] + [f"  {e}" for e in c["reduced_equations"]]
     if not c["steady_motions"]:
@@ -306,34 +323,39 @@ def hamilton_content(h, printer) -> dict:
         "hamiltonian": printer(h.H) if h.H is not None else None,
         "equations": {name: printer(e) for name, e in h.equations.items()} if h.H is not None else None,
         "solved_form": h.H is None,
+        "notation": analysis_letters(h.derivation)["text"],
     }
 
 
 def hamilton_text(c: dict) -> str:
+    n = c["notation"]
+    H, M, a = n["H"], n["M"], n["a"]
     lines = [f"Hamilton's equations of {c['name']}", "momenta:"]
     lines += [f"  {p} = {e}" for p, e in c["momenta"].items()]
     if c["solved_form"]:
-        lines += ["H = 1/2 (p - a)^T M^-1 (p - a) - T0 + V   (M full and larger than 2 x 2: kept solved)",
-                  "q_dot = M^-1 (p - a),  p_dot = dL/dq + Q'  at that q_dot"]
+        lines += [f"{H} = 1/2 (p - {a})^T {M}^-1 (p - {a}) - {n['T']}0 + {n['V']}   "
+                  f"({M} full and larger than 2 x 2: kept solved)",
+                  f"q_dot = {M}^-1 (p - {a}),  p_dot = dL/dq + Q'  at that q_dot"]
     else:
-        lines.append(f"H = {c['hamiltonian']}")
+        lines.append(f"{H} = {c['hamiltonian']}")
         lines += [f"  {k} = {e}" for k, e in c["equations"].items()]
     return "\n".join(lines) + "\n"
 
 
-SOLVED_H = r"H &= \tfrac12 (p - a)^\mathsf{T} M^{-1} (p - a) - T_0 + V"
+SOLVED_H = r"{H} &= \tfrac12 (p - {a})^\mathsf{{T}} {M}^{{-1}} (p - {a}) - {T}_0 + {V}"
 
 
 def hamilton_rows(form, d) -> list[str]:
     """`lhs &= rhs` LaTeX rows: H and Hamilton's equations (H alone, solved, when M is large)."""
     from lagcli.report.latex_printer import LatexPrinter
 
+    n = analysis_letters(d)["latex"]
     if form.H is None:
-        return [SOLVED_H]
+        return [SOLVED_H.format(**n)]
     model = d.model
     printer = LatexPrinter(model)
     printer._settings["symbol_names"].update({p: f"p_{{{printer.doprint(q)}}}" for p, q in zip(form.momenta, model.q)})
-    rows = [rf"H &= {printer.doprint(form.H)}"]
+    rows = [rf"{n['H']} &= {printer.doprint(form.H)}"]
     for q, qd, pd in zip(model.q, form.qdot, form.pdot):
         rows.append(rf"\dot{{{printer.doprint(q)}}} &= {printer.doprint(qd)}")
         rows.append(rf"\dot p_{{{printer.doprint(q)}}} &= {printer.doprint(pd)}")
@@ -344,7 +366,7 @@ def hamilton_latex(form, d) -> str:
     """The command's LaTeX fragment (amsmath align*)."""
     if form.H is None:
         return ("% M is full and larger than 2 x 2: H is kept in its solved form\n"
-                r"\[ H = \tfrac12 (p - a)^\mathsf{T} M^{-1} (p - a) - T_0 + V \]" + "\n")
+                r"\[ " + SOLVED_H.format(**analysis_letters(d)["latex"]).replace("&=", "=") + r" \]" + "\n")
     return "\\begin{align*}\n" + " \\\\\n".join(hamilton_rows(form, d)) + "\n\\end{align*}\n"
 
 

@@ -220,3 +220,25 @@ def linear_letters(names) -> dict[str, str]:
 def linear_latex_letters(letters: dict[str, str]) -> dict[str, str]:
     """The same letters in LaTeX (a yielded matrix bold)."""
     return {role: rf"\mathbf{{{role}}}" if "_lin" in letter else letter for role, letter in letters.items()}
+
+
+# The analyses' own scalars: the Hamiltonian H (`lagcli hamiltonian`) and the Routhian R
+# (`lagcli routh`), which yield like the report's letters.
+ANALYSIS_QUANTITIES = {q.letter: q for q in (
+    Quantity("H", "Ham", "script", "the Hamiltonian"),
+    Quantity("R", "Routh", "script", "the Routhian"),
+)}
+
+
+def analysis_letters(d) -> dict[str, dict[str, str]]:
+    """{"text": {letter: name}, "latex": {letter: LaTeX}} of the analyses' H and R and of
+    the report's letters their displays use (M, a, T, V): each one the letter itself
+    unless the spec names something with it."""
+    taken = user_names(d.model)
+    report = notation_of(d)
+    text = {letter: report.text(letter) for letter in "MaTV"}
+    latex = {letter: report.latex(letter) for letter in "MaTV"}
+    for letter, quantity in ANALYSIS_QUANTITIES.items():
+        text[letter] = quantity.text if letter in taken else letter
+        latex[letter] = quantity.latex if letter in taken else letter
+    return {"text": text, "latex": latex}

@@ -12,6 +12,7 @@ from __future__ import annotations
 from sympy.printing.pycode import PythonCodePrinter
 
 from lagcli.derive.result import Derivation
+from lagcli.interface import Layout
 from lagcli.targets import codegen
 from lagcli.render.escape import python_string
 from lagcli.targets.slots import SlotPrinter
@@ -49,12 +50,13 @@ class PythonPrinter(SlotPrinter, PythonCodePrinter):
 
 
 
-def python_module(d: Derivation, initial=None, initial_notes=()) -> str:
-    """The text of the generated module for `d`; `initial` (the default state, made
-    consistent by the caller) and `initial_notes`: see `lagcli.targets.about.interface`."""
+def python_module(d: Derivation, layout: Layout, initial=None, initial_notes=()) -> str:
+    """The text of the generated module for `d` with its run interface `layout`; `initial`
+    (the default state, made consistent by the caller) and `initial_notes`: see
+    `lagcli.targets.about.interface`."""
     from lagcli.targets.discrete_code import merged_imports, variational_context
 
-    context = codegen.generated_context(d, PythonPrinter, initial, initial_notes)
+    context = codegen.generated_context(d, PythonPrinter, layout, initial, initial_notes)
     variational = variational_context(d, PythonPrinter)      # the variational integrator's functions
     if variational["variational"] is not None:
         context["imports"] = merged_imports(context["imports"], variational["variational"].imports)
