@@ -44,6 +44,7 @@ sys.path.insert(0, str(ROOT))
 from lagcli.derive.pipeline import load_model  # noqa: E402
 from lagcli.derive import derive  # noqa: E402
 from lagcli.targets import codegen  # noqa: E402
+from lagcli.interface import layout_of  # noqa: E402
 from lagcli.targets.c import c_files  # noqa: E402
 from lagcli.targets.python import python_module  # noqa: E402
 from lagcli.targets.rust import crate_name, rust_files  # noqa: E402
@@ -158,7 +159,7 @@ def c_times(d, directory: Path, repeats: int) -> tuple[float, float | None]:
     if cc is None:
         return float("nan"), None
     name = d.model.name
-    for file, text in c_files(d).items():
+    for file, text in c_files(d, layout_of(d)).items():
         (directory / file).write_text(text)
     (directory / "hand.c").write_text(HAND_RHS)
     harness = HARNESS.replace("NAME", name).replace("STATES", str(STATES)).replace("REPEATS", str(repeats))
@@ -185,7 +186,7 @@ def rust_time(d, directory: Path, repeats: int) -> float:
     if tool is None:
         return float("nan")
     crate = directory / "rust"
-    for file, text in rust_files(d).items():
+    for file, text in rust_files(d, layout_of(d)).items():
         (crate / file).parent.mkdir(parents=True, exist_ok=True)
         (crate / file).write_text(text)
     env = {**os.environ, "CARGO_TARGET_DIR": str(directory / "target")}
@@ -206,7 +207,7 @@ def rust_time(d, directory: Path, repeats: int) -> float:
 
 def python_times(d, repeats: int) -> tuple[float, float]:
     module = types.ModuleType("generated")
-    exec(compile(python_module(d), "generated", "exec"), module.__dict__)
+    exec(compile(python_module(d, layout_of(d)), "generated", "exec"), module.__dict__)
     model, n = d.model, d.n
     args = (model.t, list(model.q + model.qd), list(model.parameter_symbols))
     both = sp.lambdify(args, [d.mass_matrix, d.forcing], modules="numpy", cse=True)
@@ -248,9 +249,9 @@ def main() -> None:
             d = derive(load_model(tmp / f"pendulum{n}.yaml"))
             start = time.perf_counter()
             if args.no_tidy:
-                reduced = codegen.eliminate(codegen.collect(d, tidy=False))
+                reduced = codegen.eliminate(codegen.collect(d, layout_of(d), tidy=False))
             else:
-                _, reduced = codegen.reduced_outputs(d)    # what the generated code evaluates
+                _, reduced = codegen.reduced_outputs(d, layout_of(d))    # what the generated code evaluates
             ops = reduced.operation_count(("mass_matrix", "forcing"))
             generation = time.perf_counter() - start
             kane = kane_ops(n)

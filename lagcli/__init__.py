@@ -8,7 +8,7 @@ docs/api.md describes the Python API; `import lagcli` stays light (sympy and num
 are imported on first use), so the command line's warm path stays fast.
 """
 
-__version__ = "0.1.0"
+from lagcli.version import __version__  # noqa: F401  (lagcli.__version__)
 
 
 def load(source):

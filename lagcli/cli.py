@@ -8,11 +8,12 @@ import warnings
 
 import click
 
-from lagcli import __version__, commands
-from lagcli.cli_options import LanguageChoice, note, quiet, quiet_option
+from lagcli import commands
+from lagcli.version import __version__
+from lagcli.cli_options import LanguageChoice, note, quiet, quiet_option, settings_options, step_options
 from lagcli.targets import LANGUAGES
 from lagcli.render.escape import terminal_text
-from lagcli.errors import LagcliError, SpecWarning
+from lagcli.errors import LagcliError, RunNote, SpecWarning
 from lagcli.interface import METHODS
 from lagcli.render.interrupts import interrupt_on_termination
 from lagcli.render.output import open_output, write_output
@@ -57,11 +58,16 @@ def _spec_warnings_on_stderr():
     try:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always", SpecWarning)
+            warnings.simplefilter("always", RunNote)
             yield
     finally:
         shown = set()
         for item in caught:
-            if not isinstance(item.message, SpecWarning):
+            if isinstance(item.message, RunNote):
+                if str(item.message) not in shown:
+                    shown.add(str(item.message))
+                    note(str(item.message))          # -q silences it, like every note
+            elif not isinstance(item.message, SpecWarning):
                 warnings.showwarning(item.message, item.category, item.filename, item.lineno)
             elif str(item.message) not in shown and not quiet():
                 shown.add(str(item.message))
@@ -184,9 +190,14 @@ def report(ctx, spec, output, no_pictures):
               show_default=True,
               help="hamiltonian: a Python module whose state is (q, p), rhs = Hamilton's equations "
                    "(unconstrained systems).")
+@click.option("--variational/--no-variational", default=None,
+              help="python, c: with (or without) the variational integrator's functions "
+                   "(--method variational). Default: with them when the system is small (every "
+                   "bundled spec; the N-link chain up to N = 13): for a big system they cost several "
+                   "times the rest of the code.")
 @quiet_option
 @click.pass_context
-def generate(ctx, spec, lang, output, form):
+def generate(ctx, spec, lang, output, form, variational):
     """Generate code (Python, C, Octave, Rust, FMU, CasADi, JAX) or a LaTeX document from
     SPEC's equations of motion.
 
@@ -197,18 +208,14 @@ def generate(ctx, spec, lang, output, form):
       lagcli generate specs/cart_pole.yaml --lang casadi -o cart_pole_casadi.py
       lagcli generate specs/double_pendulum.yaml --lang jax -o double_pendulum_jax.py
       lagcli generate specs/spherical_pendulum.yaml --lang python --form hamiltonian -o sp_h.py
+      lagcli generate big_chain.yaml --lang c --variational -o big_chain/
     """
-    _run(ctx, lambda: commands.generate(spec, lang, output, form, note=note))
+    _run(ctx, lambda: commands.generate(spec, lang, output, form, note=note, variational=variational))
 
 
 @cli.command()
 @click.argument("spec", type=SPEC)
-@click.option("--t-end", type=float, help="End time (default: the spec's simulate.t_end, else 10).")
-@click.option("--dt", type=float, help="Output interval (default: simulate.dt, else 0.01).")
-@click.option("--method", type=click.Choice(list(METHODS)),
-              help="scipy's integrator name, or variational (default: simulate.method, else DOP853).")
-@click.option("--rtol", type=float, help="Relative tolerance (default: simulate.rtol, else 1e-9).")
-@click.option("--atol", type=float, help="Absolute tolerance (default: simulate.atol, else 1e-12).")
+@settings_options(METHODS, "scipy's integrator name, or variational")
 @click.option("--set", "sets", multiple=True, metavar="NAME=VALUE",
               help="Override a parameter (repeatable); VALUE may be a constant expression.")
 @click.option("--init", "inits", multiple=True, metavar="NAME=VALUE",
@@ -219,12 +226,7 @@ def generate(ctx, spec, lang, output, form):
 @click.option("--backend", type=click.Choice(["python", "c"]),
               help="c (compiled driver, cached) is the default when `cc` exists; else python "
                    "(and for runs with events or input laws).")
-@click.option("--baumgarte", nargs=2, type=float, metavar="ALPHA BETA",
-              help="Constraint stabilisation gains (default 10 10).")
-@click.option("--max-steps", type=int, metavar="N",
-              help="Stop with an error after N integrator steps (default 20000 + 1000 per output interval).")
-@click.option("--steps-per-row", type=int, metavar="K",
-              help="--method variational: K fixed steps of DT/K between rows (default 1).")
+@step_options
 @click.option("-o", "--output", default=None, help="CSV file ('-' or none: stdout).")
 @click.option("--events", "events_path", default=None, metavar="FILE.csv",
               help="Write one row per event (t, event, action, state before and after, impulse).")
@@ -282,14 +284,7 @@ def simulate(ctx, spec, t_end, dt, method, rtol, atol, sets, inits, inputs, back
               help="A law for an input in every run, e.g. 'F=-k*x - c*x_dot' (repeatable).")
 @click.option("--exceed", "exceed", multiple=True, metavar="NAME=VALUE",
               help="Summary column exceed_NAME: first output time with |NAME| > VALUE (repeatable).")
-@click.option("--t-end", type=float, help="End time (default: the spec's simulate.t_end, else 10).")
-@click.option("--dt", type=float, help="Output interval (default: simulate.dt, else 0.01).")
-@click.option("--method", type=click.Choice(EXPLICIT_METHODS),
-              help="RK45 or DOP853 (the compiled driver's; default: simulate.method, else DOP853).")
-@click.option("--rtol", type=float, help="Relative tolerance (default: simulate.rtol, else 1e-9).")
-@click.option("--atol", type=float, help="Absolute tolerance (default: simulate.atol, else 1e-12).")
-@click.option("--baumgarte", nargs=2, type=float, metavar="ALPHA BETA",
-              help="Constraint stabilisation gains (default 10 10).")
+@settings_options(EXPLICIT_METHODS, "RK45 or DOP853, the compiled driver's")
 @click.option("--trajectories", metavar="DIR", help="Also write each run's CSV as DIR/run_<id>.csv.")
 @click.option("--workers", type=int, help="Local driver processes (default: every core).")
 @click.option("--scheduler", metavar="ADDRESS", help="Run on a Dask cluster, e.g. tcp://127.0.0.1:8786.")

@@ -184,12 +184,8 @@ def _run_request(request, note, progress, sink, system):
     overrides = parse_overrides(layout, request.sets, request.inits)
     laws = input_laws(request.inputs, system)
     backend = request.backend or ("c" if compiler and settings.method in C_METHODS else "python")
-    python_only = system.hybrid(overrides.values, laws) is not None \
-        and system.compiled_laws(overrides.values, laws) is None
-    if python_only and request.backend is None:
-        backend = "python"
-        if compiler:
-            note("lagcli: events run on the Python backend (the C driver does not run them yet)")
+    if request.backend is None and system.compiled_laws(overrides.values, laws) is None:
+        backend = "python"                   # a Python callable as a law (the API's)
     start = system.start(overrides.values, overrides.initial)
     for text in runs.at_rest(layout.initial, overrides.initial) + list(start.notes):
         note(text)
@@ -228,7 +224,7 @@ def _warm_run(driver, request, note, progress, sink, spec_bytes):
     for text in runs.at_rest(layout.initial, overrides.initial) + list(notes):
         note(text)
     runs.drift_note(drift, settings, note)
-    return runs.Outcome(rows, "c", layout)
+    return runs.Outcome(rows, "c", layout, bool(layout.events))
 
 
 def input_laws(items, system) -> dict:
@@ -244,7 +240,7 @@ def input_laws(items, system) -> dict:
 
 
 def generate(path: str, lang: str, output: str | None = None, form: str = "lagrangian",
-             note=lambda text: None) -> None:
+             note=lambda text: None, variational: bool | None = None) -> None:
     """`lagcli generate`: code or a document for `path` in `lang` (see lagcli.targets.LANGUAGES).
 
     One-file languages write to `output` (stdout for None or '-'; the FMU's zip needs
@@ -252,6 +248,7 @@ def generate(path: str, lang: str, output: str | None = None, form: str = "lagra
     into the directory `output` (required; created if only it is missing), each
     atomically, after all are made.  The target is checked before deriving.
     `form="hamiltonian"`: the Python module in (q, p) of lagcli/targets/hamilton.py.
+    `variational`: see `System.generate`.
     `note(text)` is told what was written ("wrote dp_c/: 8 files"), unless it went to stdout."""
     from lagcli.targets import LANGUAGES
     from lagcli.errors import UsageError
@@ -261,9 +258,11 @@ def generate(path: str, lang: str, output: str | None = None, form: str = "lagra
     if form == "hamiltonian":
         if lang != "python":
             raise UsageError(f"--form hamiltonian: generated for --lang python only (not {lang})")
+        from lagcli.interface import layout_of
         from lagcli.targets.hamilton import hamilton_module
         with open_output(output) as out:
-            out.stream.write(hamilton_module(_derive(path)))
+            derivation = _derive(path)
+            out.stream.write(hamilton_module(derivation, layout_of(derivation)))
         _wrote(output, note)
         return
 
@@ -272,7 +271,7 @@ def generate(path: str, lang: str, output: str | None = None, form: str = "lagra
         if output in (None, "-"):
             raise UsageError(f"--lang {lang} writes several files: give the directory with -o DIR")
         check_directory_output(output)
-        files = load(Path(path)).generate(lang, output)
+        files = load(Path(path)).generate(lang, output, variational)
         note(f"wrote {output}: {len(files)} file{'s' if len(files) != 1 else ''}")
         return
     binary = language is not None and language.binary
@@ -280,7 +279,7 @@ def generate(path: str, lang: str, output: str | None = None, form: str = "lagra
         raise UsageError(f"--lang {lang} writes a zip archive: give its file with -o NAME.{lang} "
                          "(or -o - for stdout)")
     with open_output(output, binary=binary) as out:
-        (data,) = load(Path(path)).generate(lang).values()
+        (data,) = load(Path(path)).generate(lang, variational=variational).values()
         out.stream.write(data)
     _wrote(output, note)
 
@@ -457,13 +456,14 @@ def animate(spec: str, csv_path: str | None, request, output: str, drawn: dict, 
                 text = handle.read()
         except OSError as exc:
             raise UsageError(f"--csv {csv_path}: cannot read it ({exc.strerror or exc})") from None
+        header, rows = parse_csv(text)
     else:
-        text = run_request(request, note, system=system).trajectory.csv_text()
-    header, rows = parse_csv(text)
+        run = run_request(request, note, system=system).trajectory       # floats, in memory
+        header, rows = run.header, run.data
     missing = [n for n in ("t", *system.layout.state_names) if n not in header]
-    if missing or not rows:
+    if missing or not len(rows):
         raise UsageError(f"{csv_path or 'the run'}: expected a CSV of lagcli simulate for {system.name} "
                          f"(missing columns: {', '.join(missing) or 'none'}; rows: {len(rows)})")
-    data = np.array(rows, dtype=float)
+    data = np.asarray(rows, dtype=float)
     states = data[:, [header.index(n) for n in system.layout.state_names]]
     draw(system, data[:, header.index("t")], states, params, output, drawing)

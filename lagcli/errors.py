@@ -117,6 +117,13 @@ class SpecWarning(UserWarning):
         return text + (f"\n  hint: {clip_message(hint)}" if hint else "")
 
 
+class RunNote(UserWarning):
+    """A remark on how a command did its work that asks nothing of the user (a damaged
+    cache entry rebuilt, a private build directory used). Issued with `warnings.warn` by
+    layers below the CLI; the CLI prints it with its other notes (`lagcli.cli_options.note`:
+    not with -q/--quiet); a library user can filter it like any other warning."""
+
+
 def warn_spec(problem: Problem) -> None:
     """Issue `problem` as a `SpecWarning` (Python's warnings: the CLI shows them; a library
     user can filter them like any other warning)."""

@@ -240,6 +240,7 @@ class Layout:
     start: Start | None = None                       # the consistent default state (the System's)
     energy_conserved: bool = False                   # the energy column equals the Jacobi integral
     source: Source = field(default_factory=Source)
+    events: tuple[str, ...] = ()                     # the names of the spec's events, in order
 
     @property
     def coordinates(self) -> tuple[str, ...]:
@@ -285,6 +286,22 @@ class Layout:
         return tuple(c for c in self.columns if c.kind in INVARIANT_KINDS)
 
     @property
+    def invariant_names(self) -> tuple[str, ...]:
+        return tuple(c.name for c in self.invariants)
+
+    @property
+    def residual_index(self) -> int | None:
+        """The place of `constraint_residual` among the invariant columns (None: unconstrained)."""
+        kinds = [c.kind for c in self.invariants]
+        return kinds.index("residual") if "residual" in kinds else None
+
+    @property
+    def fields(self) -> tuple[str, ...]:
+        """The names a code target makes identifiers of, in one namespace (a struct's
+        fields, index constants): the states, parameters, multipliers and invariant columns."""
+        return self.state_names + self.parameter_names + self.multiplier_names + self.invariant_names
+
+    @property
     def constrained(self) -> bool:
         return bool(self.multipliers)
 
@@ -318,14 +335,14 @@ class Layout:
                    start=None if start is None else Start(tuple(start["values"]), tuple(start["notes"]),
                                                           start["consistent"]),
                    energy_conserved=data["energy_conserved"],
-                   source=Source(**data["source"]))
+                   source=Source(**data["source"]), events=tuple(data.get("events", ())))
 
 
 def layout_of(d, start: Start | None = None, angles=frozenset()) -> Layout:
     """The layout of a `lagcli.derive.result.Derivation` (plain attribute reads: no sympy
     work here). `start` (the consistent initial state) and `angles` (the coordinates that
     are angles) are the System's, computed once (lagcli.system)."""
-    from lagcli import __version__
+    from lagcli.version import __version__
 
     model = d.model
     unit = units_of(model)
@@ -349,7 +366,8 @@ def layout_of(d, start: Start | None = None, angles=frozenset()) -> Layout:
                     tuple(Input(u.symbol.name, float(u.value), u.latex, u.description) for u in model.inputs),
                     initial={k: float(v) for k, v in model.initial.items()}, start=start,
                     energy_conserved=d.jacobi_integral is not None and bool(d.energy_is_jacobi),
-                    source=Source(PurePath(model.source).name, model.description or "", __version__))
+                    source=Source(PurePath(model.source).name, model.description or "", __version__),
+                    events=tuple(e.name for e in model.events))
     require_unique(layout)
     return layout
 

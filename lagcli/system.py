@@ -117,21 +117,24 @@ class System:
             return make(self.derivation, simplify, report_parts(parts))
         raise UsageError(f"report format {format!r}: expected one of {', '.join(REPORT_FORMATS)}")
 
-    def generate(self, target: str, path: str | Path | None = None) -> dict[str, str | bytes]:
+    def generate(self, target: str, path: str | Path | None = None,
+                 variational: bool | None = None) -> dict[str, str | bytes]:
         """{file name: text} of `target` (python, c, latex; fmu: bytes: `lagcli.targets.LANGUAGES`),
         embedding the spec's initial state made consistent; written atomically into
-        `path` when given (a directory for C, a file otherwise)."""
+        `path` when given (a directory for C, a file otherwise). `variational` (python, c):
+        True generates the variational integrator's functions for a big system too (by
+        default only a small system has them: docs/codegen.md)."""
         from lagcli.targets import LANGUAGES, generate as emit
 
         language = LANGUAGES.get(target)
         directory = None
         if path is not None and language is not None and language.directory:
             directory = check_directory_output(str(path))    # before any work
-        initial, notes = None, ()
+        initial, notes, layout = None, (), None
         if language is not None and language.embeds_initial:   # solved for once, here, not in emit
-            start, _ = self.spec_start()
-            initial, notes = start.values, start.notes
-        files = emit(self.derivation, target, initial, notes)
+            layout = self.layout
+            initial, notes = layout.start.values, layout.start.notes
+        files = emit(self.derivation, target, initial, notes, layout, variational)
         if directory is not None:
             directory.mkdir(exist_ok=True)
             for name, text in files.items():      # a name may have a folder: src/lib.rs
@@ -207,8 +210,8 @@ class System:
         between rows (default 1). `inputs`: {name: value} of the spec's `inputs:`: a number (held
         constant), an expression string (a law of t, q, q', parameters: "-k*x - c*x_dot")
         or a Python callable u(t, y) returning a number; missing ones follow the spec's
-        law or sit at their default. Laws and the spec's `events:` run on the Python
-        backend. Returns a `lagcli.trajectory.Trajectory` (its `events` lists what
+        law or sit at their default. Expression laws and the spec's `events:` run on both
+        backends, a callable on the Python backend. Returns a `lagcli.trajectory.Trajectory` (its `events` lists what
         happened); a failed integration keeps its rows and says why in `failure`."""
         from lagcli.run.options import Request, resolve_settings
         from lagcli.trajectory import from_rows
@@ -249,11 +252,19 @@ class System:
         return hybrid_run(self.derivation, params, inputs)
 
     def compiled_laws(self, values: dict[str, float], laws: dict | None = None) -> dict | None:
-        """The laws of a run the compiled driver can take (expressions, no events), or None."""
+        """The laws of a run the compiled driver can take (expressions), or None when only
+        the Python backend runs it (`python_only`)."""
         laws = self.laws(values, laws)
-        if self.model.events or any(callable(v) and not hasattr(v, "free_symbols") for v in laws.values()):
-            return None
-        return laws
+        return None if self.python_only(laws) else laws
+
+    def python_only(self, laws: dict) -> str | None:
+        """Why a run with these input `laws` needs the Python backend (a Python callable as a
+        law, a contact held after it accumulates: `rest: true`), or None."""
+        if any(callable(v) and not hasattr(v, "free_symbols") for v in laws.values()):
+            return "Python callables as input laws"
+        if any(e.rest for e in self.model.events):
+            return "an event's rest: true (the contact held after it accumulates)"
+        return None
 
     def run(self, settings, values: dict[str, float], start, backend: str, sink=None, progress=None,
             laws: dict | None = None):
@@ -285,9 +296,9 @@ class System:
             from lagcli.run.hybrid_run import HybridModule
 
             if backend != "python":
-                raise UsageError(f"{self.model.source}: the {backend} backend does not run events or callable "
-                                 "input laws yet\n  hint: use the Python backend (--backend python; the "
-                                 "default for such a run)")
+                raise UsageError(f"{self.model.source}: the {backend} backend does not run "
+                                 f"{self.python_only(self.laws(values, laws))}\n  hint: use the Python backend "
+                                 "(--backend python; the default for such a run)")
             return HybridModule(self._module(), self.layout, hybrid)
         if backend == "python":
             from lagcli.run.python_backend import PythonModule
@@ -446,7 +457,7 @@ class System:
         from lagcli.targets import program_sources
 
         start = self.layout.start
-        return program_sources(derivation or self.derivation, target, start.values, start.notes)
+        return program_sources(derivation or self.derivation, target, start.values, start.notes, self.layout)
 
     def _once(self, name: str, make):
         if name not in self.__dict__:

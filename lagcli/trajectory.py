@@ -7,12 +7,13 @@ columns"). `traj.columns` are the column names, each read by `traj[name]`;
 `traj.of_kind("momentum")` reads the columns of one kind, never by guessing from a
 name pattern. In a notebook a trajectory shows its first and last rows.
 
-Built, for now, from the backends' CSV-formatted rows (`lagcli.run.rows`,
-the row source `lagcli simulate` writes): `from_rows` is the one adapter.
+Built from the in-memory sink of a run (`lagcli.run.rows.Trajectory`, whose rows are
+floats: those of the Python backends as computed, the compiled driver's read exactly
+from its `%.17g`): `from_rows` is the one adapter, and no row goes through text on the
+way.
 """
 from __future__ import annotations
 
-import io
 from dataclasses import dataclass
 from html import escape
 
@@ -98,7 +99,7 @@ class Trajectory:
         from lagcli.run.rows import Trajectory as Rows
         from lagcli.viz import plot
 
-        rows = Rows(list(self.columns), self.to_csv().splitlines()[1:])
+        rows = Rows(self.columns, data=self.data)
         conserved = any(c.kind == "jacobi" for c in self.column_info) and self.energy_is_jacobi
         options = plot.PlotOptions(None if columns is None else tuple(columns), tuple(phase), self.angles,
                                    self.layout.units)
@@ -131,12 +132,10 @@ class Trajectory:
 
 
 def from_rows(layout: Layout, rows, notes=(), energy_is_jacobi: bool = False, angles=frozenset()) -> Trajectory:
-    """The adapter from a backend's rows (`lagcli.run.rows.Trajectory`: CSV
-    lines under a header that must be the layout's)."""
+    """The adapter from a run's in-memory rows (`lagcli.run.rows.Trajectory`: floats
+    under a header that must be the layout's)."""
     if tuple(rows.header) != layout.header:
         raise ValueError(f"backend header {rows.header} is not the layout's {layout.header}")
-    text = "".join(line + "\n" for line in rows.lines)
-    data = (np.loadtxt(io.StringIO(text), delimiter=",", ndmin=2) if rows.lines
-            else np.empty((0, len(layout.columns))))
+    data = rows.data if rows.rows else np.empty((0, len(layout.columns)))
     return Trajectory(layout, data, tuple(notes), rows.failure, energy_is_jacobi, tuple(rows.events),
                       rows.end_note, frozenset(angles))

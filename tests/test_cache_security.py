@@ -168,21 +168,25 @@ DAMAGES = {
 
 
 @pytest.mark.parametrize("damage", list(DAMAGES))
-def test_load_rejects_and_removes_unexpected_entries(home, tmp_path, capsys, damage):
+def test_load_rejects_and_removes_unexpected_entries(home, tmp_path, damage):
+    from lagcli.errors import RunNote
+
     key, directory, marker = _entry_with_script(tmp_path)
     assert cache.load(key, "sim") is not None               # intact: accepted
     DAMAGES[damage](directory)
-    assert cache.load(key, "sim") is None
-    assert INTEGRITY in capsys.readouterr().err
+    with pytest.warns(RunNote, match=INTEGRITY):            # the CLI shows it with its notes
+        assert cache.load(key, "sim") is None
     assert not os.path.lexists(directory) and not marker.exists()
 
 
 @needs_root
-def test_an_entry_of_another_user_is_rejected_even_with_a_matching_manifest(home, tmp_path, capsys):
+def test_an_entry_of_another_user_is_rejected_even_with_a_matching_manifest(home, tmp_path):
+    from lagcli.errors import RunNote
+
     key, directory, marker = _entry_with_script(tmp_path)
     _chown_all(directory, 65534)
-    assert cache.load(key, "sim") is None
-    assert "belongs to another user (uid 65534)" in capsys.readouterr().err
+    with pytest.warns(RunNote, match=r"belongs to another user \(uid 65534\)"):
+        assert cache.load(key, "sim") is None
 
 
 @needs_cc
@@ -269,6 +273,19 @@ def test_a_symlink_to_a_private_directory_of_ones_own_is_used(home, spec, tmp_pa
     result = simulate(spec, "python")
     assert_correct(result)
     assert FALLBACK not in result.stderr and len(os.listdir(tmp_path / "mine")) == 1
+
+
+def test_quiet_silences_the_caches_remarks(home, spec):
+    # the cache's notes go through the CLI's one notes mechanism: -q hides them (issue 25)
+    _make_world_writable(home)
+    loud = simulate(spec, "python")
+    assert_correct(loud)
+    assert FALLBACK in loud.stderr
+    quiet = CliRunner().invoke(cli, ["simulate", "-q", str(spec), "--t-end", str(math.pi),
+                                     "--dt", str(math.pi), "--backend", "python"])
+    assert_correct(quiet)
+    assert quiet.stderr == ""
+    assert quiet.stdout == loud.stdout
 
 
 def test_the_temporary_directory_is_removed_at_exit(home, spec, tmp_path):

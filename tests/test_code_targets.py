@@ -3,6 +3,7 @@ points: a printer whose arrays start at 1 and are subscripted with parentheses
 prints every symbol of a system that way."""
 from __future__ import annotations
 
+from lagcli.interface import layout_of
 from lagcli.targets.c import CPrinter
 from lagcli.targets.cse import eliminate
 from lagcli.targets.expressions import collect
@@ -16,7 +17,7 @@ class OneBasedPrinter(CPrinter):
 
 def test_index_base_and_subscript_reach_the_slots(derived):
     d = derived("double_pendulum")
-    table = slots(d, eliminate(collect(d)), OneBasedPrinter)
+    table = slots(d, eliminate(collect(d, layout_of(d))), OneBasedPrinter)
     model = d.model
     assert [table[s] for s in model.q + model.qd] == ["y(1)", "y(2)", "y(3)", "y(4)"]
     assert [table[s] for s in model.parameter_symbols] == [f"p({j})" for j in range(1, 6)]

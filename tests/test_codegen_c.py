@@ -80,7 +80,7 @@ class Built:
         return subprocess.run([str(self.driver), *args], capture_output=True, text=True, timeout=300)
 
 
-RUNTIME_SOURCES = ("lagcli_ode.c", "lagcli_driver.c", "lagcli_variational.c")    # lagcli/runtime/c/, copied by generate
+RUNTIME_SOURCES = ("lagcli_ode.c", "lagcli_driver.c", "lagcli_variational.c", "lagcli_events.c")    # lagcli/runtime/c/, copied by generate
 
 
 def compile_c(arguments: list[str], directory: Path) -> None:
@@ -256,8 +256,8 @@ def test_generate_c_cli_writes_the_model_and_the_runtime_and_needs_a_directory(t
     assert result.exit_code == 0, result.output
     assert sorted(p.name for p in (tmp_path / "out").iterdir()) == [
         "double_pendulum.c", "double_pendulum.h", "double_pendulum_main.c",
-        "lagcli_driver.c", "lagcli_driver.h", "lagcli_linalg.h", "lagcli_model.h", "lagcli_ode.c", "lagcli_ode.h",
-        "lagcli_variational.c", "lagcli_variational.h"]
+        "lagcli_driver.c", "lagcli_driver.h", "lagcli_events.c", "lagcli_events.h", "lagcli_linalg.h",
+        "lagcli_model.h", "lagcli_ode.c", "lagcli_ode.h", "lagcli_variational.c", "lagcli_variational.h"]
 
 
 def test_printed_functions_evaluate_in_c_like_math(tmp_path):

@@ -154,7 +154,7 @@ def test_inputs_and_units_reach_the_model_description(derived, tmp_path):
     layout = system.layout
     layout = replace(layout, inputs=(Input("F_in"), Input("tau_in")),
                      parameters=(replace(layout.parameters[0], unit="kg"),) + layout.parameters[1:])
-    context = fmu_context(layout, c_target.c_context(system.derivation), {}, ["cart_pole.c"])
+    context = fmu_context(c_target.c_context(system.derivation, layout), {}, ["cart_pole.c"])
     xml = tmp_path / "modelDescription.xml"
     xml.write_text(render("fmu/modelDescription.xml.jinja", guid="{0}", **context), encoding="utf-8")
     description = fmpy.read_model_description(str(xml), validate=True)
@@ -176,7 +176,7 @@ def fmu_text_files(name: str) -> dict[str, str]:
 
     system = load(ROOT / "specs" / f"{name}.yaml")
     start, _ = spec_initial_state(system.derivation)
-    return fmu_sources(system.derivation, start.values, start.notes)
+    return fmu_sources(system.derivation, system.layout, start.values, start.notes)
 
 
 @pytest.mark.parametrize("name", GOLDEN_SPECS)

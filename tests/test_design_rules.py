@@ -11,7 +11,8 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 PACKAGE = ROOT / "lagcli"
-FACES = {"__init__", "__main__", "cli", "cli_options", "commands", "system", "interface", "errors", "trajectory"}
+FACES = {"__init__", "__main__", "cli", "cli_options", "commands", "system", "interface", "errors", "trajectory",
+         "version"}
 
 
 def modules() -> list[Path]:
@@ -84,7 +85,8 @@ def test_the_run_layer_and_the_targets_import_only_down():
             across = any(in_room(target, r) for r in NOT_BETWEEN[room])
             if room == "lagcli.interface":
                 across = not (in_room(target, "lagcli.errors") or in_room(target, "lagcli.runtime.run_rules")
-                              or target in ("lagcli", "lagcli.__version__"))
+                              or target in ("lagcli", "lagcli.__version__", "lagcli.version",
+                                             "lagcli.version.__version__"))
             if up or across:
                 wrong.append(f"{name} imports {target}")
     assert not wrong, "imports against the direction of the design:\n" + "\n".join(sorted(wrong))
@@ -147,3 +149,59 @@ def test_no_import_arrow_runs_up():
     circle = a_circle(arrows)
     steps = [f"{a} -> {b} (by {', '.join(sorted(arrows[a][b]))})" for a, b in zip(circle, circle[1:])]
     assert not circle, "rooms importing each other in a circle:\n" + "\n".join(steps)
+
+
+# -- facts written once ---------------------------------------------------------------------
+
+def test_the_column_order_is_written_once():
+    """The CSV column order (t, states, multipliers, invariants) is built by
+    `lagcli.interface.layout_of` alone: no module or template of lagcli concatenates it
+    again (targets read `Layout.header`; the generated Python module writes `HEADER`)."""
+    import re
+
+    order = re.compile(r'\["t", \*|\("t",\) \+|\*MULTIPLIERS, \*INVARIANTS|\*multipliers, \*invariants')
+    found = [f"{path.relative_to(ROOT)}:{k}" for path in (*modules(), *(ROOT / "templates").rglob("*.jinja"))
+             for k, line in enumerate(path.read_text().splitlines(), 1) if order.search(line)]
+    assert not found, "the column order restated at:\n" + "\n".join(found)
+
+
+def test_code_targets_take_the_systems_layout():
+    """Every code target reads the run interface it is given; only the registry makes one
+    (`layout_of`) for a caller that has none."""
+    calls = [path.name for path in (PACKAGE / "targets").glob("*.py")
+             if "layout_of(" in path.read_text() and path.name != "__init__.py"]
+    assert not calls, f"targets computing their own layout: {calls}"
+
+
+def test_the_settings_defaults_in_help_come_from_the_interface(monkeypatch):
+    """--help of simulate and sweep quotes the run interface's defaults (`RunSettings`,
+    `DEFAULT_BAUMGARTE`, the step budget): changed there, the help changes with them; no
+    module but interface.py writes those numbers."""
+    import dataclasses
+    import re
+
+    import click
+    from click.testing import CliRunner
+
+    from lagcli import cli_options
+    from lagcli.cli import cli
+    from lagcli.interface import RunSettings
+
+    other = dataclasses.make_dataclass("Other", [("t_end", float, 12.5), ("dt", float, 0.025),
+                                                 ("method", str, "RK45"), ("rtol", float, 3e-8),
+                                                 ("atol", float, 4e-11), ("steps_per_row", int, 3)])
+    monkeypatch.setattr(cli_options, "RunSettings", other)
+    monkeypatch.setattr(cli_options, "DEFAULT_BAUMGARTE", (7.0, 8.0))
+    monkeypatch.setattr(cli_options, "STEP_BUDGET_BASE", 31_000)
+    command = cli_options.step_options(cli_options.settings_options(["RK45"], "M")(click.command()(lambda **k: 0)))
+    text = " ".join(CliRunner().invoke(command, ["--help"]).output.split())
+    for shown in ("else 12.5)", "else 0.025)", "else RK45)", "else 3e-8)", "else 4e-11)", "(default 7 8)",
+                  "(default 31000 + 1000 per", "(default 3)"):
+        assert shown in text, shown
+    s = RunSettings()
+    for name in ("simulate", "sweep"):
+        text = " ".join(CliRunner().invoke(cli, [name, "--help"]).output.split())
+        assert f"else {cli_options.number_text(s.rtol)})" in text and f"else {s.method})" in text
+    numbers = re.compile(r"else (10|0\.01|1e-9|1e-12|DOP853)\)|default 10 10|20000 \+")
+    quoted = [p.name for p in modules() if p.name != "interface.py" and numbers.search(p.read_text())]
+    assert not quoted, f"settings defaults quoted outside lagcli/interface.py: {quoted}"

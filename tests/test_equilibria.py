@@ -4,8 +4,12 @@ from __future__ import annotations
 import math
 
 import pytest
+from click.testing import CliRunner
 
+import lagcli
+from conftest import spec_path
 from lagcli.analysis.equilibria import default_guesses, equilibria
+from lagcli.cli import cli
 
 
 def find(d, **overrides):
@@ -77,3 +81,64 @@ def test_explicitly_time_dependent_system_has_no_equilibria(derived):
 def test_nonholonomic_rest_states_are_reported_once(derived):
     found = find(derived("chaplygin_sled"))
     assert len(found) == 1 and found[0].coordinates == {"x": 0.0, "y": 0.0, "phi": 0.0}
+
+
+# -- the search over every angle's full turn (issue 21) ------------------------------
+
+def test_cartesian_pendulum_hangs_and_stands_without_a_guess():
+    """Both equilibria of the rod-constrained bob, no --guess: hanging (0, -l) stable with
+    s = +-i sqrt(g/l), inverted (0, l) unstable with s = +-sqrt(g/l) (the plane pendulum's
+    closed form; the Cartesian search starts from the mirror images of the initial state)."""
+    system = lagcli.load(spec_path("cartesian_pendulum"))
+    g, l = system.layout.parameter_defaults["g"], system.layout.parameter_defaults["l"]
+    omega = math.sqrt(g / l)
+    found = {round(e.point["y"], 12): e for e in system.equilibria()}
+    assert sorted(found) == [-l, l] and all(e.point["x"] == 0 for e in found.values())
+    hanging, inverted = found[-l], found[l]
+    assert hanging.verdict == "stable" and inverted.verdict == "unstable"
+    assert sorted(s.imag for s in hanging.eigenvalues) == pytest.approx([-omega, omega], rel=1e-10)
+    assert max(abs(s.real) for s in hanging.eigenvalues) < 1e-9
+    assert sorted(s.real for s in inverted.eigenvalues) == pytest.approx([-omega, omega], rel=1e-10)
+
+
+@pytest.mark.parametrize("name", ["rolling_disc", "rolling_disc_frames"])
+def test_rolling_disc_upright_is_listed_once_with_its_free_coordinates(name):
+    """The disc rests upright at any position, heading and spin angle: one entry (not
+    one per starting point), those coordinates free and shown at 0 (no 7e-13 of
+    round-off), and it falls over at s^2 = m g r / (I + m r^2) = 4 g / (5 r) (a thin
+    disc, I = m r^2 / 4 about a diameter, tipping about its contact point)."""
+    system = lagcli.load(spec_path(name))
+    g, r = system.layout.parameter_defaults["g"], system.layout.parameter_defaults["r"]
+    found = system.equilibria()
+    upright = [e for e in found if e.point["theta"] == 0]
+    assert len(upright) == 1 and len({tuple(e.point.values()) for e in found}) == len(found)
+    (e,) = upright
+    assert set(e.free) == {"x", "y", "psi", "phi"}
+    assert all(e.point[q] == 0 for q in e.free)
+    assert max(s.real for s in e.eigenvalues) == pytest.approx(math.sqrt(4 * g / (5 * r)), rel=1e-9)
+    text = CliRunner().invoke(cli, ["equilibria", str(spec_path(name))]).output
+    assert "1. x = 0, y = 0, psi = 0, theta = 0, phi = 0: unstable" in text and "e-1" not in text
+
+
+def test_every_angle_turned_finds_upright_and_hanging_double_pendulum_states():
+    """The spinning-disc double pendulum (notes Ex. 20): each link hanging or upright,
+    all four combinations, and no failure where sympy's closed form is written with I."""
+    result = CliRunner().invoke(cli, ["equilibria", str(spec_path("ex20_spinning_disk_double_pendulum")), "--json"])
+    assert result.exit_code == 0, result.output
+    import json
+    points = {tuple(round(v, 9) for v in e["coordinates"].values()) for e in json.loads(result.output)["equilibria"]}
+    pi = round(math.pi, 9)
+    assert {(0.0, 0.0), (0.0, pi), (pi, 0.0), (pi, pi)} <= points
+
+
+def test_equilibria_output_does_not_depend_on_the_hash_seed():
+    import os
+    import subprocess
+    import sys
+
+    def run(seed: str) -> bytes:
+        env = {**os.environ, "PYTHONHASHSEED": seed}
+        return subprocess.run([sys.executable, "-m", "lagcli", "equilibria", str(spec_path("rolling_disc")), "--json"],
+                              env=env, capture_output=True, check=True, timeout=600).stdout
+
+    assert run("0") == run("4242")

@@ -14,6 +14,7 @@ from scipy.integrate import solve_ivp
 
 from lagcli.analysis.hamiltonian import HamiltonRhs
 from lagcli.derive.hamilton_form import hamilton_form
+from lagcli.interface import layout_of
 
 from conftest import SPECS, spec_path
 
@@ -80,7 +81,7 @@ def test_generated_hamiltonian_module_agrees_with_lagrange(derived, name, tmp_pa
     model = d.model
     n = len(model.q)
     path = tmp_path / f"{name}_hamiltonian.py"
-    path.write_text(hamilton_module(d))     # what `generate --form hamiltonian` writes
+    path.write_text(hamilton_module(d, layout_of(d)))     # what `generate --form hamiltonian` writes
     spec = importlib.util.spec_from_file_location(f"{name}_hamiltonian", path)
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)

@@ -41,3 +41,27 @@ def test_settings_defaults_are_the_documented_ones():
 def test_layout_json_round_trip(derived, spec):
     layout = layout_of(derived(spec))
     assert Layout.from_json(layout.to_json()) == layout
+
+
+@pytest.mark.parametrize("spec", ["spherical_pendulum", "cartesian_pendulum", "cart_pole"])
+def test_every_code_target_writes_the_layouts_header(derived, spec):
+    """The header of the generated Python module (`HEADER`, and the rows `simulate`
+    returns), of the Octave and Rust targets and the generated module's row writer all
+    come from the one `Layout.header` (written out by hand above for two specs)."""
+    import types
+
+    from lagcli.targets.octave import octave_context
+    from lagcli.targets.python import python_module
+    from lagcli.targets.rust import rust_context
+
+    d = derived(spec)
+    layout = layout_of(d)
+    module = types.ModuleType("generated")
+    exec(compile(python_module(d, layout), "generated", "exec"), module.__dict__)
+    assert tuple(module.HEADER) == layout.header
+    header, rows = module.simulate(t_end=0.02, dt=0.01)
+    assert tuple(header) == layout.header and rows.shape == (3, len(layout.header))
+    assert octave_context(d, layout)["header"] == layout.header
+    assert rust_context(d, layout)["header"] == layout.header
+    assert layout.fields == (layout.state_names + layout.parameter_names + layout.multiplier_names
+                             + tuple(c.name for c in layout.invariants))

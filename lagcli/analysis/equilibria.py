@@ -9,10 +9,12 @@ add the multipliers: F(q, 0) + A^T lambda = 0 with phi(q) = 0. Steady motions
 at given momenta of ignorable coordinates are the Routhian's business
 (`routh.py`, its effective potential).
 
-Solutions are symbolic (sympy's solve, for the parameters as symbols) when the
-equations are small (`SYMBOLIC_BUDGET` operations, at most 2 unknowns, no
-constraints), else numeric: scipy's least_squares from each guess (`--guess`,
-the spec's initial state and the origin), duplicates merged.
+Closed forms come from sympy's solve, for the parameters as symbols, when the
+equation is small (`SYMBOLIC_BUDGET` operations, one unknown, no constraints: solve
+has no work budget of its own, and on the two coupled equations of the notes' Ex. 20
+it ran for minutes); the numeric search of `rest_search` (every angle's full turn, families
+brought to one member, repeats merged) runs in every case, from each guess (`--guess`,
+else the spec's initial state and the origin), and adds what the closed forms missed.
 """
 from __future__ import annotations
 
@@ -21,44 +23,23 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
+from lagcli.analysis.rest_search import RestProblem, Stationary, distinct, search
+
 SYMBOLIC_BUDGET = 80        # count_ops of the equations sympy's solve is given
-SYMBOLIC_UNKNOWNS = 2
-_SAME = 1e-7                # solutions this close (max norm) are one
+SYMBOLIC_UNKNOWNS = 1
 
 
-@dataclass(frozen=True)
-class Stationary:
-    values: tuple[float, ...]           # the unknowns' values
-    symbolic: tuple[sp.Expr, ...] | None  # closed forms (None: found numerically)
-
-
-def solve_stationary(equations, unknowns, parameters: dict, guesses) -> list[Stationary]:
-    """Real solutions of `equations` = 0 for `unknowns`, `parameters` symbol -> value."""
-    found = _symbolic(equations, unknowns, parameters)
-    if not found:   # not attempted, or nothing real in closed form: search numerically
-        found = _numeric(equations, unknowns, parameters, guesses)
-    return distinct(found, len(unknowns))
-
-
-def distinct(found: list[Stationary], k: int) -> list[Stationary]:
-    """`found` without repeats (the first k values within _SAME), sorted."""
-    unique: list[Stationary] = []
-    for s in found:
-        if not any(np.max(np.abs(np.subtract(s.values[:k], u.values[:k])), initial=0.0) < _SAME for u in unique):
-            unique.append(s)
-    return sorted(unique, key=lambda s: s.values)
-
-
-def _symbolic(equations, unknowns, parameters) -> list[Stationary] | None:
+def _symbolic(equations, unknowns, parameters) -> list[Stationary]:
+    """The real closed-form solutions (none when the equations are too large for solve)."""
     equations = [sp.factor_terms(e) for e in equations if e != 0]
     if len(unknowns) > SYMBOLIC_UNKNOWNS or sum(sp.count_ops(e) for e in equations) > SYMBOLIC_BUDGET:
-        return None
+        return []
     if not equations:
         return [Stationary(tuple(0.0 for _ in unknowns), tuple(sp.S.Zero for _ in unknowns))]
     try:
         solutions = sp.solve(equations, list(unknowns), dict=True)
     except (NotImplementedError, ValueError):
-        return None
+        return []
     numbers = {s: sp.Float(v, 30) for s, v in parameters.items()}
     found = []
     for solution in solutions:
@@ -67,27 +48,31 @@ def _symbolic(equations, unknowns, parameters) -> list[Stationary] | None:
             continue                                     # a family: left to the numeric search
         values = [complex(e.xreplace(numbers).evalf(30)) for e in exprs]
         if all(abs(v.imag) < 1e-12 and np.isfinite(v.real) for v in values):
-            found.append(Stationary(tuple(v.real for v in values), exprs))
+            # a real value written with I (a casus irreducibilis root) is kept as a number only
+            closed = None if any(e.has(sp.I) for e in exprs) else exprs
+            found.append(Stationary(tuple(v.real for v in values), closed))
     return found
 
 
-def _numeric(equations, unknowns, parameters, guesses) -> list[Stationary]:
-    from scipy.optimize import least_squares
+def solve_stationary(equations, unknowns, parameters: dict, guesses) -> list[Stationary]:
+    """Real solutions of `equations` = 0 for `unknowns` (`parameters` symbol -> value): the
+    closed forms, else those reached from each guess itself (Routh's steady motions)."""
+    problem = rest_problem(equations, unknowns, len(unknowns), parameters, (), ())
+    return distinct(_symbolic(equations, unknowns, parameters) or search(problem, guesses, vary=False), problem)
 
+
+def rest_problem(equations, unknowns, n: int, parameters: dict, angles, family) -> RestProblem:
+    """The equations with the parameters' values, compiled for the numeric search."""
     numbers = {s: sp.Float(v, 30) for s, v in parameters.items()}
     exprs = [sp.sympify(e).xreplace(numbers) for e in equations]
+    k = len(unknowns)
     f = sp.lambdify([list(unknowns)], exprs, modules="numpy", cse=True)
     jac = sp.lambdify([list(unknowns)], sp.Matrix(exprs).jacobian(list(unknowns)), modules="numpy", cse=True)
-    found = []
-    for guess in guesses:
-        with np.errstate(all="ignore"):   # a guess at a singular point just fails
-            result = least_squares(lambda z: np.asarray(f(z), dtype=float).reshape(-1),
-                                   np.asarray(guess, dtype=float),
-                                   jac=lambda z: np.asarray(jac(z), dtype=float).reshape(len(exprs), len(unknowns)),
-                                   xtol=1e-15, ftol=1e-15, gtol=1e-15, max_nfev=200)
-        if np.all(np.isfinite(result.fun)) and np.max(np.abs(result.fun), initial=0.0) < 1e-10:
-            found.append(Stationary(tuple(0.0 if abs(v) < 1e-13 else float(v) for v in result.x), None))
-    return found
+    index = {s: i for i, s in enumerate(unknowns)}
+    return RestProblem(lambda z: np.asarray(f(z), dtype=float).reshape(-1),
+                       lambda z: np.asarray(jac(z), dtype=float).reshape(len(exprs), k),
+                       n,
+                       frozenset(index[s] for s in angles), tuple(index[s] for s in family))
 
 
 @dataclass(frozen=True)
@@ -96,43 +81,52 @@ class RestPoint:
     symbolic: dict | None               # name -> closed form (sympy)
     linear: object                      # LinearModel about it (None at a singular point)
     stability: object                   # Stability (None at a singular point)
+    free: tuple[str, ...] = ()          # coordinates it is an equilibrium for any value of
 
 
-def equilibria(d, parameters: dict, guesses: list[dict], independent=()) -> list[RestPoint]:
-    """Every equilibrium found, with its linearization and stability."""
-    from lagcli.analysis.linearize import CompiledSystem, SingularPoint, linearize
-    from lagcli.analysis.operating_point import Point
-    from lagcli.analysis.stability import stability
+def equilibria(d, parameters: dict, guesses: list[dict], independent=(), compiled=None) -> list[RestPoint]:
+    """Every equilibrium found, with its linearization and stability (`compiled`: the
+    derivation's `linearize.CompiledSystem`, when the caller has it)."""
+    from lagcli.analysis.linearize import CompiledSystem
+    from lagcli.model.angles import angle_coordinates
 
     model = d.model
     rest = {v: 0 for v in model.qd} | {model.t: 0}
-    lam = sp.Matrix(d.multipliers)
     _require_autonomous(d)
-    balance = sp.Matrix(d.forcing).xreplace(rest)
+    forcing = sp.Matrix(d.forcing).xreplace(rest)
+    balance = forcing
     if d.constraints:
-        balance += sp.Matrix(d.constraint_matrix).xreplace(rest).T * lam
+        balance = forcing + sp.Matrix(d.constraint_matrix).xreplace(rest).T * sp.Matrix(d.multipliers)
     holonomic = [c.expr.xreplace(rest) for c in d.constraints if c.kind == "holonomic"]
     unknowns = list(model.q) + list(d.multipliers)
     symbols = {p.symbol: parameters[p.symbol.name] for p in (*model.parameters, *model.inputs)}
+    angles = [q for q in model.q if q.name in angle_coordinates(model)]
+    mentioned = set().union(*(e.free_symbols for e in [*forcing, *holonomic]))
+    family = [q for q in model.q if q not in mentioned]
+    problem = rest_problem(list(balance) + holonomic, unknowns, len(model.q), symbols, angles, family)
+    closed = [] if d.constraints else _symbolic(list(balance), unknowns, symbols)
     starts = [[g.get(s.name, 0.0) for s in unknowns] for g in guesses]
-    if d.constraints:
-        found = distinct(_numeric(list(balance) + holonomic, unknowns, symbols, starts), len(model.q))
-    else:
-        found = solve_stationary(list(balance), unknowns, symbols, starts)
-    system = CompiledSystem(d)
+    found = distinct(closed + search(problem, starts), problem)
+    system = compiled or CompiledSystem(d)
+    return [_rest_point(system, s, parameters, independent) for s in found]
+
+
+def _rest_point(system, s: Stationary, parameters: dict, independent) -> RestPoint:
+    """`s` linearized (a RestPoint); `system` is the derivation's `CompiledSystem`."""
+    from lagcli.analysis.linearize import SingularPoint, linearize
+    from lagcli.analysis.operating_point import Point
+    from lagcli.analysis.stability import stability
+
+    model = system.derivation.model
     n = len(model.q)
-    out = []
-    for s in found:
-        point = Point(0.0, np.array(s.values[:n]), np.zeros(n), dict(parameters))
-        try:
-            lm = linearize(system, point, independent)
-        except SingularPoint:
-            lm = None
-        names = [q.name for q in model.q]
-        out.append(RestPoint(dict(zip(names, s.values[:n])),
-                               dict(zip(names, s.symbolic[:n])) if s.symbolic else None,
-                               lm, stability(lm) if lm is not None else None))
-    return out
+    point = Point(0.0, np.array(s.values[:n]), np.zeros(n), dict(parameters))
+    try:
+        lm = linearize(system, point, independent)
+    except SingularPoint:
+        lm = None
+    names = [q.name for q in model.q]
+    return RestPoint(dict(zip(names, s.values[:n])), dict(zip(names, s.symbolic[:n])) if s.symbolic else None,
+                     lm, stability(lm) if lm is not None else None, tuple(names[k] for k in s.free))
 
 
 def _require_autonomous(d) -> None:

@@ -20,6 +20,9 @@ ROUND_OFF = 1000 * float(np.finfo(float).eps)   # relative size below which an e
 ROUND_OFF_RULE = ("text and LaTeX show an entry as 0 when |entry| <= round_off x max|entry| of its matrix "
                   "(of G: of C); the JSON keeps every float as computed")
 
+POINT_ROUND_OFF_RULE = ("text shows a coordinate as 0 when |value| <= round_off x max(1, max|value|) "
+                        "of its point; the JSON keeps every float as computed")
+
 
 def shown(a, scale: float | None = None) -> np.ndarray:
     """`a` as text, LaTeX and the notebook show it: entries within round-off of 0 relative
@@ -27,6 +30,13 @@ def shown(a, scale: float | None = None) -> np.ndarray:
     a = np.asarray(a, dtype=float)
     size = np.max(np.abs(a), initial=0.0) if scale is None else scale
     return np.where(np.abs(a) <= ROUND_OFF * size, 0.0, a)
+
+
+def shown_point(point: dict) -> np.ndarray:
+    """The values of a point {coordinate: value} as text shows them: round-off of 0
+    (relative to the largest value, or to 1) is 0, so 7e-13 is not read as a position."""
+    values = np.array(list(point.values()), dtype=float)
+    return shown(values, max(1.0, float(np.max(np.abs(values), initial=0.0))))
 
 
 def number(x: float, digits: int = 10) -> str:
@@ -230,9 +240,11 @@ def equilibria_content(found, printer) -> dict:
             "eigenvalues": [_pair(s) for s in e.eigenvalues] if e.linearization else None,
             "frequencies": list(e.frequencies),
             "verdict": e.verdict,
+            "free": list(e.free),
         }
 
-    return {"name": found.name, "equilibria": [one(e) for e in found]}
+    return {"name": found.name, "equilibria": [one(e) for e in found],
+            "round_off": {"relative": ROUND_OFF, "rule": POINT_ROUND_OFF_RULE}}
 
 
 def equilibria_text(c: dict) -> str:
@@ -240,8 +252,10 @@ def equilibria_text(c: dict) -> str:
         return f"{c['name']}: no equilibrium found\n  hint: give a starting point with --guess NAME=VALUE,...\n"
     lines = [f"equilibria of {c['name']} (q' = 0):"]
     for k, e in enumerate(c["equilibria"], 1):
-        where = ", ".join(f"{q} = {number(v, 12)}" for q, v in e["coordinates"].items())
+        where = ", ".join(f"{q} = {number(v, 12)}" for q, v in zip(e["coordinates"], shown_point(e["coordinates"])))
         lines.append(f"{k}. {where}: {e['verdict']}")
+        if e["free"]:
+            lines.append(f"   the same for any {', '.join(e['free'])} (the equations at rest do not fix them)")
         if e["closed_form"]:
             lines.append("   closed form: " + ", ".join(f"{q} = {v}" for q, v in e["closed_form"].items()))
         if e["eigenvalues"] is not None:

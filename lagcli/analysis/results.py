@@ -17,7 +17,7 @@ from html import escape
 
 import numpy as np
 
-from lagcli.analysis.report import bmatrix, complex_text, number, shown
+from lagcli.analysis.report import bmatrix, complex_text, number, shown, shown_point
 from lagcli.analysis.stability import Mode, modes_of
 
 _HTML_DIGITS = 6
@@ -146,11 +146,13 @@ class Linearization:
 class Equilibrium:
     """A point of rest (q' = 0): `point` {coordinate: value}, `closed_form` {coordinate:
     sympy expression of the parameters} when solved symbolically, and its linearization
-    (None where the mass matrix is singular)."""
+    (None where the mass matrix is singular); `free`: the coordinates it is an equilibrium
+    for any value of (a disc upright anywhere, at any heading), shown at one value."""
 
     point: dict[str, float]
     closed_form: dict | None
     linearization: Linearization | None
+    free: tuple[str, ...] = ()
 
     @property
     def eigenvalues(self) -> np.ndarray:
@@ -167,7 +169,7 @@ class Equilibrium:
                              if m.eigenvalue.imag > 0}))
 
     def __repr__(self) -> str:
-        where = ", ".join(f"{k} = {number(v, 6)}" for k, v in self.point.items())
+        where = ", ".join(f"{k} = {number(v, 6)}" for k, v in zip(self.point, shown_point(self.point)))
         return f"<Equilibrium {where}: {self.verdict}>"
 
 
@@ -190,13 +192,14 @@ class Equilibria:
 
     def __repr__(self) -> str:
         return (f"<Equilibria of {self.name}: {len(self)} found" + "".join(
-            f"; {', '.join(f'{k} = {number(v, 6)}' for k, v in e.point.items())} {e.verdict}" for e in self) + ">")
+            f"; {', '.join(f'{k} = {number(v, 6)}' for k, v in zip(e.point, shown_point(e.point)))} {e.verdict}"
+            for e in self) + ">")
 
     def _repr_html_(self) -> str:
         names = list(self.found[0].point) if self.found else []
         head = "".join(f"<th>{escape(n)}</th>" for n in ["", *names, "verdict", "eigenvalues"])
         rows = "".join(
-            f"<tr><td>{k}</td>" + "".join(f"<td>{number(v, _HTML_DIGITS)}</td>" for v in e.point.values())
+            f"<tr><td>{k}</td>" + "".join(f"<td>{number(v, _HTML_DIGITS)}</td>" for v in shown_point(e.point))
             + f"<td>{escape(e.verdict)}</td>"
             + f"<td>{escape(', '.join(complex_text(s, _HTML_DIGITS) for s in e.eigenvalues))}</td></tr>"
             for k, e in enumerate(self, 1))

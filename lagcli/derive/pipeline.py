@@ -6,6 +6,7 @@ from pathlib import Path
 import sympy as sp
 
 import lagcli.derive
+from lagcli.derive.representable import refuse_unrepresentable
 from lagcli.derive.result import Derivation
 from lagcli.model.build import build_model
 from lagcli.model.model_types import Model
@@ -58,34 +59,9 @@ def _expression_problems(spec) -> list:
 def derive_model(model: Model) -> Derivation:
     """`derive(model)`, refusing a mass matrix that is singular everywhere (lagcli.model.validation)."""
     derivation = lagcli.derive.derive(model)     # looked up at call time (tests patch it)
-    _refuse_infinite(derivation)
+    refuse_unrepresentable(derivation)
     check_mass_matrix(derivation)
     return derivation
-
-
-_NOT_FINITE = (sp.zoo, sp.oo, sp.S.NegativeInfinity, sp.nan, sp.I)
-
-
-def _refuse_infinite(d: Derivation) -> None:
-    """A located error when T, V, Q' or a constraint row holds an infinite, undefined or
-    complex value identically (a wheel whose axis is the surface normal: 1/0 in its rows),
-    instead of "an expression became infinite" when a report prints it."""
-    model = d.model
-    parts = [("the kinetic energy T", d.T, model.loc("kinetic")), ("the potential energy V", d.V, model.loc("potential"))]
-    parts += [(f"the non-conservative force Q'_{q.name}", Q, model.loc(f"coordinates[{i}]"))
-              for i, (q, Q) in enumerate(zip(model.q, d.nonconservative_forces))]
-    parts += [(f"the constraint row '{row.label or row.multiplier.name}'", sp.Matrix([row.expr, row.d, *row.a]),
-               spec.loc or model.loc("constraints")) for row, spec in zip(d.constraints, model.constraints)]
-    problems = [Problem(loc, f"{what} is infinite, undefined or complex as derived (it holds "
-                        f"{_worst(value)})", "check for a division by zero, e.g. a rolling wheel whose axis is "
-                        "along the surface normal, or a root or log of a negative constant")
-                for what, value, loc in parts if value.has(*_NOT_FINITE)]
-    if problems:
-        raise SpecError(problems)
-
-
-def _worst(value) -> str:
-    return next(str(s) for s in _NOT_FINITE if value.has(s))
 
 
 def derive_file(path: str | Path) -> Derivation:

@@ -12,6 +12,8 @@ import math
 import sympy as sp
 from sympy.core.mul import _keep_coeff
 
+from lagcli.render.operations import count_ops
+
 TIDY_MAX_OPS = 80             # rewrite trigonometry only in expressions this small (bench/codegen.py)
 COLLECT_MAX_NODES = 5000      # expand + collect only expressions this small (tree nodes)
 COLLECT_MAX_TERMS = 500       # ... and with at most this many terms expanded (`expanded_terms`)
@@ -43,7 +45,7 @@ def tidy_expression(expr, velocities=(), cache: dict | None = None) -> sp.Expr:
             and expanded_terms(expr) <= COLLECT_MAX_TERMS:
         calls = expr.atoms(sp.Function)
         result = _cheaper(expr, collected(expr, velocities), calls)
-        if sp.count_ops(result) <= TIDY_MAX_OPS and trigsimp_safe(result):
+        if count_ops(result) <= TIDY_MAX_OPS and trigsimp_safe(result):
             result = _cheaper(result, display_form(result), calls)
     if cache is not None:
         cache[expr] = result
@@ -204,7 +206,7 @@ def _cheaper(current, candidate, calls) -> sp.Expr:
     """candidate when it has fewer operations and calls only known functions among `calls`."""
     found = candidate.atoms(sp.Function)
     if found <= calls and all(isinstance(f, PRINTABLE) for f in found) \
-            and sp.count_ops(candidate) < sp.count_ops(current):
+            and count_ops(candidate) < count_ops(current):
         return candidate
     return current
 
@@ -243,7 +245,7 @@ def display_form(expr) -> sp.Expr:
     if result.has(sp.sin, sp.cos):
         result = fold_angle_sums(pythagorean(result))
     result = pull_signs(common_factor(group_by_calls(result)))
-    return result if sp.count_ops(result) <= sp.count_ops(expr) else pull_signs(expr)
+    return result if count_ops(result) <= count_ops(expr) else pull_signs(expr)
 
 
 LINEAR_CALLS = (sp.sin, sp.cos, sp.tan)   # expand leaves f(a - b) alone (no expand_trig)
@@ -346,7 +348,7 @@ def fold_angle_sums(expr) -> sp.Expr:
             continue
         kind, x, y, number, rest = split
         slots.setdefault((x, y, rest), {}).setdefault(kind, []).append(number)
-    out = list(others)
+    out, folded = list(others), False
     for (x, y, rest), kinds in slots.items():
         for (first, second), rules in _ANGLE_SUMS.items():
             a, b = kinds.get(first, []), kinds.get(second, [])
@@ -355,11 +357,12 @@ def fold_angle_sums(expr) -> sp.Expr:
                     if b[0] == ratio * a[0]:
                         out.append(a[0] * rest * function(x + sign * y))
                         a.pop(0), b.pop(0)
+                        folded = True
                         break
                 else:
                     break
         out += [number * rest * _KINDS[kind](x, y) for kind, numbers in kinds.items() for number in numbers]
-    return sp.Add(*out)
+    return sp.Add(*out) if folded else expr     # nothing folded: the same terms, not re-added
 
 
 _KINDS = {"cc": lambda x, y: sp.cos(x) * sp.cos(y), "ss": lambda x, y: sp.sin(x) * sp.sin(y),

@@ -21,7 +21,7 @@ from pathlib import Path
 
 import sympy as sp
 
-import lagcli
+from lagcli.version import __version__
 from lagcli.derive.result import Derivation
 from lagcli.render.escape import latex_comment, latex_text
 from lagcli.report.latex_printer import CONTENT_WIDTH, LatexPrinter, Tex, tex_width
@@ -48,7 +48,7 @@ def latex_document(derivation: Derivation, simplify: bool = True, parts=PARTS) -
     return render("latex/document.tex.jinja", body=_body(context), **context)
 
 
-def latex_files(d: Derivation, initial=None, initial_notes=()) -> dict[str, str]:
+def latex_files(d: Derivation, layout=None, initial=None, initial_notes=()) -> dict[str, str]:
     """`lagcli generate --lang latex` (lagcli.targets.LANGUAGES): the standalone document."""
     return {f"{d.model.name}.tex": latex_document(d)}
 
@@ -165,7 +165,7 @@ def latex_context(d: Derivation, r: dict) -> dict:
     return {
         "n": n,
         "legend": _legend(notation, printer, m),
-        "version": lagcli.__version__,
+        "version": __version__,
         "in_document": False,          # a standalone document prints the description as its title
         "spec_file": latex_comment(Path(m.source).name if m.source else ""),   # in % comments only
         "spec_name": latex_comment(r["name"]),

@@ -65,9 +65,9 @@ def page_html(system, pictures: bool = True) -> str:
 
 
 def _version() -> str:
-    import lagcli
+    from lagcli.version import __version__
 
-    return lagcli.__version__
+    return __version__
 
 
 def _content(system) -> dict:

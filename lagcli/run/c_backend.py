@@ -14,10 +14,14 @@ compiles them (`lagcli.runtime.toolchain`), stores and runs them.
 This module imports neither sympy nor numpy: a warm run goes spec bytes -> key
 -> meta.json -> driver, and the driver's output lines are passed through as CSV,
 read from its pipe as they come and handed to a sink (lagcli.run.rows): never
-collected whole.
+collected whole. A spec with events (`Layout.events`) runs them in the driver
+(lagcli/runtime/c/lagcli_events.c), which writes its log of raw records to a temporary
+file (`--events`); the sink's `events` and `end_note` are read from it
+(`lagcli.run.records.read_event_log`), so both backends print them alike.
 """
 from __future__ import annotations
 
+import os
 import subprocess
 import tempfile
 from dataclasses import dataclass
@@ -25,6 +29,7 @@ from dataclasses import dataclass
 from lagcli.errors import SimulationError, UsageError
 from lagcli.interface import C_METHODS, VARIATIONAL, Layout, RunSettings
 from lagcli.run import cache
+from lagcli.run.records import read_event_log
 from lagcli.run.rows import RowSink, Trajectory
 from lagcli.runtime import toolchain
 
@@ -70,7 +75,15 @@ class CDriver:
             max_first_residual: float | None = None) -> RowSink | None:
         """One run (the program protocol of the run layer: see lagcli.run.simulate)."""
         args = driver_arguments(settings, values, dict(zip(self.layout.state_names, state)))
-        return run(self, args, progress, max_first_residual, sink)
+        if not self.layout.events:
+            return run(self, args, progress, max_first_residual, sink)
+        with tempfile.TemporaryDirectory(prefix="lagcli-events-") as folder:
+            log = os.path.join(folder, "events.log")
+            done = run(self, [*args, "--events", log], progress, max_first_residual, sink)
+            if done is not None and os.path.exists(log):
+                with open(log, encoding="utf-8") as text:
+                    done.events[:], done.end_note = read_event_log(text.read(), len(self.layout.states))
+        return done
 
 
 def lookup(key: str) -> CDriver | None:

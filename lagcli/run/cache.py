@@ -28,7 +28,8 @@ so the key is no secret):
    `/proc/<pid>/fd/<n>` of the very descriptor its hash was computed from, so a file
    swapped in after the check is not the one run.
 
-Anything unexpected makes `load` return None with a one-line note on stderr, and
+Anything unexpected makes `load` return None with a one-line note (a `RunNote` warning: the CLI
+shows it unless --quiet), and
 the entry is removed so the caller's rebuild replaces it.
 
 `lagcli cache info/clear` are in `lagcli.run.cache_admin`. This module imports
@@ -45,13 +46,14 @@ import re
 import shutil
 import signal
 import stat
-import sys
+import warnings
 import tempfile
 import threading
 from dataclasses import dataclass
 from pathlib import Path
 
-from lagcli import __version__
+from lagcli.errors import RunNote
+from lagcli.version import __version__
 
 MANIFEST = "manifest.json"
 _SOURCE_ROOTS = (Path(__file__).resolve().parents[1], Path(__file__).resolve().parents[2] / "templates")
@@ -91,12 +93,12 @@ def source_fingerprint() -> str:
 
 
 def note(text: str, once: bool = False) -> None:
-    """A one-line remark on stderr; `once`: once per process (a run checks the root
-    up to three times: warm lookup, cold lookup, build)."""
+    """A one-line remark, as a `RunNote` (the CLI shows it unless --quiet); `once`: once
+    per process (a run checks the root up to three times: warm lookup, cold lookup, build)."""
     if once and text in _noted:
         return
     _noted.add(text)
-    sys.stderr.write(f"lagcli: {text}\n")
+    warnings.warn(RunNote(f"lagcli: {text}"), stacklevel=2)
 
 
 # --- the root ---------------------------------------------------------------------

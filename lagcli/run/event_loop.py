@@ -38,7 +38,7 @@ from lagcli.interface import (ACCUMULATION_GAP, EVENT_BUDGET, FIRST_STEP_SAMPLES
 from lagcli.run.contact import hold_contact, hold_note
 from lagcli.run.impact import approach_speed, impact
 from lagcli.runtime.run_rules import max_step
-from lagcli.run.records import EventRecord
+from lagcli.run.records import EventRecord, end_note
 
 _XTOL = 4 * np.finfo(float).eps
 
@@ -158,8 +158,7 @@ def _bracket_after_event(k, e, t_old, t_new, dense, from_zero: bool):
     wrong_side = first is not None and ((e.direction == "falling" and first < 0)
                                         or (e.direction == "rising" and first > 0))
     if first is None or (from_zero and wrong_side):
-        raise _End(f"event '{e.name}' recurs at t = {t_old:.10g} faster than the integrator's step can "
-                   "resolve (accumulation); the run ends there", k, "it recurs faster than a step resolves")
+        raise _End(end_note("unresolved", e.name, t_old, t_old), k, "it recurs faster than a step resolves")
     return None
 
 
@@ -191,11 +190,10 @@ class _State:
         gap = t - self.last.get(e.name, -np.inf)
         self.last[e.name] = t
         if note is None and gap < ACCUMULATION_GAP * max(1.0, abs(t)):
-            note = (f"event '{e.name}' recurred after {gap:.3g} s at t = {t:.10g} "
-                    f"(accumulation: closer than {ACCUMULATION_GAP:g} x max(1, t)); the run ends there")
+            note = end_note("recurred", e.name, t, gap)
             why = f"it recurred after {gap:.3g} s"
         if note is None and len(self.records) >= EVENT_BUDGET:
-            raise _End(f"{EVENT_BUDGET} events (the budget of one run) by t = {t:.10g}; the run ends there")
+            raise _End(end_note("budget", e.name, t, EVENT_BUDGET))
         if note is not None:
             raise _End(note, k, why)
         return t, y_plus, k
@@ -214,9 +212,7 @@ class _State:
         self.fastest[e.name] = max(self.fastest.get(e.name, 0.0), before)
         note = None
         if after <= RESTING_SPEED * self.fastest[e.name]:
-            note = (f"event '{e.name}' at t = {t:.10g}: separation speed {after:.3g} after the impact "
-                    f"(below {RESTING_SPEED:g} x the largest approach speed: the contact has come to rest); "
-                    "the run ends there")
+            note = end_note("resting", e.name, t, after)
         return y_plus, P, note
 
     def _check_constraints(self, e, t, y_plus, residual) -> None:

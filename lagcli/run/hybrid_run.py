@@ -23,7 +23,7 @@ from lagcli.runtime.run_rules import max_step, output_time_windows
 def integrate_hybrid(module, p, y0, s, hybrid, u_constant, progress=None, sink=None):
     """Integrate `module` from t = 0 to s.t_end with `hybrid` (lagcli.targets.numeric.Hybrid);
     `u_constant`: the inputs held constant when `hybrid` has no laws (None without inputs)."""
-    from lagcli.run.python_backend import SOLVERS, header
+    from lagcli.run.python_backend import SOLVERS
     from lagcli.run.rows import Trajectory
 
     n = len(module.COORDINATES)
@@ -41,14 +41,13 @@ def integrate_hybrid(module, p, y0, s, hybrid, u_constant, progress=None, sink=N
         return np.concatenate([y[n:], accelerations(t, y)[0]])
 
     def row(t, y):
-        inv = module.invariants(t, y, p)
-        return [t, *y, *accelerations(t, y)[1], *(inv[name] for name in module.INVARIANTS)]
+        return module.output_row(t, y, accelerations(t, y)[1], p)
 
     def residual(t, y):
         return module.invariants(t, y, p)["constraint_residual"] if module.MULTIPLIERS else None
 
     sink = Trajectory() if sink is None else sink
-    sink.begin(header(module))
+    sink.begin(module.HEADER)
     times = itertools.chain.from_iterable(output_time_windows(s.t_end, s.dt))
     cap = max_step(s.method, s.alpha, s.beta, bool(module.MULTIPLIERS))
     with np.errstate(all="ignore"):
@@ -77,9 +76,5 @@ class HybridModule(PythonModule):
 
     def run(self, settings: RunSettings, values: dict[str, float], state, sink=None, progress=None,
             max_first_residual: float | None = None) -> RowSink:
-        layout = self.layout
-        params = {**layout.parameter_defaults, **values}
-        inputs = {**layout.input_defaults, **values}
-        u = [inputs[n] for n in layout.input_names] or None
-        return integrate_hybrid(self.module, [params[n] for n in layout.parameter_names], list(state),
-                                settings, self.hybrid, u, progress, sink)
+        p, u = self.vectors(values)
+        return integrate_hybrid(self.module, p, list(state), settings, self.hybrid, u, progress, sink)

@@ -54,12 +54,15 @@ class PythonModule:
     def run(self, settings: RunSettings, values: dict[str, float], state, sink=None, progress=None,
             max_first_residual: float | None = None) -> RowSink:
         """One run (the program protocol of lagcli.run.simulate); the state is used as given."""
+        p, u = self.vectors(values)
+        return integrate_module(self.module, p, list(state), settings, progress, sink, u)
+
+    def vectors(self, values: dict[str, float]) -> tuple[list[float], list[float] | None]:
+        """p and u in the layout's order (u None without inputs): `values` over the defaults."""
         layout = self.layout
         params = {**layout.parameter_defaults, **values}
         inputs = {**layout.input_defaults, **values}
-        u = [inputs[n] for n in layout.input_names] or None
-        return integrate_module(self.module, [params[n] for n in layout.parameter_names], list(state),
-                                settings, progress, sink, u)
+        return [params[n] for n in layout.parameter_names], [inputs[n] for n in layout.input_names] or None
 
 
 def cached_source(key: str) -> str | None:
@@ -87,11 +90,6 @@ def store(key: str, model_name: str, source: str) -> None:
         pass
 
 
-def header(module) -> list[str]:
-    """The CSV header of a generated module's rows."""
-    return ["t", *module.STATE, *module.MULTIPLIERS, *module.INVARIANTS]
-
-
 def integrate_module(module, p: list[float], y0: list[float], s: RunSettings,
                      progress=None, sink: RowSink | None = None, u: list[float] | None = None) -> RowSink:
     """Integrate from t = 0 to s.t_end, giving each row to `sink` as it is computed (a new
@@ -116,12 +114,10 @@ def integrate_module(module, p: list[float], y0: list[float], s: RunSettings,
         return np.concatenate([y[n:], accelerations(t, y)[0]])
 
     def row(t, y):
-        lam = accelerations(t, y)[1]
-        inv = module.invariants(t, y, p)
-        return [t, *y, *lam, *(inv[name] for name in module.INVARIANTS)]
+        return module.output_row(t, y, accelerations(t, y)[1], p)
 
     sink = Trajectory() if sink is None else sink
-    sink.begin(header(module))
+    sink.begin(module.HEADER)      # the run interface's columns, written into the module
     y = np.array(y0, dtype=float)
     with np.errstate(all="ignore"):   # overflow shows up as a failure, not as warnings
         _run(fun, row, y, s, max_step(s.method, s.alpha, s.beta, bool(module.MULTIPLIERS)),

@@ -1,9 +1,17 @@
-"""What happened during a run: one `EventRecord` per event, the `--events` CSV and the
-stderr summary ("12 events: floor x12, first at t = 0.4515 s")."""
+"""What happened during a run: one `EventRecord` per event, the `--events` CSV, the
+stderr summary ("12 events: floor x12, first at t = 0.4515 s") and the note saying why a
+run ended early: for both backends (lagcli/run/event_loop.py; the C driver's log,
+lagcli/runtime/c/lagcli_events.h, read by `read_event_log`).
+
+The rules that end a run early are the same on both backends (lagcli/interface.py's
+ACCUMULATION_GAP, RESTING_SPEED, EVENT_BUDGET, FIRST_STEP_SAMPLES; the C side's in
+lagcli_events.h, checked equal by tests/test_c_events.py)."""
 from __future__ import annotations
 
 from collections import Counter
 from dataclasses import dataclass
+
+from lagcli.interface import ACCUMULATION_GAP, EVENT_BUDGET, RESTING_SPEED
 
 
 @dataclass(frozen=True)
@@ -41,3 +49,35 @@ def summary(records) -> str:
     each = ", ".join(f"{name} \u00d7{counts[name]}" for name in names)
     plural = "" if len(records) == 1 else "s"
     return f"{len(records)} event{plural}: {each}, first at t = {records[0].t:.10g} s"
+
+
+def end_note(kind: str, name: str, t: float, value: float) -> str:
+    """Why a run ended at event `name` at time t: `kind` "recurred" (value: the gap since its
+    last time), "resting" (the separation speed after the impact), "unresolved" (it returns
+    within the first step after it) or "budget" (EVENT_BUDGET events)."""
+    if kind == "recurred":
+        return (f"event '{name}' recurred after {value:.3g} s at t = {t:.10g} "
+                f"(accumulation: closer than {ACCUMULATION_GAP:g} x max(1, t)); the run ends there")
+    if kind == "resting":
+        return (f"event '{name}' at t = {t:.10g}: separation speed {value:.3g} after the impact "
+                f"(below {RESTING_SPEED:g} x the largest approach speed: the contact has come to rest); "
+                "the run ends there")
+    if kind == "unresolved":
+        return (f"event '{name}' recurs at t = {t:.10g} faster than the integrator's step can "
+                "resolve (accumulation); the run ends there")
+    return f"{EVENT_BUDGET} events (the budget of one run) by t = {t:.10g}; the run ends there"
+
+
+def read_event_log(text: str, nstate: int) -> tuple[list[EventRecord], str | None]:
+    """The records and the end note of the C driver's `--events` log (lagcli_events.h)."""
+    records, note = [], None
+    for line in text.splitlines():
+        fields = line.split(",")
+        if fields[0] == "event":
+            values = [float(v) for v in fields[3:3 + 2 * nstate + 1]]
+            impulse = fields[4 + 2 * nstate]
+            records.append(EventRecord(values[0], fields[1], fields[2], tuple(values[1:1 + nstate]),
+                                       tuple(values[1 + nstate:]), float(impulse) if impulse else None))
+        elif fields[0] == "end":
+            note = end_note(fields[1], fields[2], float(fields[3]), float(fields[4]))
+    return records, note

@@ -27,16 +27,14 @@ def integrate_variational(module, p: list[float], y0: list[float], s, progress=N
     the step budget (`s.step_budget`), as in the C driver."""
     inputs = (u,) if u is not None else ()
     sink = Trajectory() if sink is None else sink
-    sink.begin(["t", *module.STATE, *module.MULTIPLIERS, *module.INVARIANTS])
+    sink.begin(module.HEADER)
     model = module.variational_model(p, *inputs)
     rows = module.variational_rows(model, y0, output_time_windows(s.t_end, s.dt), s.steps_per_row)
     t, done, last = 0.0, 0, s.t_end - END_TOLERANCE * max(1.0, s.t_end)
     try:
         with np.errstate(all="ignore"):
             for t, y in rows:
-                lam = module.accelerations(t, y, p, 0.0, 0.0, *inputs)[1]
-                values = module.invariants(t, y, p)
-                sink.add_row([t, *y, *lam, *(values[name] for name in module.INVARIANTS)])
+                sink.add_row(module.output_row(t, y, module.accelerations(t, y, p, 0.0, 0.0, *inputs)[1], p))
                 if progress is not None:
                     progress(t)
                 done += 1
@@ -66,18 +64,24 @@ class IntegralDrift(RowSink):
         self.drift = [0.0] * len(self.watched)
         self.largest_residual = 0.0
 
+    def _row(self, values) -> None:
+        self._observe(values)
+
     def _write(self, block: str) -> None:
         for line in block[:-1].split("\n"):
-            values = line.split(",")
-            x = [float(values[i]) for i, _ in self.watched]
-            if self.first is None:
-                self.first = x
-            for k, (value, start) in enumerate(zip(x, self.first)):
-                change = abs(value - start) / (abs(start) if abs(start) >= DRIFT_ABSOLUTE else 1.0)
-                if not change <= self.drift[k]:
-                    self.drift[k] = change
-            if self.residual is not None:
-                self.largest_residual = max(self.largest_residual, float(values[self.residual]))
+            self._observe(line.split(","))
+
+    def _observe(self, values) -> None:
+        """One row: floats, or the strings of a CSV line."""
+        x = [float(values[i]) for i, _ in self.watched]
+        if self.first is None:
+            self.first = x
+        for k, (value, start) in enumerate(zip(x, self.first)):
+            change = abs(value - start) / (abs(start) if abs(start) >= DRIFT_ABSOLUTE else 1.0)
+            if not change <= self.drift[k]:
+                self.drift[k] = change
+        if self.residual is not None:
+            self.largest_residual = max(self.largest_residual, float(values[self.residual]))
 
     def summary(self, dt: float, steps_per_row: int) -> str:
         """The end-of-run line (stderr)."""

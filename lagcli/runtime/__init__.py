@@ -20,7 +20,7 @@ import functools
 from importlib import resources
 
 C_RUNTIME = ("lagcli_model.h", "lagcli_linalg.h", "lagcli_ode.h", "lagcli_ode.c", "lagcli_driver.h", "lagcli_driver.c",
-             "lagcli_variational.h", "lagcli_variational.c")
+             "lagcli_variational.h", "lagcli_variational.c", "lagcli_events.h", "lagcli_events.c")
 FMI2_RUNTIME = ("fmi2Functions.h", "fmi2FunctionTypes.h", "fmi2TypesPlatform.h", "lagcli_fmi2.c")
 FMI2_LICENSE = "LICENSE.txt"
 RUST_RUNTIME = ("ode.rs", "driver.rs")

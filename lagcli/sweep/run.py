@@ -19,7 +19,7 @@ import math
 import os
 from dataclasses import dataclass, field
 
-from lagcli import __version__
+from lagcli.version import __version__
 from lagcli.errors import LagcliError, SimulationError, UsageError
 from lagcli.runtime.run_rules import EXPLICIT_METHODS
 from lagcli.render.output import check_directory_output, resolve_target, write_output
@@ -191,7 +191,7 @@ def _driver(system, held: dict, laws: dict) -> tuple[str, bytes]:
     except UsageError as exc:
         raise UsageError(f"{system.model.source}: lagcli sweep runs the compiled C driver, which cannot run this "
                          f"spec: {str(exc).splitlines()[0].split(': ', 1)[-1]}\n"
-                         "  hint: loop over `lagcli simulate` (its Python backend runs events)") from None
+                         "  hint: loop over `lagcli simulate` (its Python backend runs it)") from None
     return cached.binary, cached.entry.contents[c_backend.BINARY]
 
 
@@ -211,9 +211,9 @@ def _arguments(settings: RunSettings, exceed: dict, rows: bool) -> list[str]:
 
 def _metric_names(layout, exceed: dict) -> list[str]:
     """The driver's #summary names (lagcli_driver.c, batch mode), made from the layout."""
-    states, invariants = layout.state_names, [c.name for c in layout.invariants]
+    states, invariants = layout.state_names, layout.invariant_names
     return (["t_last", *driver.COUNTS]
-            + [f"final_{name}" for name in (*states, *layout.multiplier_names, *invariants)]
+            + [f"final_{name}" for name in layout.header[1:]]           # every column but t
             + [f"min_{s}" for s in states] + [f"max_{s}" for s in states]
             + [f"drift_{name}" for name in invariants] + [f"exceed_{name}" for name in exceed])
 

@@ -28,11 +28,13 @@ and jax.py, 60-80 lines, reuse the Python literals and escapes):
    print as those slots and the printer refuses any symbol without one. Try it on
    sign, Abs, Min, Max, atan2, rationals and powers: sympy's printers differ there
    (Rust's prints `min(a, b, c)` and integers as integers; rust.py overrides them).
-2. Context: `codegen.generated_context(d, JuliaPrinter, initial, initial_notes)` runs
-   the shared pipeline (collect -> tidy -> one CSE -> print every function body) and
+2. Context: `codegen.generated_context(d, JuliaPrinter, layout, initial, initial_notes)`
+   runs the shared pipeline (collect -> tidy -> one CSE -> print every function body) and
    returns strings only: the bodies, matrix rows, stabilisation and residual terms,
-   the `Interface` (names, defaults, version, spec file; read from the system's
-   `lagcli.interface.Layout`) and the shared numerics. Where spec names become
+   the `Interface` (`about.py`: names, defaults, the CSV `header`, the `fields`, units
+   through `i.layout`, version, spec file; all read from `layout`, the system's
+   `lagcli.interface.Layout`, which the target function receives) and the shared
+   numerics. A target never computes a layout or a column order of its own. Where spec names become
    identifiers of the target (struct fields, constants), map them with
    `identifiers.identifiers(names, KEYWORDS, "Julia")` (keywords get a `_`).
 3. Templates: `templates/julia/<file>.jl.jinja`, rendered with `templates.render`; they
@@ -67,21 +69,22 @@ class Language:
     name: str
     module: str           # imported on use, by name: generating C must not import the LaTeX
                           # printer, and the registry imports no report (latex is one of them)
-    function: str         # module.function(derivation, **options) -> {file name: text}
+    function: str         # module.function(derivation, layout, initial, initial_notes) -> {file name: text}
     directory: bool       # the output is a directory of several files (-o DIR required)
     embeds_initial: bool = True   # the output holds a default initial state (`initial=`)
     binary: bool = False          # the one output file is bytes, not text (the FMU's zip)
+    variational: bool = False     # carries the variational integrator (`variational=` option)
 
 
-def _python_files(d, initial=None, initial_notes=()) -> dict[str, str]:
+def _python_files(d, layout, initial=None, initial_notes=(), variational=None) -> dict[str, str]:
     from lagcli.targets.python import python_module
 
-    return {f"{d.model.name}.py": python_module(d, initial, initial_notes)}
+    return {f"{layout.name}.py": python_module(d, layout, initial, initial_notes, variational)}
 
 
 LANGUAGES = {
-    "python": Language("python", __name__, "_python_files", directory=False),
-    "c": Language("c", "lagcli.targets.c", "c_files", directory=True),
+    "python": Language("python", __name__, "_python_files", directory=False, variational=True),
+    "c": Language("c", "lagcli.targets.c", "c_files", directory=True, variational=True),
     "octave": Language("octave", "lagcli.targets.octave", "octave_files", directory=True),
     "rust": Language("rust", "lagcli.targets.rust", "rust_files", directory=True),
     "latex": Language("latex", "lagcli.report.latex", "latex_files", directory=False, embeds_initial=False),
@@ -91,32 +94,48 @@ LANGUAGES = {
 }
 
 
-def generate(derivation, lang: str, initial=None, initial_notes=()) -> dict[str, str]:
+def generate(derivation, lang: str, initial=None, initial_notes=(), layout=None,
+             variational: bool | None = None) -> dict[str, str]:
     """{file name: text} of `derivation` in the output language `lang`. `initial`: the
     default state [q..., q'...] generated code embeds, made consistent by the caller
-    (None: the spec's `initial:` as given), `initial_notes` what was solved for."""
+    (None: the spec's `initial:` as given), `initial_notes` what was solved for; `layout`:
+    the system's run interface (`lagcli.interface.Layout`; None: `layout_of(derivation)`).
+    `variational` (python, c): the variational integrator's functions, True always,
+    None for a small system only (lagcli/targets/discrete_code.py, `included`)."""
     try:
         language = LANGUAGES[lang]
     except KeyError:
         raise EmitError(f"unknown output language {lang!r}; known: {', '.join(LANGUAGES)}") from None
+    if variational and not language.variational:
+        from lagcli.errors import UsageError
+
+        raise UsageError(f"--variational: the variational integrator is generated for --lang "
+                         f"{' and '.join(n for n, k in LANGUAGES.items() if k.variational)} only (not {lang})")
     if lang != "latex":
         _refuse_hybrid(derivation, lang)
-    return program_sources(derivation, lang, initial, initial_notes)
+    return program_sources(derivation, lang, initial, initial_notes, layout, variational)
 
 
-def program_sources(derivation, lang: str, initial=None, initial_notes=()) -> dict[str, str]:
+def program_sources(derivation, lang: str, initial=None, initial_notes=(), layout=None,
+                    variational: bool | None = True) -> dict[str, str]:
     """`generate` for the programs of a run (the System's: the Python module, the C driver):
-    the smooth equations, whatever events or laws the run layer adds around them."""
+    the smooth equations, whatever events or laws the run layer adds around them, with the
+    variational integrator's functions whatever the system's size (a run may ask for them).
+    Every target reads what it says of the system from `layout` (the System's, built once;
+    made here when the caller has none)."""
+    from lagcli.interface import layout_of
+
     language = LANGUAGES[lang]
+    options = {"variational": variational} if language.variational else {}
     return getattr(importlib.import_module(language.module), language.function)(
-        derivation, initial=initial, initial_notes=initial_notes)
+        derivation, layout if layout is not None else layout_of(derivation), initial, initial_notes, **options)
 
 
 def _refuse_hybrid(derivation, lang: str) -> None:
     """Generated code does not carry events or the spec's input laws yet: refuse rather than
     drop them (lagcli simulate runs them on its Python backend)."""
     model = derivation.model
-    events = model.events if lang not in ("fmu", "octave") else ()      # those have them (fmu_events.py, octave_hybrid.py)
+    events = model.events if lang not in ("c", "fmu", "octave") else ()   # those have them (event_code.py, octave_hybrid.py)
     laws = model.laws if lang not in ("octave", "fmu", "casadi", "jax") else ()
     rest = any(e.rest for e in model.events) and not events      # held contacts: lagcli simulate only
     keys = [key for key, used in (("events:", events), ("an event's rest: true", rest),

@@ -23,7 +23,7 @@ from lagcli.targets import codegen
 from lagcli.targets.slots import SlotPrinter
 from lagcli.render.templates import render
 from lagcli.errors import Loc, Problem, SpecError
-from lagcli.interface import C_METHODS, layout_of
+from lagcli.interface import C_METHODS, Layout
 from lagcli.runtime.run_rules import EXPLICIT_METHODS
 from lagcli.runtime import c_runtime_files
 
@@ -55,11 +55,13 @@ class CPrinter(SlotPrinter, C99CodePrinter):
 
 
 
-def c_files(d: Derivation, initial=None, initial_notes=()) -> dict[str, str]:
+def c_files(d: Derivation, layout: Layout, initial=None, initial_notes=(),
+            variational: bool | None = None) -> dict[str, str]:
     """{file name: text} of `<name>.h`, `<name>.c`, `<name>_main.c` and the C runtime;
-    `initial` (the default state, made consistent by the caller) and `initial_notes`:
-    see `lagcli.targets.about.interface`."""
-    context = c_context(d, initial, initial_notes)
+    `layout`: the system's run interface; `initial` (the default state, made consistent
+    by the caller) and `initial_notes`: see `lagcli.targets.about.interface`;
+    `variational`: see `discrete_code.variational_context` (None: for a small system only)."""
+    context = c_context(d, layout, initial, initial_notes, variational)
     name = d.model.name
     runtime = c_runtime_files()
     if {f"{name}.h", f"{name}.c", f"{name}_main.c"} & set(runtime):
@@ -75,18 +77,20 @@ def model_sources(context: dict) -> dict[str, str]:
     return {f"{name}.h": render("c/model.h.jinja", **context), f"{name}.c": render("c/model.c.jinja", **context)}
 
 
-def c_context(d: Derivation, initial=None, initial_notes=()) -> dict:
+def c_context(d: Derivation, layout: Layout, initial=None, initial_notes=(),
+              variational: bool | None = None) -> dict:
     """Everything the C templates need, pre-printed."""
     from lagcli.targets.discrete_code import variational_context
+    from lagcli.targets.event_code import event_context
 
-    context = codegen.generated_context(d, CPrinter, initial, initial_notes)
-    context.update(variational_context(d, CPrinter))     # the variational integrator's functions
-    name = d.model.name
-    layout = layout_of(d)
+    context = codegen.generated_context(d, CPrinter, layout, initial, initial_notes)
+    context.update(variational_context(d, CPrinter, variational))    # the variational integrator's functions
+    context.update(event_context(d))                     # the spec's events (none: empty)
+    name = layout.name
     settings = layout.settings
-    kinds = [c.kind for c in layout.invariants]
+    residual = context["i"].residual_index
     return dict(context, prefix=name, PREFIX=name.upper(), nsys=context["n"] + context["m"],
                 settings=settings,
                 driver_method=settings.method if settings.method in EXPLICIT_METHODS else EXPLICIT_METHODS[-1],
                 table_method=settings.method if settings.method in C_METHODS else EXPLICIT_METHODS[-1],
-                residual_column=kinds.index("residual") if "residual" in kinds else -1)
+                residual_column=-1 if residual is None else residual)

@@ -21,6 +21,7 @@ from __future__ import annotations
 from sympy.printing.pycode import PythonCodePrinter
 
 from lagcli.derive.result import Derivation
+from lagcli.interface import Layout
 from lagcli.targets import codegen
 from lagcli.targets.laws import printed_laws
 from lagcli.targets.python import PythonPrinter
@@ -58,10 +59,10 @@ class CasadiPrinter(SlotPrinter, PythonCodePrinter):
         return self.nested_call("casadi.fmax", expr.args)
 
 
-def casadi_module(d: Derivation, initial=None, initial_notes=()) -> str:
+def casadi_module(d: Derivation, layout: Layout, initial=None, initial_notes=()) -> str:
     """The text of the generated CasADi module for `d` (`initial`, `initial_notes`: see
     `lagcli.targets.about.interface`)."""
-    context = codegen.generated_context(d, CasadiPrinter, initial, initial_notes)
+    context = codegen.generated_context(d, CasadiPrinter, layout, initial, initial_notes)
     holonomic = tuple(name for name, row in zip(context["i"].multipliers, d.constraints)
                       if row.kind == "holonomic")
     laws = printed_laws(d, CasadiPrinter)
@@ -83,5 +84,5 @@ def _shared_temporaries(context: dict) -> tuple[tuple[str, str], ...]:
     return tuple(ordered)
 
 
-def casadi_files(d: Derivation, initial=None, initial_notes=()) -> dict[str, str]:
-    return {f"{d.model.name}.py": casadi_module(d, initial, initial_notes)}
+def casadi_files(d: Derivation, layout: Layout, initial=None, initial_notes=()) -> dict[str, str]:
+    return {f"{layout.name}.py": casadi_module(d, layout, initial, initial_notes)}

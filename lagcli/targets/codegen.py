@@ -9,7 +9,8 @@ strings-only context of every generated function body out (`generated_context`).
     print_block        one function body: the temporaries it needs, then its values
     function_bodies    every body, plus the matrix rows, stabilisation terms and
                        residual terms the templates lay out
-    interface          names, defaults, version and spec file (interface.py)
+    interface          what generated files say of the system, read from its run
+                       interface (about.py over lagcli.interface.Layout)
 
 A language module (python.py, c.py) only picks its printer class and templates:
 everything here is shared, and what differs between languages is an attribute of
@@ -26,7 +27,7 @@ from lagcli.targets.about import Interface, interface  # noqa: F401
 from lagcli.targets.expressions import GROUPS, Outputs, collect, invariant_columns, tidied  # noqa: F401
 from lagcli.targets.slots import SlotPrinter, check_slots, slots
 from lagcli.render.tidy import small, tidy_expression, trigsimp_safe  # noqa: F401
-from lagcli.interface import CONSTRAINT_TOLERANCE
+from lagcli.interface import CONSTRAINT_TOLERANCE, Layout
 
 TIDY_MAX_TOTAL_NODES = 30_000   # tidy generated code's expressions only when together this small
 
@@ -99,24 +100,25 @@ def function_bodies(reduced: Reduced, printer: SlotPrinter, outputs: Outputs, n:
     )
 
 
-def generated_context(d: Derivation, printer_class, initial=None, initial_notes=()) -> dict:
+def generated_context(d: Derivation, printer_class, layout: Layout, initial=None, initial_notes=()) -> dict:
     """Everything a language's templates need, pre-printed by `printer_class`:
-    `function_bodies`, the `Interface` (`initial`: see `interface.interface`), the
-    sizes n and m, the printer's `literal` and `imports`, and the constraint tolerance
-    (lagcli.interface). The run rules are runtime code, not context (lagcli/runtime/)."""
-    outputs, reduced = reduced_outputs(d)
+    `function_bodies`, the `Interface` of `layout` (the system's run interface; `initial`:
+    see `about.interface`), the sizes n and m, the printer's `literal` and `imports`, and
+    the constraint tolerance (lagcli.interface). The run rules are runtime code, not
+    context (lagcli/runtime/)."""
+    outputs, reduced = reduced_outputs(d, layout)
     printer = printer_class(slots(d, reduced, printer_class))
     n, m = d.n, len(d.constraints)
     bodies = function_bodies(reduced, printer, outputs, n, m)
     return dict(
         bodies,
-        i=interface(d, outputs, initial, initial_notes), n=n, m=m,
+        i=interface(layout, initial, initial_notes), n=n, m=m,
         literal=printer_class.literal, imports=printer.imports(),
         constraint_tolerance=printer_class.literal(CONSTRAINT_TOLERANCE),
     )
 
 
-def reduced_outputs(d: Derivation) -> tuple[Outputs, Reduced]:
+def reduced_outputs(d: Derivation, layout: Layout) -> tuple[Outputs, Reduced]:
     """The expressions generated code evaluates and their one CSE: of the tidied
     expressions or of those as derived, whichever needs fewer operations (the tidied
     on a tie). Tidying lowers each small expression's operation count, which is what
@@ -126,7 +128,7 @@ def reduced_outputs(d: Derivation) -> tuple[Outputs, Reduced]:
     2618 against 2316), so outputs of more than TIDY_MAX_TOTAL_NODES tree nodes
     together are not tidied at all (tidying was a third of `generate` of the 20-link
     pendulum, bench/README.md)."""
-    derived = collect(d, tidy=False)
+    derived = collect(d, layout, tidy=False)
     optimizations = basic_optimizations()      # one memo of `tidy.factored` for both
     everything = [e for exprs in derived.groups().values() for e in exprs]
     tried = [tidied(derived, d.model.qd), derived] if small(everything, TIDY_MAX_TOTAL_NODES) else [derived]

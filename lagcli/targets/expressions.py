@@ -1,6 +1,7 @@
 """Every expression a generated module evaluates, grouped by use (`Outputs`).
 
-`collect(d)` gathers them from a `Derivation`, `tidied` tidies each small one
+`collect(d, layout)` gathers them from a `Derivation` (the invariants in the order of the
+run interface's columns), `tidied` tidies each small one
 (`lagcli.render.tidy`); the groups are then reduced by one CSE (`lagcli.targets.cse`).
 """
 from __future__ import annotations
@@ -11,7 +12,8 @@ import sympy as sp
 
 from lagcli.derive.result import Derivation
 from lagcli.render.tidy import tidy_expression
-from lagcli.interface import layout_of
+from lagcli.interface import Layout
+
 
 @dataclass(frozen=True)
 class Outputs:
@@ -45,10 +47,11 @@ GROUPS = ("mass_matrix", "forcing", "constraint_matrix", "constraint_bias",
           "constraint_velocity", "constraint_position", "invariants")
 
 
-def collect(d: Derivation, tidy: bool = True) -> Outputs:
-    """The expressions of `d` that generated code evaluates (see `Outputs`), each small
-    one simplified when that lowers its operation count (`tidied`) unless `tidy` is False."""
-    outputs = _collect(d)
+def collect(d: Derivation, layout: Layout, tidy: bool = True) -> Outputs:
+    """The expressions of `d` that generated code evaluates (see `Outputs`; `layout`: its
+    run interface), each small one simplified when that lowers its operation count
+    (`tidied`) unless `tidy` is False."""
+    outputs = _collect(d, layout)
     return tidied(outputs, d.model.qd) if tidy else outputs
 
 
@@ -59,14 +62,14 @@ def tidied(outputs: Outputs, velocities) -> Outputs:
                                for name, exprs in outputs.groups().items()})
 
 
-def _collect(d: Derivation) -> Outputs:
+def _collect(d: Derivation, layout: Layout) -> Outputs:
     n, qd = d.n, d.model.qd
     M = d.mass_matrix
     mass = tuple(M[min(i, j), max(i, j)] for i in range(n) for j in range(n))
     rows = d.constraints
     velocity = tuple(sum((a * v for a, v in zip(r.a, qd)), sp.S.Zero) + r.d for r in rows)
     holonomic = tuple(j for j, r in enumerate(rows) if r.kind == "holonomic")
-    names, invariants = invariant_columns(d)
+    names, invariants = invariant_columns(d, layout)
     return Outputs(
         mass_matrix=mass,
         forcing=tuple(d.forcing),
@@ -80,11 +83,11 @@ def _collect(d: Derivation) -> Outputs:
     )
 
 
-def invariant_columns(d: Derivation) -> tuple[tuple[str, ...], tuple]:
+def invariant_columns(d: Derivation, layout: Layout) -> tuple[tuple[str, ...], tuple]:
     """The CSV invariant columns that have an expression (all but the residual), in the
     layout's order, and their expressions."""
     momenta = {c.name: c.expr for c in d.conserved if c.kind == "momentum"}
     expression = {"energy": lambda c: d.energy, "jacobi": lambda c: d.jacobi_integral,
                   "momentum": lambda c: momenta[c.name]}
-    columns = [c for c in layout_of(d).invariants if c.kind in expression]
+    columns = [c for c in layout.invariants if c.kind in expression]
     return tuple(c.name for c in columns), tuple(expression[c.kind](c) for c in columns)

@@ -33,17 +33,17 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from lagcli.derive.result import Derivation
-from lagcli.targets.fmu_events import fmu_event_sources
 from lagcli.targets import c as c_target
 from lagcli.render.spec_printer import spec_str
 from lagcli.render.templates import render
 from lagcli.errors import Loc, Problem, SimulationError, SpecError
-from lagcli.interface import STEP_BUDGET_BASE, STEP_BUDGET_PER_OUTPUT, Layout, layout_of
+from lagcli.interface import STEP_BUDGET_BASE, STEP_BUDGET_PER_OUTPUT, Layout
 from lagcli.runtime.run_rules import max_step
 from lagcli.runtime import c_runtime_files, fmi2_license, fmi2_runtime_files
 
 MODEL_HEADER = "lagcli_fmu_model.h"
-INTEGRATOR = ("lagcli_model.h", "lagcli_linalg.h", "lagcli_ode.h", "lagcli_ode.c")   # of the C runtime: no driver
+INTEGRATOR = ("lagcli_model.h", "lagcli_linalg.h", "lagcli_ode.h", "lagcli_ode.c",   # of the C runtime: no driver
+              "lagcli_events.h", "lagcli_events.c")      # the impact law of the events (lagcli_events_impact)
 ZIP_TIME = (1980, 1, 1, 0, 0, 0)      # the earliest time a zip entry can hold
 ZIP_MODE = 0o644 << 16
 PLATFORMS = {("Linux", "x86_64"): ("linux64", ".so"), ("Linux", "i686"): ("linux32", ".so"),
@@ -101,18 +101,16 @@ def model_structure(variables: tuple[Variable, ...]) -> dict:
     return dict(outputs=outputs, derivatives=derivatives, initial_unknowns=sorted(computed + derivatives))
 
 
-def fmu_sources(d: Derivation, initial=None, initial_notes=()) -> dict[str, str]:
+def fmu_sources(d: Derivation, layout: Layout, initial=None, initial_notes=()) -> dict[str, str]:
     """{path in the FMU: text} of every file but the binary."""
-    layout = layout_of(d)
     name = layout.name
     _check_file_names(d, name)
-    context = c_target.c_context(_with_laws(d), initial, initial_notes)
+    context = c_target.c_context(_with_laws(d), layout, initial, initial_notes)
     c_sources = {**c_target.model_sources(context),
-                 **{file: c_runtime_files()[file] for file in INTEGRATOR}, **fmi2_runtime_files(),
-                 **fmu_event_sources(d, context)}
+                 **{file: c_runtime_files()[file] for file in INTEGRATOR}, **fmi2_runtime_files()}
     descriptions = {p.symbol.name: p.description for p in d.model.parameters}
     descriptions.update({law.symbol.name: f"added to its law {spec_str(law.expr)}" for law in d.model.laws})
-    fmu = fmu_context(layout, context, descriptions, sorted(f for f in c_sources if f.endswith(".c")),
+    fmu = fmu_context(context, descriptions, sorted(f for f in c_sources if f.endswith(".c")),
                       len(d.events))
     guid = _guid(render("fmu/modelDescription.xml.jinja", guid="", **fmu), c_sources)
     return {
@@ -136,12 +134,12 @@ def _with_laws(d: Derivation) -> Derivation:
     return closed_loop(d, {law.symbol.name: law.expr + symbols[law.symbol.name] for law in d.model.laws})
 
 
-def fmu_context(layout: Layout, c_context: dict, descriptions: dict, compiled: list[str],
-                nevent: int = 0) -> dict:
-    """What the templates of templates/fmu/ need: the variables of `layout`, the
+def fmu_context(c_context: dict, descriptions: dict, compiled: list[str], nevent: int = 0) -> dict:
+    """What the templates of templates/fmu/ need: the variables of the run interface, the
     `Interface` and settings of the C context, the C files to compile; `nevent`: the
     spec's events, the FMU's event indicators (then it is Model Exchange only)."""
     i = c_context["i"]
+    layout = i.layout
     variables = model_variables(layout, i.initial, descriptions)
     method = c_context["driver_method"]
     return dict(i=i, variables=variables, sources=compiled, settings=layout.settings, baumgarte=i.baumgarte,
@@ -162,7 +160,7 @@ def _check_file_names(d: Derivation, name: str) -> None:
                                 f"({', '.join(sorted(taken))})", "set another `name:` in the spec"))
 
 
-def fmu_files(d: Derivation, initial=None, initial_notes=()) -> dict[str, bytes]:
+def fmu_files(d: Derivation, layout: Layout, initial=None, initial_notes=()) -> dict[str, bytes]:
     """{`<name>.fmu`: the zip's bytes}: `fmu_sources` plus the binary compiled from them."""
     from lagcli.runtime.toolchain import find_compiler
 
@@ -171,7 +169,7 @@ def fmu_files(d: Derivation, initial=None, initial_notes=()) -> dict[str, bytes]
     if compiler is None:
         raise SimulationError("--lang fmu compiles the FMU's binary with a C compiler, but 'cc' was "
                               "not found on PATH (install gcc or clang); nothing was written")
-    files: dict[str, str | bytes] = dict(fmu_sources(d, initial, initial_notes))
+    files: dict[str, str | bytes] = dict(fmu_sources(d, layout, initial, initial_notes))
     folder, suffix = platform_folder()
     files[f"binaries/{folder}/{name}{suffix}"] = compile_binary(compiler, files, name + suffix)
     return {f"{name}.fmu": archive(files)}

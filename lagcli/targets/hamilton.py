@@ -20,6 +20,7 @@ import sympy as sp
 
 from lagcli.derive.hamilton_form import hamilton_form
 from lagcli.derive.result import Derivation
+from lagcli.interface import Layout
 from lagcli.targets import codegen
 from lagcli.targets.cse import eliminate
 from lagcli.targets.python import PythonPrinter
@@ -59,16 +60,17 @@ def hamilton_groups(d: Derivation) -> HamiltonGroups:
     )
 
 
-def hamilton_module(d: Derivation, initial=None, initial_notes=()) -> str:
-    """The text of the (q, p) module of `d` (refused for a constrained system, as
-    `lagcli hamiltonian` does); `initial`: the Lagrangian default state [q, q']."""
+def hamilton_module(d: Derivation, layout: Layout, initial=None, initial_notes=()) -> str:
+    """The text of the (q, p) module of `d` with its run interface `layout` (refused for a
+    constrained system, as `lagcli hamiltonian` does); `initial`: the Lagrangian default
+    state [q, q']."""
     form = hamilton_form(d)
     reduced = eliminate(hamilton_groups(d))
     printer = PythonPrinter(slots(d, reduced, PythonPrinter))
     names = ("mass_matrix", "offset", "momentum_rate", "hamiltonian")
     blocks = {name: codegen.print_block(reduced, printer, (name,)) for name in names}
     system = codegen.print_block(reduced, printer, ("mass_matrix", "offset"))
-    interface = codegen.interface(d, None, initial, initial_notes)   # reads the layout only
+    interface = codegen.interface(layout, initial, initial_notes)
     return render("python/hamiltonian.py.jinja", i=interface, n=d.n, literal=PythonPrinter.literal,
                   imports=printer.imports(), momenta=tuple(p.name for p in form.momenta),
                   mass_rows=codegen._rows(system.values["mass_matrix"], d.n), system=system,

@@ -18,6 +18,7 @@ from __future__ import annotations
 from sympy.printing.numpy import JaxPrinter as SympyJaxPrinter
 
 from lagcli.derive.result import Derivation
+from lagcli.interface import Layout
 from lagcli.targets import codegen
 from lagcli.targets.laws import printed_laws
 from lagcli.targets.python import PythonPrinter
@@ -45,8 +46,8 @@ class JaxPrinter(SlotPrinter, SympyJaxPrinter):
         return self.nested_call("jax.numpy.maximum", expr.args)
 
 
-def jax_files(d: Derivation, initial=None, initial_notes=()) -> dict[str, str]:
+def jax_files(d: Derivation, layout: Layout, initial=None, initial_notes=()) -> dict[str, str]:
     """{<name>.py: the text of the generated JAX module} (`initial`, `initial_notes`: see
     `lagcli.targets.about.interface`)."""
-    context = codegen.generated_context(d, JaxPrinter, initial, initial_notes)
-    return {f"{d.model.name}.py": render("jax/module.py.jinja", **context, laws=printed_laws(d, JaxPrinter))}
+    context = codegen.generated_context(d, JaxPrinter, layout, initial, initial_notes)
+    return {f"{layout.name}.py": render("jax/module.py.jinja", **context, laws=printed_laws(d, JaxPrinter))}

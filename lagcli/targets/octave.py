@@ -28,7 +28,7 @@ from lagcli.targets.identifiers import identifiers
 from lagcli.targets.slots import SlotPrinter
 from lagcli.render.templates import render
 from lagcli.errors import Loc, Problem, SpecError
-from lagcli.interface import STEP_BUDGET_BASE, STEP_BUDGET_PER_OUTPUT, layout_of
+from lagcli.interface import STEP_BUDGET_BASE, STEP_BUDGET_PER_OUTPUT, Layout
 from lagcli.runtime import octave_event_files
 from lagcli.targets.octave_hybrid import EVENT_FILES, hybrid_context
 from lagcli.runtime.run_rules import END_TOLERANCE, OUTPUT_SLACK
@@ -68,9 +68,9 @@ class OctavePrinter(SlotPrinter, OctaveCodePrinter):
         return repr(value)
 
 
-def octave_files(d: Derivation, initial=None, initial_notes=()) -> dict[str, str]:
+def octave_files(d: Derivation, layout: Layout, initial=None, initial_notes=()) -> dict[str, str]:
     """{file name: text} of the function files and the script (see the top)."""
-    context = octave_context(d, initial, initial_notes)
+    context = octave_context(d, layout, initial, initial_notes)
     name = d.model.name
     if not name[:1].isalpha():
         raise SpecError(Problem(Loc(d.model.source, path="name"),
@@ -85,20 +85,17 @@ def octave_files(d: Derivation, initial=None, initial_notes=()) -> dict[str, str
     return files
 
 
-def octave_context(d: Derivation, initial=None, initial_notes=()) -> dict:
+def octave_context(d: Derivation, layout: Layout, initial=None, initial_notes=()) -> dict:
     """Everything the MATLAB/Octave templates need, pre-printed."""
-    context = codegen.generated_context(d, OctavePrinter, initial, initial_notes)
-    layout = layout_of(d)
+    context = codegen.generated_context(d, OctavePrinter, layout, initial, initial_notes)
     i = context["i"]
-    return dict(context, **hybrid_context(d, OctavePrinter), prefix=d.model.name, settings=layout.settings,
+    return dict(context, **hybrid_context(d, OctavePrinter), prefix=layout.name, settings=layout.settings,
                 # the output-time rule of lagcli/runtime/run_rules.py, restated in simulate.m
                 output_slack=_short_literal(OUTPUT_SLACK), end_tolerance=_short_literal(END_TOLERANCE),
                 step_budget={"base": STEP_BUDGET_BASE, "per_output": STEP_BUDGET_PER_OUTPUT},
-                inputs=tuple(x.name for x in layout.inputs),
+                inputs=layout.input_names,
                 input_defaults=tuple(OctavePrinter.literal(x.default) for x in layout.inputs),
-                header=("t",) + i.state + i.multipliers + i.invariants,
-                fields=identifiers(i.state + tuple(p for p, _ in i.parameters) + i.multipliers
-                                   + i.invariants, RESERVED, "MATLAB field"))
+                header=i.header, fields=identifiers(i.fields, RESERVED, "MATLAB field"))
 
 
 def _short_literal(value: float) -> str:

@@ -26,7 +26,7 @@ from lagcli.targets import codegen
 from lagcli.targets.identifiers import identifier, identifiers
 from lagcli.targets.slots import SlotPrinter
 from lagcli.render.templates import render
-from lagcli.interface import layout_of
+from lagcli.interface import Layout
 from lagcli.runtime import rust_runtime_files
 
 # Rust's keywords (sympy's list) and the names Cargo refuses for a package.
@@ -104,9 +104,9 @@ def crate_name(name: str) -> str:
     return identifier(name.lower(), CRATE_RESERVED)
 
 
-def rust_files(d: Derivation, initial=None, initial_notes=()) -> dict[str, str]:
+def rust_files(d: Derivation, layout: Layout, initial=None, initial_notes=()) -> dict[str, str]:
     """{file name: text} of the crate (see the top)."""
-    context = rust_context(d, initial, initial_notes)
+    context = rust_context(d, layout, initial, initial_notes)
     runtime = {f"src/{name}": text for name, text in rust_runtime_files().items()}
     return {
         "Cargo.toml": render("rust/Cargo.toml.jinja", **context),
@@ -116,17 +116,13 @@ def rust_files(d: Derivation, initial=None, initial_notes=()) -> dict[str, str]:
     }
 
 
-def rust_context(d: Derivation, initial=None, initial_notes=()) -> dict:
+def rust_context(d: Derivation, layout: Layout, initial=None, initial_notes=()) -> dict:
     """Everything the Rust templates need, pre-printed."""
-    context = codegen.generated_context(d, RustPrinter, initial, initial_notes)
-    layout = layout_of(d)
+    context = codegen.generated_context(d, RustPrinter, layout, initial, initial_notes)
     i = context["i"]
-    kinds = [c.kind for c in layout.invariants]
-    names = i.state + tuple(p for p, _ in i.parameters) + i.multipliers + i.invariants
-    return dict(context, crate=crate_name(d.model.name), settings=layout.settings,
-                inputs=tuple(x.name for x in layout.inputs),
+    return dict(context, crate=crate_name(layout.name), settings=layout.settings,
+                inputs=layout.input_names,
                 input_defaults=tuple(context["literal"](x.default) for x in layout.inputs),
                 nsys=context["n"] + context["m"],
-                header=("t",) + i.state + i.multipliers + i.invariants,
-                fields=identifiers(names, RESERVED, "Rust"),
-                residual_column=kinds.index("residual") if "residual" in kinds else None)
+                header=i.header, fields=identifiers(i.fields, RESERVED, "Rust"),
+                residual_column=i.residual_index)

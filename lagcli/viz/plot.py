@@ -49,7 +49,7 @@ from lagcli.errors import SimulationError, UsageError
 from lagcli.interface import (ENERGY, JACOBI, MOMENTUM_PREFIX, MULTIPLIER_PREFIX, RESIDUAL, TIME,
                            velocity_name)
 from lagcli.render.output import write_output
-from lagcli.run.rows import Trajectory, parse_csv
+from lagcli.run.rows import Trajectory
 
 FLOOR = 1e-17
 ABSOLUTE_BELOW = 1e-12
@@ -137,8 +137,7 @@ def build_figure(traj: Trajectory, coordinates, energy_conserved: bool, title: s
     except ImportError:
         raise SimulationError("--plot needs matplotlib, which is not installed; install it with "
                               "pip install 'lagcli[plot]' (the CSV was written)") from None
-    header, rows = parse_csv(traj.csv_text())
-    data = np.array(rows, dtype=float).reshape(len(rows), len(header))
+    header, data = traj.header, traj.data                 # floats: no CSV text on the way
     column = {name: data[:, i] for i, name in enumerate(header)}
     panels = by_scale(_panels(header, coordinates, options), column)
     series = drift_series(header, energy_conserved)

@@ -32,6 +32,7 @@
 #include <time.h>
 
 #include "lagcli_driver.h"
+#include "lagcli_events.h"
 #include "lagcli_ode.h"
 #include "lagcli_variational.h"
 
@@ -64,6 +65,7 @@ typedef struct {
     double max_steps; /* --max-steps: accepted steps a run may take (0: the default rule) */
     long bench;    /* --bench-integration N: time N silent integrations instead of printing */
     long steps_per_row;   /* --steps-per-row K (variational) */
+    const char *events;   /* --events FILE: the log of the events (lagcli_events.h), or NULL */
     int batch;     /* --batch: many runs read from stdin (batch_main); 2 with --batch-rows */
     int nexceed;   /* --exceed NAME=VALUE: first time |NAME| > VALUE, in the batch summaries */
     int exceed_index[LAGCLI_MAX_EXCEED];
@@ -134,7 +136,8 @@ static int usage(const char *program, const char *problem)
     fprintf(problem != NULL ? stderr : stdout,
             "usage: %s [--t-end T] [--dt DT] [--method " LAGCLI_METHODS "] [--rtol R] [--atol A]\n"
             "       [--set NAME=VALUE]... [--init NAME=VALUE]... [--baumgarte ALPHA BETA]\n"
-            "       [--max-steps N] [--steps-per-row K]   (variational: K fixed steps between rows)\n",
+            "       [--max-steps N] [--steps-per-row K]   (variational: K fixed steps between rows)\n"
+            "       [--events FILE]   (a model with events: one line per event, lagcli_events.h)\n",
             program);
     return problem != NULL ? 2 : 0;
 }
@@ -227,6 +230,8 @@ static int parse(int argc, char **argv, run_settings *s, run_state *run, double 
         } else if ((v = option(argc, argv, &i, "--init", &missing)) != NULL) {
             if (!assign("--init", v, run->model->state_names, "coordinate or velocity", y0, message))
                 return usage(argv[0], message);
+        } else if ((v = option(argc, argv, &i, "--events", &missing)) != NULL) {
+            s->events = v;
         } else if ((v = option(argc, argv, &i, "--max-steps", &missing)) != NULL) {
             if (!number(v, &s->max_steps) || s->max_steps < 1 || s->max_steps > 1e15
                 || s->max_steps != floor(s->max_steps))
@@ -356,6 +361,28 @@ static int integrate_windows(const run_settings *s, run_state *run, const double
 /* --bench-integration N (for bench/simulate.py; not in the usage text): integrate N times
  * with the same steps and dense output but no rows (no invariants, no printf), timing each
  * run with clock() (processor time: no process start-up, no output), and report on stderr. */
+static int integrate_events(const run_settings *s, run_state *run, const double *y0, lagcli_ode_out_fn out,
+                            FILE *log, lagcli_event_result *result);
+
+/* The integration of a run without a log: with the model's events when it has them
+ * (the run ends early as lagcli_events.h says), else LAGCLI_WINDOW output times at a time. */
+static int integrate_plain(const run_settings *s, run_state *run, const double *y0, lagcli_ode_out_fn out,
+                           lagcli_ode_stats *stats)
+{
+    static char message[sizeof ((lagcli_event_result *)0)->message];   /* one integration at a time */
+    lagcli_event_result result;
+    int rc;
+    if (run->model->events == NULL)
+        return integrate_windows(s, run, y0, out, stats);
+    rc = integrate_events(s, run, y0, out, NULL, &result);
+    *stats = result.stats;
+    if (rc >= LAGCLI_EVENTS_FAILED) {
+        memcpy(message, result.message, sizeof message);
+        stats->message = message;
+    }
+    return rc;
+}
+
 static int bench(const run_settings *s, run_state *run, const double *y0)
 {
     lagcli_ode_stats stats;
@@ -365,7 +392,7 @@ static int bench(const run_settings *s, run_state *run, const double *y0)
     int rc;
     for (k = 0; k < s->bench; ++k) {
         start = clock();
-        rc = integrate_windows(s, run, y0, no_row, &stats);
+        rc = integrate_plain(s, run, y0, no_row, &stats);
         seconds = (double)(clock() - start) / CLOCKS_PER_SEC;
         if (rc != LAGCLI_ODE_OK) {
             fprintf(stderr, "error: at t = %.10g: %s\n", stats.t, stats.message);
@@ -381,6 +408,75 @@ static int bench(const run_settings *s, run_state *run, const double *y0)
 }
 
 static int variational(const run_settings *s, run_state *run, const double *y0);
+static void failure_text(int rc, const run_settings *s, const run_state *run, const lagcli_ode_stats *st,
+                         char *text);
+
+/* "error: at t = ...: reason" of a failed integration on stderr; exit status 1. */
+static int report_failure(int rc, const run_settings *s, const run_state *run, const lagcli_ode_stats *stats)
+{
+    char text[800];
+    failure_text(rc, s, run, stats, text);
+    fprintf(stderr, "error: %s\n", text);
+    return 1;
+}
+
+static double event_time_at(const void *times, size_t k)
+{
+    return time_at((const output_times *)times, k);
+}
+
+/* Integrate from y0 with the model's events (lagcli_events.c), `out` at every output time
+ * after 0 and at an early end; the log to `log` (may be NULL). */
+static int integrate_events(const run_settings *s, run_state *run, const double *y0, lagcli_ode_out_fn out,
+                            FILE *log, lagcli_event_result *result)
+{
+    output_times times = times_of(s->t_end, s->dt);
+    lagcli_event_run e;
+    e.model = run->model;
+    e.p = run->p;
+    e.rhs = rhs;
+    e.row = out;
+    e.ctx = run;
+    e.method = s->method;
+    e.rtol = s->rtol;
+    e.atol = s->atol;
+    e.max_step = max_step(run->model, run->alpha, run->beta);
+    e.t_end = s->t_end;
+    e.max_steps = step_budget(s);
+    e.constraint_tolerance = LAGCLI_CONSTRAINT_TOLERANCE;
+    e.time_at = event_time_at;
+    e.times = &times;
+    e.ntimes = times.count;
+    e.log = log;
+    memcpy(run->last, y0, (size_t)run->model->nstate * sizeof *y0);
+    return lagcli_events_integrate(&e, y0, result);
+}
+
+/* The rows of a run with events, the log to --events FILE; the exit status. */
+static int run_events(const run_settings *s, run_state *run, const double *y0)
+{
+    lagcli_event_result result;
+    FILE *log = NULL;
+    int rc;
+    if (s->events != NULL && (log = fopen(s->events, "w")) == NULL) {
+        fprintf(stderr, "error: --events %.200s: cannot open it for writing\n", s->events);
+        return 2;
+    }
+    rc = integrate_events(s, run, y0, row, log, &result);
+    if (log != NULL && fclose(log) != 0 && rc == LAGCLI_ODE_OK) {
+        fprintf(stderr, "error: --events %.200s: cannot write it\n", s->events);
+        return 1;
+    }
+    if (rc == LAGCLI_EVENTS_BAD_VALUES) {
+        fprintf(stderr, "error: %s\n", result.message);
+        return 2;
+    }
+    if (rc == LAGCLI_EVENTS_FAILED)
+        fprintf(stderr, "error: %s\n", result.message);
+    else if (rc != LAGCLI_ODE_OK)
+        return report_failure(rc, s, run, &result.stats);
+    return rc == LAGCLI_ODE_OK ? 0 : 1;
+}
 
 /* Integrate from y0 and print the rows; the exit status. */
 static int integrate(const run_settings *s, run_state *run, const double *y0)
@@ -397,19 +493,10 @@ static int integrate(const run_settings *s, run_state *run, const double *y0)
         fprintf(stderr, "error: at t = %.10g: %s\n", run->when, reason(run->code));
         return 1;
     }
+    if (run->model->events != NULL)
+        return run_events(s, run, y0);
     rc = integrate_windows(s, run, y0, row, &stats);
-    if (rc == LAGCLI_ODE_OK)
-        return 0;
-    if (rc == LAGCLI_ODE_ERR_RHS || rc == LAGCLI_ODE_INTERRUPTED)
-        fprintf(stderr, "error: at t = %.10g: %s\n", run->when, reason(run->code));
-    else if (rc == LAGCLI_ODE_ERR_NONFINITE)
-        fprintf(stderr, "error: at t = %.10g: the state is no longer finite (inf/nan): the solution blows up\n",
-                stats.t);
-    else if (rc == LAGCLI_ODE_ERR_MAX_STEPS)
-        fprintf(stderr, "error: at t = %.10g: " STEP_BUDGET_TEXT "\n", stats.t, step_budget(s));
-    else
-        fprintf(stderr, "error: at t = %.10g: the %s integrator failed: %s\n", stats.t, s->method, stats.message);
-    return 1;
+    return rc == LAGCLI_ODE_OK ? 0 : report_failure(rc, s, run, &stats);
 }
 
 int lagcli_driver_main(const lagcli_model *model, int argc, char **argv)
@@ -446,6 +533,7 @@ int lagcli_driver_main(const lagcli_model *model, int argc, char **argv)
     s.max_steps = 0;
     s.bench = 0;
     s.steps_per_row = 1;
+    s.events = NULL;
     s.batch = 0;
     s.nexceed = 0;
     if ((rc = parse(argc, argv, &s, &run, y0)) == 0) {
@@ -454,6 +542,8 @@ int lagcli_driver_main(const lagcli_model *model, int argc, char **argv)
         } else if (strcmp(s.method, "variational") == 0 && model->discrete_momenta == NULL) {
             fprintf(stderr, "error: %s\n", model->variational_refusal);
             rc = 2;
+        } else if (model->events != NULL && strcmp(s.method, "variational") == 0) {
+            rc = usage(argv[0], "--method variational does not run events: use RK45 or DOP853");
         } else if (s.batch && strcmp(s.method, "variational") == 0) {
             rc = usage(argv[0], "--batch: runs RK45 or DOP853");
         } else if (s.batch) {
@@ -604,6 +694,8 @@ static void failure_text(int rc, const run_settings *s, const run_state *run, co
         sprintf(text, "at t = %.10g: the state is no longer finite (inf/nan): the solution blows up", st->t);
     else if (rc == LAGCLI_ODE_ERR_MAX_STEPS)
         sprintf(text, "at t = %.10g: " STEP_BUDGET_TEXT, st->t, step_budget(s));
+    else if (rc >= LAGCLI_EVENTS_FAILED)
+        sprintf(text, "%.790s", st->message);
     else
         sprintf(text, "at t = %.10g: the %s integrator failed: %s", st->t, s->method, st->message);
 }
@@ -671,7 +763,7 @@ static void batch_run_line(const run_settings *s, batch_run *b, const double *p0
     if (s->bench > 0) {             /* the bare integration cost (bench/sweep.py): no rows, no summary */
         clock_t start = clock();
         if (failure[0] == '\0')
-            (void)integrate_windows(s, run, y, no_row, &st);
+            (void)integrate_plain(s, run, y, no_row, &st);
         b->bench_seconds += (double)(clock() - start) / CLOCKS_PER_SEC;
         ++b->bench_runs;
         return;
@@ -679,7 +771,7 @@ static void batch_run_line(const run_settings *s, batch_run *b, const double *p0
     if (failure[0] == '\0') {
         if (batch_row(0.0, y, run) != 0)
             failure_text(LAGCLI_ODE_ERR_RHS, s, run, &st, failure);
-        else if ((rc = integrate_windows(s, run, y, batch_row, &st)) != LAGCLI_ODE_OK)
+        else if ((rc = integrate_plain(s, run, y, batch_row, &st)) != LAGCLI_ODE_OK)
             failure_text(rc, s, run, &st, failure);
     }
     if (b->rows > 0)     /* the multipliers at the last row reached */

@@ -22,6 +22,24 @@ typedef int (*lagcli_holonomic_fn)(double t, const double *y, const double *p, d
                                    double *phit);
 typedef int (*lagcli_matrix_fn)(double t, const double *y, const double *p, double *M);
 
+/* The spec's events (NULL in a model without them): see lagcli_events.h. */
+enum { LAGCLI_EVENT_IMPACT = 0, LAGCLI_EVENT_RESET = 1, LAGCLI_EVENT_STOP = 2 };
+typedef void (*lagcli_event_functions_fn)(double t, const double *y, const double *p, double *g);
+typedef void (*lagcli_impact_terms_fn)(int k, double t, const double *y, const double *p, double *G,
+                                       double *g_t, double *e, double *d);
+typedef void (*lagcli_reset_fn)(int k, double t, const double *y, const double *p, double *y_new);
+
+typedef struct {
+    int nevent;
+    const char *const *names;               /* NULL-terminated, nevent names */
+    const int *actions;                     /* LAGCLI_EVENT_* */
+    const int *directions;                  /* -1 falling (+ to -), 1 rising, 0 either */
+    lagcli_event_functions_fn functions;    /* g[k] = g_k(t, y, p), k < nevent */
+    lagcli_impact_terms_fn impact_terms;    /* impact k: G = dg_k/dq (nq), g_t, e; d (nlambda) */
+    lagcli_reset_fn reset;                  /* reset k: y_new (nstate) from y */
+    lagcli_matrix_fn constraint_matrix;     /* A (nlambda x nq, row-major) */
+} lagcli_events;
+
 typedef struct {
     const char *name;                       /* the spec's name */
     int nq, nstate, nparam, nlambda, ninv;  /* sizes; nstate = 2 nq */
@@ -45,6 +63,7 @@ typedef struct {
     lagcli_holonomic_fn holonomic;                  /* variational_refusal says why */
     lagcli_matrix_fn mass_matrix;
     const char *variational_refusal;       /* NULL, or why --method variational is refused */
+    const lagcli_events *events;            /* NULL, or the spec's events (lagcli_events.c runs them) */
 } lagcli_model;
 
 #ifdef __cplusplus

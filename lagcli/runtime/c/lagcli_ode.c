@@ -625,3 +625,125 @@ int lagcli_ode_integrate_bounded(const char *method, lagcli_ode_rhs_fn rhs, lagc
     stats->message = lagcli_ode_message(rc);
     return rc;
 }
+
+/* ---- step by step (lagcli_ode.h) ------------------------------------------------------ */
+
+struct lagcli_ode_stepper {
+    lagcli_ode_solver s;
+    double *work;
+    int stepped;       /* a step was taken since the start: K[0] comes from its FSAL row */
+    int dense_ready;   /* F holds the last step's interpolant */
+};
+
+lagcli_ode_stepper *lagcli_ode_stepper_new(const char *method, lagcli_ode_rhs_fn rhs, void *ctx, int n,
+                                           double rtol, double atol, double max_step)
+{
+    const lagcli_ode_tableau *tab = lagcli_ode_find_method(method);
+    lagcli_ode_stepper *st;
+    size_t rows;
+    if (!tab || !rhs || n < 1 || isnan(rtol) || !(atol >= 0) || !(max_step > 0))
+        return NULL;
+    st = (lagcli_ode_stepper *)calloc(1, sizeof *st);
+    rows = 5 + (size_t)tab->n_k + (size_t)tab->n_dense;
+    if (!st || !(st->work = (double *)malloc(rows * (size_t)n * sizeof *st->work))) {
+        free(st);
+        return NULL;
+    }
+    st->s.tab = tab;
+    st->s.rhs = rhs;
+    st->s.ctx = ctx;
+    st->s.n = n;
+    st->s.rtol = rtol < 100 * DBL_EPSILON ? 100 * DBL_EPSILON : rtol; /* as scipy */
+    st->s.atol = atol;
+    st->s.max_step = max_step;
+    st->s.error_exponent = -1.0 / (tab->error_order + 1);
+    st->s.y = st->work;
+    st->s.y_old = st->work + (size_t)n;
+    st->s.y_new = st->work + 2 * (size_t)n;
+    st->s.y_stage = st->work + 3 * (size_t)n;
+    st->s.y_out = st->work + 4 * (size_t)n;
+    st->s.K = st->work + 5 * (size_t)n;
+    st->s.F = st->s.K + (size_t)tab->n_k * n;
+    return st;
+}
+
+int lagcli_ode_stepper_start(lagcli_ode_stepper *st, double t0, const double *y0, double t_end)
+{
+    lagcli_ode_solver *s = &st->s;
+    int rc;
+    if (!isfinite(t0) || !isfinite(t_end))
+        return LAGCLI_ODE_ERR_ARGS;
+    /* y0 may point into this stepper's own arrays (the state at an event): copy first */
+    memmove(s->y_new, y0, (size_t)s->n * sizeof *y0);
+    memcpy(s->y, s->y_new, (size_t)s->n * sizeof *s->y);
+    s->t = s->t_old = t0;
+    s->t_end = t_end;
+    s->direction = t_end >= t0 ? 1.0 : -1.0;
+    s->nfev = s->n_accepted = s->n_rejected = 0;
+    s->nonfinite = 0;
+    st->stepped = st->dense_ready = 0;
+    if (!lagcli_ode_all_finite(s->n, s->y))
+        return LAGCLI_ODE_ERR_NONFINITE;
+    if ((rc = lagcli_ode_eval(s, s->t, s->y, s->K)) != LAGCLI_ODE_OK)
+        return rc;
+    if (!lagcli_ode_all_finite(s->n, s->K))
+        return LAGCLI_ODE_ERR_NONFINITE;
+    return t0 == t_end ? LAGCLI_ODE_OK : lagcli_ode_initial_step(s, &s->h_abs);
+}
+
+int lagcli_ode_stepper_step(lagcli_ode_stepper *st)
+{
+    lagcli_ode_solver *s = &st->s;
+    if (st->stepped) /* first same as last */
+        memcpy(s->K, lagcli_ode_krow(s, s->tab->n_stages), (size_t)s->n * sizeof *s->K);
+    st->dense_ready = 0;
+    if (s->t == s->t_end) { /* nothing left: a step of length zero, as scipy's */
+        s->t_old = s->t;
+        memcpy(s->y_old, s->y, (size_t)s->n * sizeof *s->y);
+        st->stepped = 0;
+        return LAGCLI_ODE_OK;
+    }
+    st->stepped = 1;
+    return lagcli_ode_step(s);
+}
+
+int lagcli_ode_stepper_dense(lagcli_ode_stepper *st, double t, double *y)
+{
+    lagcli_ode_solver *s = &st->s;
+    int rc;
+    if (s->t == s->t_old) {
+        memcpy(y, s->y, (size_t)s->n * sizeof *y);
+        return LAGCLI_ODE_OK;
+    }
+    if (!st->dense_ready) {
+        if ((rc = lagcli_ode_dense_prepare(s)) != LAGCLI_ODE_OK)
+            return rc;
+        st->dense_ready = 1;
+    }
+    lagcli_ode_dense_eval(s, t);
+    memcpy(y, s->y_out, (size_t)s->n * sizeof *y);
+    return LAGCLI_ODE_OK;
+}
+
+double lagcli_ode_stepper_t(const lagcli_ode_stepper *st) { return st->s.t; }
+
+double lagcli_ode_stepper_t_old(const lagcli_ode_stepper *st) { return st->s.t_old; }
+
+const double *lagcli_ode_stepper_y(const lagcli_ode_stepper *st) { return st->s.y; }
+
+void lagcli_ode_stepper_stats(const lagcli_ode_stepper *st, lagcli_ode_stats *stats)
+{
+    stats->t = st->s.t;
+    stats->nfev = st->s.nfev;
+    stats->n_accepted = st->s.n_accepted;
+    stats->n_rejected = st->s.n_rejected;
+    stats->message = "";
+}
+
+void lagcli_ode_stepper_free(lagcli_ode_stepper *st)
+{
+    if (st) {
+        free(st->work);
+        free(st);
+    }
+}

@@ -72,6 +72,30 @@ int lagcli_ode_integrate_bounded(const char *method, lagcli_ode_rhs_fn rhs, lagc
                                  const double *t_out, size_t n_out, double rtol, double atol,
                                  double max_step, long max_steps, lagcli_ode_stats *stats);
 
+/* Step by step (lagcli_events.c: events located on each step's interpolant):
+ *
+ *   lagcli_ode_stepper *s = lagcli_ode_stepper_new(method, rhs, ctx, n, rtol, atol, max_step);
+ *   lagcli_ode_stepper_start(s, t0, y0, t_end);     f(t0, y0) and the initial step, as scipy's
+ *                                                   solver constructor (also to restart after an event)
+ *   lagcli_ode_stepper_step(s);                     one accepted step (scipy's OdeSolver.step)
+ *   lagcli_ode_stepper_dense(s, t, y);              y = the step's interpolant at t in [t_old, t]
+ *   lagcli_ode_stepper_free(s);
+ *
+ * The same steps as lagcli_ode_integrate. Each function returns a LAGCLI_ODE_* code;
+ * lagcli_ode_stepper_stats gives the time reached and the counts since the last start. */
+typedef struct lagcli_ode_stepper lagcli_ode_stepper;
+
+lagcli_ode_stepper *lagcli_ode_stepper_new(const char *method, lagcli_ode_rhs_fn rhs, void *ctx, int n,
+                                           double rtol, double atol, double max_step);
+int lagcli_ode_stepper_start(lagcli_ode_stepper *s, double t0, const double *y0, double t_end);
+int lagcli_ode_stepper_step(lagcli_ode_stepper *s);
+int lagcli_ode_stepper_dense(lagcli_ode_stepper *s, double t, double *y);
+double lagcli_ode_stepper_t(const lagcli_ode_stepper *s);      /* the end of the last step */
+double lagcli_ode_stepper_t_old(const lagcli_ode_stepper *s);  /* its start */
+const double *lagcli_ode_stepper_y(const lagcli_ode_stepper *s);
+void lagcli_ode_stepper_stats(const lagcli_ode_stepper *s, lagcli_ode_stats *stats);
+void lagcli_ode_stepper_free(lagcli_ode_stepper *s);
+
 /* A static description of a return code of lagcli_ode_integrate. */
 const char *lagcli_ode_message(int code);
 

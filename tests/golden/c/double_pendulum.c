@@ -272,4 +272,5 @@ const lagcli_model double_pendulum_model = {
     0, double_pendulum_discrete_momenta, double_pendulum_discrete_jacobian,
     NULL,
     double_pendulum_mass_matrix,
+    NULL,
     NULL};

@@ -201,4 +201,5 @@ const lagcli_model ex6_9_two_wheels_axle_model = {
     ex6_9_two_wheels_axle_invariants,
     0, NULL, NULL, NULL,
     ex6_9_two_wheels_axle_mass_matrix,
-    "--method variational: constraint 1 (x_dot*sin(phi) - y_dot*cos(phi) = 0) is nonholonomic; the variational integrator enforces holonomic constraints only\012  hint: use --method DOP853 (or Radau) for this system"};
+    "--method variational: constraint 1 (x_dot*sin(phi) - y_dot*cos(phi) = 0) is nonholonomic; the variational integrator enforces holonomic constraints only\012  hint: use --method DOP853 (or Radau) for this system",
+    NULL};

@@ -15,6 +15,7 @@
     rhs(t, y, p) -> [q'..., q''...]            y in STATE order, p in PARAMETERS order or a dict
     accelerations(t, y, p, alpha=0.0, beta=0.0) -> (q'', lambda)    Baumgarte-stabilised
     mass_matrix, forcing, constraint_matrix, constraint_bias, invariants (t, y, p)
+    output_row(t, y, lam, p) -> one row of simulate's output, in HEADER order
     simulate(t_end=None, dt=None, method=None, rtol=None, atol=None, p=None, y0=None,
              baumgarte=BAUMGARTE, steps_per_row=1) -> (header, rows)
              method="variational": lagcli's variational integrator, step dt / steps_per_row
@@ -196,6 +197,7 @@ PARAMETERS = {
 }
 MULTIPLIERS = []
 INVARIANTS = ['energy', 'jacobi']
+HEADER = ['t', 'theta1', 'theta2', 'theta1_dot', 'theta2_dot', 'energy', 'jacobi']
 INITIAL = [1.0, 0.5, 0.0, 0.0]
 SETTINGS = {'t_end': 10.0, 'dt': 0.01, 'method': 'DOP853', 'rtol': 1e-10, 'atol': 1e-12}
 BAUMGARTE = (10.0, 10.0)
@@ -327,6 +329,12 @@ def invariants(t, y, p):
     }
 
 
+def output_row(t, y, lam, p):
+    """One row of simulate's output, in HEADER order: t, the state, the multipliers, the invariants."""
+    values = invariants(t, y, p)
+    return [t, *y, *lam, *(values[name] for name in INVARIANTS)]
+
+
 def _discrete_momenta(t, y, p, u):
     """(g, f): g = dL/dq' = M q' + a and f = dL/dq + Q' (the variational integrator's)."""
     x0 = p[0] + p[1]
@@ -423,12 +431,10 @@ def _simulate_variational(t_end, dt, p, y0, steps_per_row, u=None):
     rows = []
     try:
         for t, y in variational_rows(f, y0, output_time_windows(t_end, dt), int(steps_per_row)):
-            lam = accelerations(t, y, p)[1]
-            values = invariants(t, y, p)
-            rows.append([t, *y, *lam, *(values[name] for name in INVARIANTS)])
+            rows.append(output_row(t, y, accelerations(t, y, p)[1], p))
     except VariationalFailure as exc:
         raise RuntimeError(str(exc)) from None
-    return ["t", *STATE, *MULTIPLIERS, *INVARIANTS], np.array(rows)
+    return list(HEADER), np.array(rows)
 
 
 def simulate(t_end=None, dt=None, method=None, rtol=None, atol=None, p=None, y0=None,
@@ -459,9 +465,6 @@ def simulate(t_end=None, dt=None, method=None, rtol=None, atol=None, p=None, y0=
                          max_step=max_step(method, alpha, beta, bool(MULTIPLIERS)))
     if solution.status < 0:
         raise RuntimeError(f"at t = {solution.t[-1] if solution.t.size else 0.0}: {solution.message}")
-    rows = []
-    for t, y in zip(solution.t, solution.y.T):
-        lam = accelerations(t, y, p, alpha, beta)[1]
-        values = invariants(t, y, p)
-        rows.append([t, *y, *lam, *(values[name] for name in INVARIANTS)])
-    return ["t", *STATE, *MULTIPLIERS, *INVARIANTS], np.array(rows)
+    rows = [output_row(t, y, accelerations(t, y, p, alpha, beta)[1], p)
+            for t, y in zip(solution.t, solution.y.T)]
+    return list(HEADER), np.array(rows)

@@ -1,0 +1,119 @@
+"""What a derivation holds must be a double-precision number (issue 25).
+
+Each number of a spec is bounded as it is parsed (lagcli/model/expr.py: at most 1e300,
+nonzero at least 1e-300, at most 1000 exact digits), but the derivation multiplies them:
+a mass of 1e299 at a position 1e299 x gives T = 5e896 x'^2, which every output (a
+report, generated code, a run) would print as a number no double can hold (inf in C and
+numpy). So right after the derivation, T, V, Q', the constraint rows, M and F are
+checked: an infinite, undefined or complex value, or a constant beyond those bounds, is
+a located error (exit status 2) naming the quantity and the constant. The location is
+the spec item that contributes the constant (a particle, a body, a spring, `kinetic:`,
+`potential:`), found only when there is a problem (one element at a time).
+"""
+from __future__ import annotations
+
+import dataclasses
+
+import sympy as sp
+
+from lagcli.derive.energy import kinetic_parts, potential_energy
+from lagcli.errors import Problem, SpecError
+from lagcli.model.calculus import TimeDerivative
+from lagcli.model.constants import LARGEST
+from lagcli.model.expr import MAX_EXACT_NUMBER_DIGITS, exact_digits
+
+SMALLEST = 1.0 / LARGEST     # a nonzero constant below this would be 0 in double precision
+_NOT_FINITE = (sp.zoo, sp.oo, sp.S.NegativeInfinity, sp.nan, sp.I)
+_HINT_INFINITE = ("check for a division by zero, e.g. a rolling wheel whose axis is along the surface normal, "
+                  "or a root or log of a negative constant")
+_HINT_RANGE = ("the derivation multiplies the spec's numbers (a mass of 1e200 at a position 1e200 x gives "
+               "5e599 in T): choose units that keep the numbers and their products within 1e-300 .. 1e300")
+
+
+def refuse_unrepresentable(d) -> None:
+    """SpecError naming every quantity of `d` (a Derivation) that is not finite and real
+    identically, or holds a constant beyond double precision."""
+    problems = _problems(d, _quantities(d))
+    if not problems:           # M and F are made of T, V and Q': checked when those pass
+        problems = _problems(d, _matrices(d))
+    if problems:
+        raise SpecError(problems)
+
+
+def _problems(d, quantities) -> list[Problem]:
+    problems = []
+    for what, value, loc in quantities:
+        if value.has(*_NOT_FINITE):
+            worst = next(str(s) for s in _NOT_FINITE if value.has(s))
+            problems.append(Problem(loc, f"{what} is infinite, undefined or complex as derived (it holds "
+                                         f"{worst})", _HINT_INFINITE))
+            continue
+        constant = out_of_range(value)
+        if constant is not None:
+            problems.append(Problem(_culprit(d.model, what, loc), f"{what} holds the constant {_short(constant)}, "
+                                    f"{_why(constant)}", _HINT_RANGE))
+    return problems
+
+
+def out_of_range(value) -> sp.Number | None:
+    """The first constant of `value` (an expression or matrix) that no double holds as
+    it is: beyond LARGEST, nonzero below SMALLEST, or an exact number of too many digits."""
+    for number in sorted(value.atoms(sp.Number), key=sp.default_sort_key):
+        if number == 0 or not number.is_finite:
+            continue
+        if abs(number) > LARGEST or abs(number) < SMALLEST or _digits(number) > MAX_EXACT_NUMBER_DIGITS:
+            return number
+    return None
+
+
+def _quantities(d):
+    """(what, value, where) of T, V, Q' and the constraint rows."""
+    model = d.model
+    yield "the kinetic energy T", d.T, model.loc("kinetic")
+    yield "the potential energy V", d.V, model.loc("potential")
+    for i, (q, Q) in enumerate(zip(model.q, d.nonconservative_forces)):
+        yield f"the non-conservative force Q'_{q.name}", Q, model.loc(f"coordinates[{i}]")
+    for row, spec in zip(d.constraints, model.constraints):
+        yield (f"the constraint row '{row.label or row.multiplier.name}'", sp.Matrix([row.expr, row.d, *row.a]),
+               spec.loc or model.loc("constraints"))
+
+
+def _matrices(d):
+    """(what, row, where) of M and F, row by row when one holds a problem."""
+    model = d.model
+    for what, matrix in (("the mass matrix's row of {}", d.mass_matrix), ("the force F_{} of its equation", d.forcing)):
+        if out_of_range(matrix) is not None:      # rare: only then row by row, for the location
+            yield from ((what.format(q.name), matrix.row(i), model.loc(f"coordinates[{i}]"))
+                        for i, q in enumerate(model.q))
+
+
+def _culprit(model, what: str, where):
+    """The particle, body or spring whose own T or V holds the constant (else `where`)."""
+    alone = dict(particles=(), bodies=(), springs=(), kinetic=sp.S.Zero, potential=sp.S.Zero)
+    elements = [(p.loc, dataclasses.replace(model, **{**alone, "particles": (p,)})) for p in model.particles]
+    elements += [(b.loc, dataclasses.replace(model, **{**alone, "bodies": (b,)})) for b in model.bodies]
+    if "kinetic" in what:
+        D = TimeDerivative(model.t, model.q, model.qd, model.qdd)
+        found = (loc for loc, one in elements if out_of_range(sp.Matrix([*kinetic_parts(one, D)[0]])) is not None)
+    elif "potential" in what:
+        elements += [(s.loc, dataclasses.replace(model, **{**alone, "springs": (s,)})) for s in model.springs]
+        found = (loc for loc, one in elements if out_of_range(potential_energy(one)) is not None)
+    else:
+        return where
+    return next((loc for loc in found if loc is not None), where)
+
+
+def _digits(number: sp.Number) -> int:
+    return exact_digits(number) if number.is_Rational else 0
+
+
+def _short(number: sp.Number) -> str:
+    return str(sp.Float(number, 3))
+
+
+def _why(number: sp.Number) -> str:
+    if abs(number) > LARGEST:
+        return f"beyond {LARGEST:g} (infinite in double precision, in generated code and runs)"
+    if abs(number) < SMALLEST:
+        return f"below {SMALLEST:g} (0 in double precision: a term would vanish from generated code and runs)"
+    return f"an exact number of more than {MAX_EXACT_NUMBER_DIGITS} digits"
