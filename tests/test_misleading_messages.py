@@ -101,3 +101,19 @@ def test_set_mass_zero_is_refused_by_physical_validation(tmp_path, backend, monk
     assert result.exit_code == 2, result.output
     assert "--set m=0: " in result.stderr and "the mass matrix is singular at the initial state" in result.stderr
     assert "integration failed" not in result.stderr
+
+
+def test_set_values_whose_products_overflow_are_refused_by_physical_validation(tmp_path, monkeypatch):
+    # each value is a double, m1 l1^2 = 1e897 in the mass matrix is not: refused before the run
+    # (it was a run-time "accelerations are not finite" at t = 0)
+    from click.testing import CliRunner
+
+    from conftest import SPECS
+    from lagcli.cli import cli
+
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    result = CliRunner().invoke(cli, ["simulate", str(SPECS / "double_pendulum.yaml"), "--set", "m1=1e299",
+                                      "--set", "l1=1e299", "--t-end", "0.01", "--backend", "python"])
+    assert result.exit_code == 2, result.output
+    assert "the mass matrix's row of theta1 is not a finite number at the initial state" in result.output
+    assert "integration failed" not in result.output

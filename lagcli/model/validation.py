@@ -60,6 +60,9 @@ def problems_at(derivation, parameters: dict[str, float]) -> list[Problem]:
     problems += [p for body in model.bodies for p in _inertia_problems(body, values, model.dimension)]
     if problems:
         return problems
+    infinite = _not_finite_mass_matrix(derivation, {**values, **initial_values(model)})
+    if infinite is not None:
+        return [infinite]
     singular = _singular_directions(derivation, {**values, **initial_values(model)})
     if singular:
         names = ", ".join(f"'{name}'" for name in singular)
@@ -75,6 +78,11 @@ def check_mass_matrix(derivation) -> None:
     at every state tried; warn when it is singular at the initial state only."""
     model = derivation.model
     start = {**parameter_values(model), **initial_values(model)}
+    infinite = _not_finite_mass_matrix(derivation, start)
+    if infinite is not None:
+        if not _not_finite_at_start(model, parameter_values(model)):   # else check_model said why
+            warn_spec(infinite)
+        return
     singular = _singular_directions(derivation, start)
     if not singular:
         return
@@ -249,6 +257,20 @@ def _singular_directions(derivation, values: dict) -> list[str]:
     direction = allowed @ vectors[:, 0]
     big = np.abs(direction) > 0.1 * np.abs(direction).max()
     return [q.name for q, b in zip(derivation.model.q, big) if b]
+
+
+def _not_finite_mass_matrix(derivation, values: dict) -> Problem | None:
+    """The problem of a mass matrix with an entry that is not a finite double at `values`
+    (parameters of 1e299 multiplied: m s^2 = 1e897), located at its row's coordinate."""
+    model, M = derivation.model, derivation.mass_matrix
+    for i, q in enumerate(model.q):
+        entry = next((e for e in M.row(i) if e != 0 and _real(e, values) is None), None)
+        if entry is not None:
+            return Problem(model.loc(f"coordinates[{i}]"), f"the mass matrix's row of {q.name} is not a finite "
+                           "number at the initial state (an entry is infinite or undefined there, e.g. products of "
+                           "parameters beyond 1e300)", "a simulation cannot start there: choose units that keep "
+                           "the parameters' products within the double range, or another initial state")
+    return None
 
 
 def _clearly_regular(matrix, values: dict) -> bool:
