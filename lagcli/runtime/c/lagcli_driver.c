@@ -376,7 +376,7 @@ static int integrate_plain(const run_settings *s, run_state *run, const double *
         return integrate_windows(s, run, y0, out, stats);
     rc = integrate_events(s, run, y0, out, NULL, &result);
     *stats = result.stats;
-    if (rc == LAGCLI_EVENTS_FAILED) {
+    if (rc >= LAGCLI_EVENTS_FAILED) {
         memcpy(message, result.message, sizeof message);
         stats->message = message;
     }
@@ -466,6 +466,10 @@ static int run_events(const run_settings *s, run_state *run, const double *y0)
     if (log != NULL && fclose(log) != 0 && rc == LAGCLI_ODE_OK) {
         fprintf(stderr, "error: --events %.200s: cannot write it\n", s->events);
         return 1;
+    }
+    if (rc == LAGCLI_EVENTS_BAD_VALUES) {
+        fprintf(stderr, "error: %s\n", result.message);
+        return 2;
     }
     if (rc == LAGCLI_EVENTS_FAILED)
         fprintf(stderr, "error: %s\n", result.message);
@@ -690,7 +694,7 @@ static void failure_text(int rc, const run_settings *s, const run_state *run, co
         sprintf(text, "at t = %.10g: the state is no longer finite (inf/nan): the solution blows up", st->t);
     else if (rc == LAGCLI_ODE_ERR_MAX_STEPS)
         sprintf(text, "at t = %.10g: " STEP_BUDGET_TEXT, st->t, step_budget(s));
-    else if (rc == LAGCLI_EVENTS_FAILED)
+    else if (rc >= LAGCLI_EVENTS_FAILED)
         sprintf(text, "%.790s", st->message);
     else
         sprintf(text, "at t = %.10g: the %s integrator failed: %s", st->t, s->method, st->message);
