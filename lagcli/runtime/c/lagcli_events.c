@@ -308,6 +308,24 @@ static int act(event_loop *L, int k, double t)
     return LAGCLI_ODE_OK;
 }
 
+/* Every impact's restitution in [0, 1] with the run's parameters (it is a constant). */
+static int check_restitution(event_loop *L, const double *y0)
+{
+    int k;
+    for (k = 0; k < L->ev->nevent; ++k) {
+        double g_t, e;
+        if (L->ev->actions[k] != LAGCLI_EVENT_IMPACT)
+            continue;
+        L->ev->impact_terms(k, 0.0, y0, L->run->p, L->G, &g_t, &e, L->d);
+        if (!(e >= 0.0 && e <= 1.0)) {
+            sprintf(L->result->message, "event '%.200s': restitution = %g with these parameter values; "
+                    "it must be in [0, 1]", L->ev->names[k], e);
+            return LAGCLI_EVENTS_BAD_VALUES;
+        }
+    }
+    return LAGCLI_ODE_OK;
+}
+
 static void add_stats(event_loop *L)
 {
     lagcli_ode_stats s;
@@ -416,8 +434,9 @@ int lagcli_events_integrate(const lagcli_event_run *run, const double *y0, lagcl
     for (k = 0; k < ne; ++k)
         L.last[k] = -HUGE_VAL;
     memcpy(L.y, y0, (size_t)n * sizeof *y0);
-    rc = run_loop(&L);
-    result->stats.message = lagcli_ode_message(rc == LAGCLI_EVENTS_FAILED ? LAGCLI_ODE_OK : rc);
+    if ((rc = check_restitution(&L, y0)) == LAGCLI_ODE_OK)
+        rc = run_loop(&L);
+    result->stats.message = lagcli_ode_message(rc >= LAGCLI_EVENTS_FAILED ? LAGCLI_ODE_OK : rc);
     lagcli_ode_stepper_free(L.stepper);
     free(work);
     return rc;

@@ -43,7 +43,10 @@ extern "C" {
 #define LAGCLI_EVENTS_BUDGET 100000L   /* EVENT_BUDGET */
 #define LAGCLI_EVENTS_SAMPLES 8        /* FIRST_STEP_SAMPLES */
 
-enum { LAGCLI_EVENTS_FAILED = 100 };  /* an event's action failed: the result's message says why */
+enum {
+    LAGCLI_EVENTS_FAILED = 100,       /* an event's action failed: the result's message says why */
+    LAGCLI_EVENTS_BAD_VALUES = 101    /* a restitution outside [0, 1] with these parameters (exit 2) */
+};
 
 typedef double (*lagcli_time_fn)(const void *times, size_t k);
 
@@ -67,7 +70,8 @@ typedef struct {
     lagcli_ode_stats stats;           /* t reached, steps and nfev summed over the segments */
     long events;
     int ended;                        /* ended early at an event (stop, accumulation, budget) */
-    char message[800];                /* LAGCLI_EVENTS_FAILED: "at t = ...: event '...' ..." */
+    char message[800];                /* LAGCLI_EVENTS_FAILED: "at t = ...: event '...' ...";
+                                         LAGCLI_EVENTS_BAD_VALUES: "event '...': restitution = ..." */
 } lagcli_event_result;
 
 /* Integrate from y0 at t = 0 to t_end with the model's events; a LAGCLI_ODE_* code or
