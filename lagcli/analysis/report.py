@@ -20,8 +20,9 @@ ROUND_OFF = 1000 * float(np.finfo(float).eps)   # relative size below which an e
 ROUND_OFF_RULE = ("text and LaTeX show an entry as 0 when |entry| <= round_off x max|entry| of its matrix "
                   "(of G: of C); the JSON keeps every float as computed")
 
-POINT_ROUND_OFF_RULE = ("text shows a coordinate as 0 when |value| <= round_off x max(1, max|value|) "
-                        "of its point; the JSON keeps every float as computed")
+POINT_ROUND_OFF = 1e-10     # relative size below which a coordinate of a solved point is 0 (the solve's accuracy)
+POINT_ROUND_OFF_RULE = ("text shows a coordinate as 0 when |value| <= round_off x max(1, max|value|) of its "
+                        "point (a point is solved to residuals of 1e-10); the JSON keeps every float as computed")
 
 
 def shown(a, scale: float | None = None) -> np.ndarray:
@@ -33,10 +34,11 @@ def shown(a, scale: float | None = None) -> np.ndarray:
 
 
 def shown_point(point: dict) -> np.ndarray:
-    """The values of a point {coordinate: value} as text shows them: round-off of 0
-    (relative to the largest value, or to 1) is 0, so 7e-13 is not read as a position."""
+    """The values of a point {coordinate: value} as text shows them: what the solve cannot
+    tell from 0 (relative to the largest value, or to 1) is 0, so 7e-13 is not read as a position."""
     values = np.array(list(point.values()), dtype=float)
-    return shown(values, max(1.0, float(np.max(np.abs(values), initial=0.0))))
+    scale = max(1.0, float(np.max(np.abs(values), initial=0.0)))
+    return np.where(np.abs(values) <= POINT_ROUND_OFF * scale, 0.0, values)
 
 
 def number(x: float, digits: int = 10) -> str:
@@ -239,7 +241,7 @@ def equilibria_content(found, printer) -> dict:
         }
 
     return {"name": found.name, "equilibria": [one(e) for e in found],
-            "round_off": {"relative": ROUND_OFF, "rule": POINT_ROUND_OFF_RULE}}
+            "round_off": {"relative": POINT_ROUND_OFF, "rule": POINT_ROUND_OFF_RULE}}
 
 
 def equilibria_text(c: dict) -> str:
@@ -250,7 +252,7 @@ def equilibria_text(c: dict) -> str:
         where = ", ".join(f"{q} = {number(v, 12)}" for q, v in zip(e["coordinates"], shown_point(e["coordinates"])))
         lines.append(f"{k}. {where}: {e['verdict']}")
         if e["free"]:
-            lines.append(f"   the same for any {', '.join(e['free'])} (the equations at rest do not fix them)")
+            lines.append(f"   one of a family along {', '.join(e['free'])} (shown: the member nearest the first guess)")
         if e["closed_form"]:
             lines.append("   closed form: " + ", ".join(f"{q} = {v}" for q, v in e["closed_form"].items()))
         if e["eigenvalues"] is not None:

@@ -144,8 +144,9 @@ class Linearization:
 class Equilibrium:
     """A point of rest (q' = 0): `point` {coordinate: value}, `closed_form` {coordinate:
     sympy expression of the parameters} when solved symbolically, and its linearization
-    (None where the mass matrix is singular); `free`: the coordinates it is an equilibrium
-    for any value of (a disc upright anywhere, at any heading), shown at one value."""
+    (None where the mass matrix is singular); `free`: the coordinates along which it is one
+    of a family (a disc upright anywhere, at any heading), shown at the member nearest the
+    first guess."""
 
     point: dict[str, float]
     closed_form: dict | None
