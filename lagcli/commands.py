@@ -240,7 +240,7 @@ def input_laws(items, system) -> dict:
 
 
 def generate(path: str, lang: str, output: str | None = None, form: str = "lagrangian",
-             note=lambda text: None) -> None:
+             note=lambda text: None, variational: bool | None = None) -> None:
     """`lagcli generate`: code or a document for `path` in `lang` (see lagcli.targets.LANGUAGES).
 
     One-file languages write to `output` (stdout for None or '-'; the FMU's zip needs
@@ -248,6 +248,7 @@ def generate(path: str, lang: str, output: str | None = None, form: str = "lagra
     into the directory `output` (required; created if only it is missing), each
     atomically, after all are made.  The target is checked before deriving.
     `form="hamiltonian"`: the Python module in (q, p) of lagcli/targets/hamilton.py.
+    `variational`: see `System.generate`.
     `note(text)` is told what was written ("wrote dp_c/: 8 files"), unless it went to stdout."""
     from lagcli.targets import LANGUAGES
     from lagcli.errors import UsageError
@@ -270,7 +271,7 @@ def generate(path: str, lang: str, output: str | None = None, form: str = "lagra
         if output in (None, "-"):
             raise UsageError(f"--lang {lang} writes several files: give the directory with -o DIR")
         check_directory_output(output)
-        files = load(Path(path)).generate(lang, output)
+        files = load(Path(path)).generate(lang, output, variational)
         note(f"wrote {output}: {len(files)} file{'s' if len(files) != 1 else ''}")
         return
     binary = language is not None and language.binary
@@ -278,7 +279,7 @@ def generate(path: str, lang: str, output: str | None = None, form: str = "lagra
         raise UsageError(f"--lang {lang} writes a zip archive: give its file with -o NAME.{lang} "
                          "(or -o - for stdout)")
     with open_output(output, binary=binary) as out:
-        (data,) = load(Path(path)).generate(lang).values()
+        (data,) = load(Path(path)).generate(lang, variational=variational).values()
         out.stream.write(data)
     _wrote(output, note)
 

@@ -1,6 +1,7 @@
 """lagcli's faster versions of sympy operations give sympy's own results, structurally
 (==, not only numerically): `calculus.derivative` (sympy's diff), `tidy.common_factor`
-(sympy's factor_terms) and `tidy.is_expanded` (sympy's expand leaves the expression alone).
+(sympy's factor_terms), `tidy.is_expanded` (sympy's expand leaves the expression alone) and
+`operations.count_ops` (sympy's count_ops).
 The oracle each time is sympy itself, on seeded random expressions of the shapes the
 derivation and the reports meet (polynomials in parameters times sin/cos of angle sums,
 powers, square roots, non-smooth functions)."""
@@ -12,6 +13,7 @@ import pytest
 import sympy as sp
 
 from lagcli.model.calculus import derivative
+from lagcli.render.operations import count_ops
 from lagcli.render.tidy import common_factor, is_expanded
 
 x, y, z, m1, m2, l1, l2 = sp.symbols("x y z m1 m2 l1 l2", real=True)
@@ -62,3 +64,44 @@ def test_is_expanded_only_when_expand_changes_nothing():
             recognised += 1
             assert sp.expand(expr) == expr, expr
     assert recognised >= 70      # the common case is recognised
+
+
+def test_count_ops_is_sympys_count_ops():
+    """Every subexpression of random sums, of the special shapes (divisions, exp, Min,
+    Piecewise: handed to sympy), their negations and expansions, and of the equations of
+    two bundled specs with rolling and rigid bodies."""
+    from pathlib import Path
+
+    from lagcli.derive.pipeline import derive_file
+
+    exprs = SPECIAL + _random_sums(60, 5) + [-e for e in _random_sums(20, 6)]
+    exprs += [sp.expand(e) for e in _random_sums(20, 7)] + [x / y - 2.0 * z, -x - y, 1.5 * x - sp.E, -(x + y) ** 2]
+    for spec in ("rolling_disc", "heavy_symmetric_top"):
+        d = derive_file(Path(__file__).resolve().parent.parent / "specs" / f"{spec}.yaml")
+        exprs += [d.T, d.V, *d.mass_matrix, *d.forcing]
+    for expr in exprs:
+        for node in sp.preorder_traversal(expr):
+            if isinstance(node, sp.Expr):
+                assert count_ops(node) == sp.count_ops(node), node
+
+
+def test_weighted_display_form_is_display_form():
+    """The shortcut for m_1 X + ... + m_n X gives display_form's result whenever it answers,
+    on monomials X of every shape (signs, fractions, powers, one or two calls, calls whose
+    arguments have a common factor) and on sums too big for display_form to touch."""
+    from lagcli.render.tidy import display_form
+    from lagcli.render.weighted import weighted_display_form
+
+    rng = random.Random(8)
+    masses = sp.symbols("m1:60", real=True)
+    parts = [x, y ** 2, l1, l2 ** 3, sp.cos(x - y), sp.sin(x), sp.cos(2 * x - 2 * y), sp.sin(y) ** 2, sp.tan(z)]
+    numbers = [1, -1, 2, -3, sp.Rational(1, 2), -sp.Rational(3, 4)]
+    answered = 0
+    for _ in range(150):
+        shared = sp.S(rng.choice(numbers)) * sp.Mul(*rng.sample(parts, rng.randint(1, 4)))
+        weights = list(rng.sample(masses, rng.choice([2, 3, 7, 20, 59])))
+        found = weighted_display_form(weights, shared)
+        if found is not None:
+            answered += 1
+            assert found == display_form(sp.Add(*(w * shared for w in weights))), (weights, shared)
+    assert answered >= 60

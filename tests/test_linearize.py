@@ -207,3 +207,41 @@ def test_a_damper_set_to_zero_with_at_gives_the_undamped_verdict(tmp_path):
     assert "verdict: stable" in undamped.output
     damped = CliRunner().invoke(cli, ["linearize", str(spec)])
     assert "verdict: asymptotically stable" in damped.output
+
+
+# -- a constrained spec linearized from its consistent initial state (issue 21) ------
+
+def test_gantry_crane_is_linearized_about_the_load_hanging_below_its_initial_state():
+    """No --at: the rope row has no gradient at all zeros, so the solve for the dependent
+    yl starts from the spec's consistent initial state (yl = -0.8) and reaches the hanging
+    load yl = -l; independent x, xl at 0. Against the closed form in the spec's header:
+    x'' = m g / (mt l) (xl - x) + F / mt, xl'' = -g / l (xl - x)."""
+    import lagcli
+
+    system = lagcli.load(spec_path("gantry_crane"))
+    p = system.layout.parameter_defaults
+    mt, m, l, g = p["mt"], p["m"], p["l"], p["g"]
+    lin = system.linearize()
+    assert lin.point.coordinates == {"x": 0.0, "xl": 0.0, "yl": pytest.approx(-l, abs=1e-14)}
+    assert lin.states == ("x", "xl", "x_dot", "xl_dot") and lin.dependent == ("yl", "yl_dot")
+    k, w = m * g / (mt * l), g / l
+    np.testing.assert_allclose(lin.A, [[0, 0, 1, 0], [0, 0, 0, 1], [-k, k, 0, 0], [w, -w, 0, 0]], atol=1e-12)
+    np.testing.assert_allclose(lin.B, [[0], [0], [1 / mt], [0]], atol=1e-15)
+    sway = np.sqrt(g * (mt + m) / (mt * l))
+    assert max(abs(s.imag) for s in lin.eigenvalues) == pytest.approx(sway, rel=1e-12)
+
+
+def test_cartesian_pendulum_linearizes_without_at_and_a_failed_solve_names_its_start():
+    result = CliRunner().invoke(cli, ["linearize", str(spec_path("cartesian_pendulum")), "--json"])
+    assert result.exit_code == 0, result.output
+    content = json.loads(result.output)
+    assert content["operating_point"]["y"] == pytest.approx(-1.0, abs=1e-14)     # hanging, from y = -0.8
+    result = CliRunner().invoke(cli, ["linearize", str(spec_path("cartesian_pendulum")), "--at", "x=2", "--independent", "x"])
+    assert result.exit_code == 2
+    assert "could not be solved for the dependent coordinates y, starting from x = 2, y = -0.8" in result.output
+
+
+def test_a_singular_point_is_named():
+    result = CliRunner().invoke(cli, ["linearize", str(spec_path("spherical_pendulum"))])
+    assert result.exit_code == 2
+    assert "singular at theta = 0, phi = 0, theta_dot = 0, phi_dot = 0" in result.output

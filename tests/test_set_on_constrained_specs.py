@@ -55,6 +55,8 @@ CASES = {
     "rolling_disc_frames": ("r=0.5", _roll_x, "solved for dependent velocities"),
     "disc_on_incline": ("r=0.2", lambda s: s["s"] - 0.2 * s["theta"], None),
     "benchmark_bicycle": ("rR=0.35", _bicycle_rear_x, "solved for dependent velocities"),   # slow
+    "gantry_crane": ("l=2", lambda s: (s["xl"] - s["x"]) ** 2 + s["yl"] ** 2 - 4,
+                     "solved for dependent coordinates"),
 }
 
 # Rolling-element specs whose --set runs are covered elsewhere: sphere_on_turntable by

@@ -33,13 +33,13 @@ its skew (gyroscopic) and symmetric parts.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import sympy as sp
 
 from lagcli.analysis.jacobians import CompiledJacobians
-from lagcli.analysis.operating_point import Partition, Point, choose_partition, on_manifold
+from lagcli.analysis.operating_point import Partition, Point, choose_partition, describe, on_manifold
 from lagcli.errors import UsageError
 
 
@@ -107,7 +107,8 @@ class CompiledSystem:
         try:
             solution = np.linalg.solve(K, rhs)
         except np.linalg.LinAlgError:
-            raise SingularPoint("the mass matrix (with the constraint rows) is singular at this point\n"
+            raise SingularPoint("the mass matrix (with the constraint rows) is singular at "
+                                f"{describe(self.derivation, point)}\n"
                                 "  hint: a coordinate singularity (e.g. theta = 0 of spherical angles) "
                                 "or dependent constraints; choose another point") from None
         qdd, lam = solution[:self.n], solution[self.n:]
@@ -190,7 +191,7 @@ def linearize(system: CompiledSystem, point: Point, independent=()) -> LinearMod
     """The linear model of `system` about `point` (dependent values solved for first)."""
     d = system.derivation
     names = ([s.name for s in d.model.q], [s.name for s in d.model.qd])
-    partition = choose_partition(d, system, point, independent)
+    partition = choose_partition(d, system, replace(point, q=point.start), independent)
     point = on_manifold(system, point, partition, names)
     qdd, lam, J = system.accelerations(point)
     K = _augmented(J["M"], J["A"])

@@ -15,11 +15,22 @@ from lagcli.errors import UsageError
 
 def point_of(system, at, parameters=None, inputs=None, sweep: str | None = None) -> Assignments:
     """`at` ({name: number or expression text}, or the parsed `--at` values) with the
-    `parameters` and `inputs` of this call added (their names checked as `simulate`'s)."""
+    `parameters` and `inputs` of this call added (their names checked as `simulate`'s);
+    on a constrained system, what `at` does not give is solved for from the spec's
+    consistent initial state."""
     fixed = {**system._parameters(parameters), **_held_inputs(system, inputs)}
     if not isinstance(at, Assignments):
         at = assignments_of(system.derivation, dict(at or {}), sweep)
+    if system.derivation.constraints:
+        at = at.starting_at(initial_coordinates(system))
     return at.given(fixed)
+
+
+def initial_coordinates(system) -> dict[str, float]:
+    """The coordinates of the spec's consistent initial state (`System.spec_start`): where
+    a constrained point's dependent coordinates are solved from."""
+    start, _ = system.spec_start()
+    return {q.name: float(v) for q, v in zip(system.model.q, start.values)}
 
 
 def derivation(system, closed_loop: bool = False):

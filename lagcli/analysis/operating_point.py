@@ -9,11 +9,15 @@ expression parser (never evaluated as Python). Whatever is not given is 0
 On a constrained system the point must lie on the constraint manifold. The
 dependent coordinates are solved for by Newton's method on the holonomic rows
 phi(q, t) = 0, the dependent velocities from A q' + d = 0, given the independent
-ones (`Partition`): so `--at` need only give the independent values.
+ones (`Partition`): so `--at` need only give the independent values. Newton starts,
+and the partition is chosen, where the coordinates `--at` does not give take the
+spec's consistent initial state (`Assignments.start`), not 0: at all zeros a
+Cartesian pendulum's rod row has no gradient, and the initial state picks the branch
+(hanging, not standing). A point that cannot be solved is named in the error.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 import sympy as sp
@@ -30,10 +34,15 @@ class Assignments:
 
     values: dict            # name -> sympy expression
     sweep: sp.Symbol | None # the sweep variable's symbol (a parameter's own symbol, or a new one)
+    start: dict = field(default_factory=dict)   # coordinate -> where its solve starts when not given
 
     def given(self, numbers: dict) -> "Assignments":
         """These values with `numbers` {name: float} (names already checked) taking precedence."""
-        return Assignments({**self.values, **{k: sp.Float(float(v)) for k, v in numbers.items()}}, self.sweep)
+        return replace(self, values={**self.values, **{k: sp.Float(float(v)) for k, v in numbers.items()}})
+
+    def starting_at(self, start: dict) -> "Assignments":
+        """These values, the coordinates they do not give solved for from `start` {name: float}."""
+        return replace(self, start=dict(start))
 
 
 def parse_assignments(d, items, sweep_name: str | None = None) -> Assignments:
@@ -98,6 +107,12 @@ class Point:
     qd: np.ndarray
     parameters: dict        # name -> float, for every parameter and input
     notes: tuple[str, ...] = ()
+    guess: np.ndarray | None = None   # coordinates to start the constraint solve from (None: q)
+
+    @property
+    def start(self) -> np.ndarray:
+        """The coordinates the constraint solve starts from."""
+        return self.q if self.guess is None else self.guess
 
 
 def evaluate(d, at: Assignments, sweep_value: float | None = None) -> Point:
@@ -122,7 +137,15 @@ def evaluate(d, at: Assignments, sweep_value: float | None = None) -> Point:
     number = {name: _number(expr, known, f"--at {name}") for name, expr in at.values.items()}
     q = np.array([number.get(s.name, 0.0) for s in model.q])
     qd = np.array([number.get(s.name, 0.0) for s in model.qd])
-    return Point(number.get("t", 0.0), q, qd, params)
+    guess = np.array([number.get(s.name, at.start.get(s.name, 0.0)) for s in model.q]) if at.start else None
+    return Point(number.get("t", 0.0), q, qd, params, guess=guess)
+
+
+def describe(d, point: Point, q=None) -> str:
+    """`x = 0, y = -0.8, x_dot = 0, ...`: the point's state (`q` in place of its coordinates)."""
+    model = d.model
+    q = point.q if q is None else q
+    return ", ".join(f"{s.name} = {v:.10g}" for s, v in zip([*model.q, *model.qd], [*q, *point.qd]))
 
 
 def _number(expr: sp.Expr, known: dict, where: str) -> float:
@@ -197,6 +220,7 @@ def on_manifold(constraints, point: Point, partition: Partition, names) -> Point
     q, notes = point.q.copy(), list(point.notes)
     dep = list(partition.dependent_coordinates)
     if dep:
+        q[dep] = point.start[dep]
         q = _newton(constraints, point, q, dep, names)
     moved = point.__class__(point.t, q, point.qd, point.parameters)
     A, bias = constraints.A(moved), constraints.bias(moved)
@@ -213,6 +237,7 @@ def on_manifold(constraints, point: Point, partition: Partition, names) -> Point
 
 
 def _newton(constraints, point: Point, q: np.ndarray, dep: list[int], names) -> np.ndarray:
+    start = q.copy()
     for _ in range(_NEWTON_STEPS):
         here = point.__class__(point.t, q, point.qd, point.parameters)
         phi = constraints.phi(here)
@@ -221,6 +246,8 @@ def _newton(constraints, point: Point, q: np.ndarray, dep: list[int], names) -> 
         step = np.linalg.lstsq(constraints.holonomic_jacobian(here)[:, dep], phi, rcond=None)[0]
         q = q.copy()
         q[dep] -= step
+    tried = ", ".join(f"{name} = {v:.10g}" for name, v in zip(names[0], start))
     raise UsageError("the holonomic constraints could not be solved for the dependent coordinates "
-                     f"{', '.join(names[0][k] for k in dep)} near the given point\n"
-                     "  hint: give a point closer to the constraint manifold, or other --independent ones")
+                     f"{', '.join(names[0][k] for k in dep)}, starting from {tried}\n"
+                     "  hint: give a point closer to the constraint manifold (--at NAME=VALUE), "
+                     "or other --independent ones")

@@ -6,6 +6,8 @@ function names are the contract's (`abs`, `min`, `max`, `exp(1)` for e).
 """
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import sympy as sp
 from sympy.printing.str import StrPrinter
 
@@ -13,7 +15,24 @@ from lagcli.errors import EmitError
 
 
 class SpecPrinter(StrPrinter):
+    """`remember`: keep the string of every subexpression printed, for a printer that
+    prints many expressions sharing parts (a report of a 40-link chain prints the same
+    sums of masses thousands of times). A subexpression prints the same wherever it
+    stands (the parentheses around it are its parent's), so the bytes do not change."""
     _default_settings = {**StrPrinter._default_settings, "order": "none"}
+
+    def __init__(self, settings=None, remember: bool = False):
+        super().__init__(settings)
+        self._memo: dict | None = {} if remember else None
+
+    def _print(self, expr, **kwargs) -> str:
+        memo = self._memo
+        if memo is None or kwargs or not isinstance(expr, sp.Basic):
+            return super()._print(expr, **kwargs)
+        found = memo.get(expr)
+        if found is None:
+            found = memo[expr] = super()._print(expr)
+        return found
 
     def _print_Abs(self, expr):
         return f"abs({self._print(expr.args[0])})"
@@ -47,6 +66,12 @@ _PRINTER = SpecPrinter()
 
 def spec_str(expr) -> str:
     return _PRINTER.doprint(sp.sympify(expr))
+
+
+def remembering_spec_str() -> Callable[[sp.Expr], str]:
+    """`spec_str` remembering what it printed (`SpecPrinter`'s `remember`): for one report."""
+    printer = SpecPrinter(remember=True)
+    return lambda expr: printer.doprint(sp.sympify(expr))
 
 
 def output_names(model, multipliers=()) -> dict:

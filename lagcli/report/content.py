@@ -47,8 +47,9 @@ class ReportPrinter:
 
 def spec_printer() -> ReportPrinter:
     """The spec language (text report and JSON): every string parses back with lagcli's parser."""
-    from lagcli.render.spec_printer import spec_str
+    from lagcli.render.spec_printer import remembering_spec_str
 
+    spec_str = remembering_spec_str()
     return ReportPrinter(spec_str, lambda terms: signed_sum(terms, spec_str))
 
 

@@ -33,7 +33,6 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from lagcli.derive.result import Derivation
-from lagcli.targets.fmu_events import fmu_event_sources
 from lagcli.targets import c as c_target
 from lagcli.render.spec_printer import spec_str
 from lagcli.render.templates import render
@@ -43,7 +42,8 @@ from lagcli.runtime.run_rules import max_step
 from lagcli.runtime import c_runtime_files, fmi2_license, fmi2_runtime_files
 
 MODEL_HEADER = "lagcli_fmu_model.h"
-INTEGRATOR = ("lagcli_model.h", "lagcli_linalg.h", "lagcli_ode.h", "lagcli_ode.c")   # of the C runtime: no driver
+INTEGRATOR = ("lagcli_model.h", "lagcli_linalg.h", "lagcli_ode.h", "lagcli_ode.c",   # of the C runtime: no driver
+              "lagcli_events.h", "lagcli_events.c")      # the impact law of the events (lagcli_events_impact)
 ZIP_TIME = (1980, 1, 1, 0, 0, 0)      # the earliest time a zip entry can hold
 ZIP_MODE = 0o644 << 16
 PLATFORMS = {("Linux", "x86_64"): ("linux64", ".so"), ("Linux", "i686"): ("linux32", ".so"),
@@ -107,8 +107,7 @@ def fmu_sources(d: Derivation, layout: Layout, initial=None, initial_notes=()) -
     _check_file_names(d, name)
     context = c_target.c_context(_with_laws(d), layout, initial, initial_notes)
     c_sources = {**c_target.model_sources(context),
-                 **{file: c_runtime_files()[file] for file in INTEGRATOR}, **fmi2_runtime_files(),
-                 **fmu_event_sources(d, context)}
+                 **{file: c_runtime_files()[file] for file in INTEGRATOR}, **fmi2_runtime_files()}
     descriptions = {p.symbol.name: p.description for p in d.model.parameters}
     descriptions.update({law.symbol.name: f"added to its law {spec_str(law.expr)}" for law in d.model.laws})
     fmu = fmu_context(context, descriptions, sorted(f for f in c_sources if f.endswith(".c")),

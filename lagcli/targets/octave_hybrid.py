@@ -12,7 +12,7 @@ p(j)); the impact solves the augmented system of lagcli/run/impact.py with `\\`.
 from __future__ import annotations
 
 from lagcli.interface import ACCUMULATION_GAP, EVENT_BUDGET, FIRST_STEP_SAMPLES, RESTING_SPEED
-from lagcli.targets.fmu_events import DIRECTION_CODES
+from lagcli.targets.event_code import DIRECTION_CODES
 from lagcli.render.spec_printer import spec_str
 from lagcli.targets.laws import printed_laws, state_printer
 

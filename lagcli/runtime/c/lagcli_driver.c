@@ -4,6 +4,7 @@
  *
  *   ./<name> [--t-end T] [--dt DT] [--method RK45|DOP853|variational] [--rtol R] [--atol A]
  *       [--set NAME=VALUE]... [--init NAME=VALUE]... [--baumgarte ALPHA BETA] [--steps-per-row K]
+ *       [--max-steps N] [--events FILE]
  *
  * Defaults: the model's (the spec's simulate: and initial: blocks), Baumgarte
  * alpha = beta = LAGCLI_BAUMGARTE. Integrates from t = 0 and prints a header (t, state,
@@ -21,6 +22,9 @@
  * between output times) / K, carrying (q, p) from row to row; the rows' multipliers are those of
  * the exact equations (alpha = beta = 0). A model without the variational functions
  * (nonholonomic constraints) refuses it with exit status 2.
+ * A model with events (model->events) runs them with lagcli_events.c (RK45, DOP853; the
+ * run may end early at an event, exit status 0); --events FILE writes their log
+ * (lagcli_events.h), which lagcli reads. A restitution outside [0, 1] is exit status 2.
  *
  * The numbers below are the C side of lagcli/interface.py (tests/test_c_runtime.py
  * checks that both say the same).
@@ -376,7 +380,7 @@ static int integrate_plain(const run_settings *s, run_state *run, const double *
         return integrate_windows(s, run, y0, out, stats);
     rc = integrate_events(s, run, y0, out, NULL, &result);
     *stats = result.stats;
-    if (rc == LAGCLI_EVENTS_FAILED) {
+    if (rc >= LAGCLI_EVENTS_FAILED) {
         memcpy(message, result.message, sizeof message);
         stats->message = message;
     }
@@ -466,6 +470,10 @@ static int run_events(const run_settings *s, run_state *run, const double *y0)
     if (log != NULL && fclose(log) != 0 && rc == LAGCLI_ODE_OK) {
         fprintf(stderr, "error: --events %.200s: cannot write it\n", s->events);
         return 1;
+    }
+    if (rc == LAGCLI_EVENTS_BAD_VALUES) {
+        fprintf(stderr, "error: %s\n", result.message);
+        return 2;
     }
     if (rc == LAGCLI_EVENTS_FAILED)
         fprintf(stderr, "error: %s\n", result.message);
@@ -690,7 +698,7 @@ static void failure_text(int rc, const run_settings *s, const run_state *run, co
         sprintf(text, "at t = %.10g: the state is no longer finite (inf/nan): the solution blows up", st->t);
     else if (rc == LAGCLI_ODE_ERR_MAX_STEPS)
         sprintf(text, "at t = %.10g: " STEP_BUDGET_TEXT, st->t, step_budget(s));
-    else if (rc == LAGCLI_EVENTS_FAILED)
+    else if (rc >= LAGCLI_EVENTS_FAILED)
         sprintf(text, "%.790s", st->message);
     else
         sprintf(text, "at t = %.10g: the %s integrator failed: %s", st->t, s->method, st->message);

@@ -12,6 +12,8 @@
  *   reset   the model's reset map; the new state must satisfy the constraints
  *   stop    the run ends at t* (its last row the state there)
  *
+ * After an impact, or a reset that leaves g as it was, g counts as exactly 0 where the
+ * next step starts (it has crossed; a round-off sign at its root does not fire it again).
  * A run ends early (exit status 0, its last row at that event) where the same event
  * recurs within LAGCLI_EVENTS_GAP max(1, |t|) of its last time, an impact leaves slower
  * than LAGCLI_EVENTS_RESTING times the largest approach speed of that event, the event
@@ -43,7 +45,10 @@ extern "C" {
 #define LAGCLI_EVENTS_BUDGET 100000L   /* EVENT_BUDGET */
 #define LAGCLI_EVENTS_SAMPLES 8        /* FIRST_STEP_SAMPLES */
 
-enum { LAGCLI_EVENTS_FAILED = 100 };  /* an event's action failed: the result's message says why */
+enum {
+    LAGCLI_EVENTS_FAILED = 100,       /* an event's action failed: the result's message says why */
+    LAGCLI_EVENTS_BAD_VALUES = 101    /* a restitution outside [0, 1] with these parameters (exit 2) */
+};
 
 typedef double (*lagcli_time_fn)(const void *times, size_t k);
 
@@ -67,7 +72,8 @@ typedef struct {
     lagcli_ode_stats stats;           /* t reached, steps and nfev summed over the segments */
     long events;
     int ended;                        /* ended early at an event (stop, accumulation, budget) */
-    char message[800];                /* LAGCLI_EVENTS_FAILED: "at t = ...: event '...' ..." */
+    char message[800];                /* LAGCLI_EVENTS_FAILED: "at t = ...: event '...' ...";
+                                         LAGCLI_EVENTS_BAD_VALUES: "event '...': restitution = ..." */
 } lagcli_event_result;
 
 /* Integrate from y0 at t = 0 to t_end with the model's events; a LAGCLI_ODE_* code or

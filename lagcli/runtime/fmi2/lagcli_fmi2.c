@@ -21,11 +21,11 @@
  * with lagcli_ode (LAGCLI_FMU_METHOD, the spec's tolerances, the step cap of the C driver),
  * in at most LAGCLI_FMU_MAX_STEPS steps (then fmi2Error, logged: a run never goes on for ever).
  *
- * A spec with `events:` defines LAGCLI_FMU_NEVENT (lagcli_fmu_model.h) and brings
- * lagcli_fmu_events.c: its event functions are the event indicators, and where one has
+ * A spec with `events:` defines LAGCLI_FMU_NEVENT (lagcli_fmu_model.h), and its model
+ * carries the event functions (<name>.c): they are the event indicators, and where one has
  * crossed zero in its event's direction since the last event or accepted step, the
- * action happens in fmi2NewDiscreteStates (impact: the impact law solved like the
- * augmented system; reset: the new state; stop: terminateSimulation). Such an FMU is
+ * action happens in fmi2NewDiscreteStates (impact: the impact law of the C runtime,
+ * lagcli_events_impact; reset: the new state; stop: terminateSimulation). Such an FMU is
  * Model Exchange only (its modelDescription.xml has no CoSimulation element).
  */
 #include <float.h>
@@ -37,6 +37,9 @@
 #include "fmi2Functions.h"
 #include "lagcli_fmu_model.h"
 #include "lagcli_ode.h"
+#ifdef LAGCLI_FMU_NEVENT
+#include "lagcli_events.h"
+#endif
 
 #define MODEL (&LAGCLI_FMU_MODEL)
 
@@ -414,7 +417,7 @@ static void nothing_new(fmi2EventInfo *info)
 }
 
 #ifdef LAGCLI_FMU_NEVENT
-/* --- events (lagcli_fmu_events.c) -------------------------------------------------- */
+/* --- events (the model's event functions, lagcli_fmu_model.h) ---------------------- */
 
 #define MODEL_NQ_MAX 256              /* the largest model whose resets are done here */
 
@@ -435,70 +438,12 @@ static int crossing(instance *c, double *g)
     return -1;
 }
 
-/* Solve K x = b (N x N, row-major) in place by Gaussian elimination with partial pivoting. */
-static int solve(int N, double *K, double *b)
-{
-    int i, j, r, pivot;
-    for (i = 0; i < N; i++) {
-        pivot = i;
-        for (r = i + 1; r < N; r++)
-            if (fabs(K[r * N + i]) > fabs(K[pivot * N + i]))
-                pivot = r;
-        if (K[pivot * N + i] == 0.0)
-            return 1;
-        if (pivot != i) {
-            double swap;
-            for (j = 0; j < N; j++) {
-                swap = K[i * N + j]; K[i * N + j] = K[pivot * N + j]; K[pivot * N + j] = swap;
-            }
-            swap = b[i]; b[i] = b[pivot]; b[pivot] = swap;
-        }
-        for (r = i + 1; r < N; r++) {
-            double f = K[r * N + i] / K[i * N + i];
-            for (j = i; j < N; j++)
-                K[r * N + j] -= f * K[i * N + j];
-            b[r] -= f * b[i];
-        }
-    }
-    for (i = N - 1; i >= 0; i--) {
-        for (j = i + 1; j < N; j++)
-            b[i] -= K[i * N + j] * b[j];
-        b[i] /= K[i * N + i];
-    }
-    return 0;
-}
-
-/* Impact k: [[M, -G^T, -A^T], [G, 0, 0], [A, 0, 0]] [q'+; P; Lambda] = [M q'-; -e (G q'- + g_t) - g_t; -d]. */
+/* Impact k: the velocities after it, in place (lagcli_events_impact: the impact law of
+ * the C runtime). Nonzero: singular or not finite. */
 static int impact(instance *c, int k)
 {
-    int n = MODEL->nq, m = MODEL->nlambda, N = n + 1 + m, i, j;
-    double K[(n + 1 + m) * (n + 1 + m)], b[n + 1 + m], M[n * n], A[m * n + 1], d[m + 1], G[n], g_t, e, Gv = 0.0;
-    const double *v = c->y + n;
-    if (lagcli_fmu_mass_matrix(c->t, c->y, c->p, M) || lagcli_fmu_constraint_matrix(c->t, c->y, c->p, A))
-        return 1;
-    lagcli_fmu_impact_terms(k, c->t, c->y, c->p, G, &g_t, &e, d);
-    memset(K, 0, sizeof K);
-    for (i = 0; i < n; i++) {
-        b[i] = 0.0;
-        for (j = 0; j < n; j++) {
-            K[i * N + j] = M[i * n + j];
-            b[i] += M[i * n + j] * v[j];
-        }
-        K[i * N + n] = -G[i];
-        K[n * N + i] = G[i];
-        Gv += G[i] * v[i];
-        for (j = 0; j < m; j++) {
-            K[i * N + n + 1 + j] = -A[j * n + i];
-            K[(n + 1 + j) * N + i] = A[j * n + i];
-        }
-    }
-    b[n] = -e * (Gv + g_t) - g_t;
-    for (j = 0; j < m; j++)
-        b[n + 1 + j] = -d[j];
-    if (solve(N, K, b))
-        return 1;
-    memcpy(c->y + n, b, (size_t)n * sizeof(double));
-    return 0;
+    double P;
+    return lagcli_events_impact(MODEL, k, c->t, c->y, c->p, c->y + MODEL->nq, &P);
 }
 
 fmi2Status fmi2NewDiscreteStates(fmi2Component component, fmi2EventInfo *info)

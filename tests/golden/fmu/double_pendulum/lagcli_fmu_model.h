@@ -15,7 +15,7 @@
 #include "double_pendulum.h"
 
 #define LAGCLI_FMU_MODEL double_pendulum_model
-#define LAGCLI_FMU_GUID "{c103dc2c-3df5-a064-44cd-c467f6469498}"
+#define LAGCLI_FMU_GUID "{76304e6c-5bea-85e9-33d3-6d18a1037fb0}"
 #define LAGCLI_FMU_NINPUT 0u
 #define LAGCLI_FMU_ALPHA 10.0        /* Baumgarte stabilisation (constrained systems) */
 #define LAGCLI_FMU_BETA 10.0
