@@ -90,6 +90,26 @@ def test_the_cli_prints_the_same_events_file_and_words_from_both_backends(tmp_pa
         assert x[1:3] == y[1:3] and float(x[0]) == pytest.approx(float(y[0]), rel=1e-12)
 
 
+@pytest.mark.parametrize("method", ["DOP853", "RK45"])
+def test_a_reset_that_leaves_g_at_its_root_does_not_fire_again(method, tmp_path):
+    """A kick that halves the cart's speed as the balanced pole passes upright (g = theta,
+    untouched by the reset): g sits at its root after the event, on either side by
+    round-off; it has crossed, and the run goes on to the stop at x = 0.3 on both backends
+    (before, a round-off sign could make it fire again at once: an "accumulation")."""
+    spec = tmp_path / "kick.yaml"
+    spec.write_text((HYBRID / "cart_pole_lqr.yaml").read_text().replace(
+        "initial: {theta: 0.2}",
+        "events:\n  - {name: upright, when: theta, direction: falling, action: reset, reset: {x_dot: 0.5*x_dot}}\n"
+        "  - {name: far, when: x - 0.3, direction: rising, action: stop}\ninitial: {theta: 0.2}"))
+    system = lagcli.load(spec)
+    for backend in ("python", "c"):
+        traj = system.simulate(backend=backend, method=method)
+        assert [r.name for r in traj.events] == ["upright", "far"] and traj.end_note is None
+        upright = traj.events[0]
+        assert upright.after[2] == 0.5 * upright.before[2] and upright.after[:2] == upright.before[:2]
+        assert traj["x"][-1] == pytest.approx(0.3, abs=1e-12)
+
+
 def test_a_plastic_impact_ends_the_run_at_rest():
     ball = lagcli.load(HYBRID / "bouncing_ball.yaml").simulate(backend="c", parameters={"e": 0.0})
     t1 = (2 * 1.0 / 9.81) ** 0.5
