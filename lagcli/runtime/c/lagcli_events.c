@@ -234,8 +234,8 @@ static void record(event_loop *L, int k, double t, double impulse)
 static int fail(event_loop *L, const char *format, int k, double t, double value)
 {
     char text[600];
-    sprintf(text, format, L->ev->names[k], value);
-    sprintf(L->result->message, "at t = %.10g: %.700s", t, text);
+    snprintf(text, sizeof text, format, L->ev->names[k], value);     /* a long name is cut, not overrun */
+    snprintf(L->result->message, sizeof L->result->message, "at t = %.10g: %s", t, text);
     return LAGCLI_EVENTS_FAILED;
 }
 
