@@ -185,7 +185,9 @@ def _run_request(request, note, progress, sink, system):
     laws = input_laws(request.inputs, system)
     backend = request.backend or ("c" if compiler and settings.method in C_METHODS else "python")
     if request.backend is None and system.compiled_laws(overrides.values, laws) is None:
-        backend = "python"                   # a Python callable as a law (the API's)
+        if backend == "c":
+            note(f"lagcli: {system.python_only(system.laws(overrides.values, laws))} runs on the Python backend")
+        backend = "python"
     start = system.start(overrides.values, overrides.initial)
     for text in runs.at_rest(layout.initial, overrides.initial) + list(start.notes):
         note(text)
@@ -240,7 +242,7 @@ def input_laws(items, system) -> dict:
 
 
 def generate(path: str, lang: str, output: str | None = None, form: str = "lagrangian",
-             note=lambda text: None) -> None:
+             note=lambda text: None, variational: bool | None = None) -> None:
     """`lagcli generate`: code or a document for `path` in `lang` (see lagcli.targets.LANGUAGES).
 
     One-file languages write to `output` (stdout for None or '-'; the FMU's zip needs
@@ -248,6 +250,7 @@ def generate(path: str, lang: str, output: str | None = None, form: str = "lagra
     into the directory `output` (required; created if only it is missing), each
     atomically, after all are made.  The target is checked before deriving.
     `form="hamiltonian"`: the Python module in (q, p) of lagcli/targets/hamilton.py.
+    `variational`: see `System.generate`.
     `note(text)` is told what was written ("wrote dp_c/: 8 files"), unless it went to stdout."""
     from lagcli.targets import LANGUAGES
     from lagcli.errors import UsageError
@@ -270,7 +273,7 @@ def generate(path: str, lang: str, output: str | None = None, form: str = "lagra
         if output in (None, "-"):
             raise UsageError(f"--lang {lang} writes several files: give the directory with -o DIR")
         check_directory_output(output)
-        files = load(Path(path)).generate(lang, output)
+        files = load(Path(path)).generate(lang, output, variational)
         note(f"wrote {output}: {len(files)} file{'s' if len(files) != 1 else ''}")
         return
     binary = language is not None and language.binary
@@ -278,7 +281,7 @@ def generate(path: str, lang: str, output: str | None = None, form: str = "lagra
         raise UsageError(f"--lang {lang} writes a zip archive: give its file with -o NAME.{lang} "
                          "(or -o - for stdout)")
     with open_output(output, binary=binary) as out:
-        (data,) = load(Path(path)).generate(lang).values()
+        (data,) = load(Path(path)).generate(lang, variational=variational).values()
         out.stream.write(data)
     _wrote(output, note)
 

@@ -117,10 +117,13 @@ class System:
             return make(self.derivation, simplify, report_parts(parts))
         raise UsageError(f"report format {format!r}: expected one of {', '.join(REPORT_FORMATS)}")
 
-    def generate(self, target: str, path: str | Path | None = None) -> dict[str, str | bytes]:
+    def generate(self, target: str, path: str | Path | None = None,
+                 variational: bool | None = None) -> dict[str, str | bytes]:
         """{file name: text} of `target` (python, c, latex; fmu: bytes: `lagcli.targets.LANGUAGES`),
         embedding the spec's initial state made consistent; written atomically into
-        `path` when given (a directory for C, a file otherwise)."""
+        `path` when given (a directory for C, a file otherwise). `variational` (python, c):
+        True generates the variational integrator's functions for a big system too (by
+        default only a small system has them: docs/codegen.md)."""
         from lagcli.targets import LANGUAGES, generate as emit
 
         language = LANGUAGES.get(target)
@@ -131,7 +134,7 @@ class System:
         if language is not None and language.embeds_initial:   # solved for once, here, not in emit
             layout = self.layout
             initial, notes = layout.start.values, layout.start.notes
-        files = emit(self.derivation, target, initial, notes, layout)
+        files = emit(self.derivation, target, initial, notes, layout, variational)
         if directory is not None:
             directory.mkdir(exist_ok=True)
             for name, text in files.items():      # a name may have a folder: src/lib.rs
@@ -284,8 +287,9 @@ class System:
         `values` and input `laws`: "python" (the generated module,
         `lagcli.run.python_backend.PythonModule`; with events or callable laws
         `HybridModule`) or "c" (the compiled driver in the cache, `lagcli.run.c_backend.CDriver`,
-        its model generated with the run's expression laws substituted; `method` must be
-        one it implements)."""
+        its model generated with the run's expression laws substituted and carrying the
+        spec's events; `method` must be one it implements; `python_only` says what it
+        cannot run)."""
         values = values or {}
         compiled = self.compiled_laws(values, laws) if backend == "c" else None
         hybrid = self.hybrid(values, laws) if compiled is None else None

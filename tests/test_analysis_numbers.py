@@ -85,3 +85,21 @@ def test_marginal_verdict_counts_the_eigenvalues_on_the_axis(tmp_path):
     assert ("verdict: marginally stable (2 of 4 eigenvalues on the imaginary axis, the others to its left: "
             "the linear model does not decide)") in text
     assert "all eigenvalues on the imaginary axis" not in text
+
+
+def test_cart_pole_A_and_B_shown_are_the_closed_form_with_exact_zeros():
+    """Upright cart-pole (specs/cart_pole.yaml's header): x'' = -(m g / mc) theta + F / mc,
+    theta'' = (mc + m) g / (mc l) theta - F / (mc l). What text, LaTeX and the notebook show
+    (`report.shown`) has exact zeros where the closed form has them, and the text no e-1x."""
+    from lagcli.analysis.report import shown
+
+    lin = lagcli.load(SPECS / "cart_pole.yaml").linearize()
+    mc, m, l, g = 1.0, 0.1, 0.5, 9.81
+    A = np.array([[0, 0, 1, 0], [0, 0, 0, 1], [0, -m * g / mc, 0, 0], [0, (mc + m) * g / (mc * l), 0, 0]])
+    B = np.array([[0], [0], [1 / mc], [-1 / (mc * l)]])
+    for got, closed in ((lin.A, A), (lin.B, B)):
+        np.testing.assert_allclose(got, closed, rtol=1e-12, atol=1e-14)
+        assert np.all(shown(got)[closed == 0] == 0)
+    assert np.count_nonzero(shown(lin.K)) == 1              # K = [[0, 0], [0, -m g l]]: round-off gone
+    text = commands.linearize(str(SPECS / "cart_pole.yaml"))
+    assert not any(f"e-{k}" in text for k in range(10, 20))

@@ -142,3 +142,33 @@ def test_equilibria_output_does_not_depend_on_the_hash_seed():
                               env=env, capture_output=True, check=True, timeout=600).stdout
 
     assert run("0") == run("4242")
+
+
+COIN_ON_INCLINE = """
+name: coin_on_incline
+coordinates: [x, y, z, psi, theta, phi]
+parameters: {m: 1.0, r: 0.3, g: 9.81, alpha: 0.2}
+gravity: [0, 0, -g]
+frames: {D: {rotations: [[z, psi], [x, theta], [y, phi]]}}
+bodies:
+  coin: {mass: m, inertia: [m*r**2/4, m*r**2/2, m*r**2/4], position: [x, y, z], frame: D}
+rolling: [{body: coin, wheel: {radius: r, axis: y}, surface: {normal: [0, -sin(alpha), cos(alpha)]}}]
+initial: {z: 0.3, theta: 0.1}
+"""
+
+
+def test_coin_at_rest_on_an_incline_is_one_member_of_its_family():
+    """A coin rests on the incline z = y tan(alpha) anywhere along the slope (y and z
+    together), at any x and spin angle: each equilibrium is listed once, at the member
+    nearest the initial state. Upright ones (theta = 0 or pi) roll along the level line
+    (psi = 0 or pi) with the centre straight above the contact: z = r + y tan(alpha),
+    here y = 0, z = r. (Each start of the search used to give its own member: 67 entries.)"""
+    found = lagcli.load(COIN_ON_INCLINE).equilibria()
+    assert len(found) <= 8
+    upright = [e for e in found if min(abs(e.point["theta"]), abs(e.point["theta"] - math.pi)) < 1e-9]
+    assert upright
+    for e in upright:
+        assert set(e.free) == {"x", "y", "z", "phi"}
+        assert min(abs(e.point["psi"]), abs(e.point["psi"] - math.pi)) < 1e-9
+        assert e.point["y"] == pytest.approx(0, abs=1e-9) and e.point["z"] == pytest.approx(0.3, abs=1e-9)
+        assert e.point["z"] - e.point["y"] * math.tan(0.2) == pytest.approx(0.3, abs=1e-9)

@@ -1,6 +1,7 @@
-"""`lagcli sweep` with input laws (spec `simulate: inputs:`, `--input NAME=EXPR`): every
-point against the single-run results (`lagcli simulate` of the same run: the same driver,
-the same bytes) and against closed forms (a mass on a spring made by the law F = -k x)."""
+"""`lagcli sweep` with input laws (spec `simulate: inputs:`, `--input NAME=EXPR`) and
+events: every point against the single-run results (`lagcli simulate` of the same run:
+the same driver, the same bytes) and against closed forms (a mass on a spring made by
+the law F = -k x; the bouncing ball's accumulation time)."""
 from __future__ import annotations
 
 import csv
@@ -95,14 +96,30 @@ def test_bad_sweep_laws_are_exit_2(oscillator, tmp_path, law, message):
     assert not (tmp_path / "s.csv").exists()
 
 
-def test_a_spec_with_events_is_refused_clearly_while_the_driver_does_not_run_them(tmp_path):
-    system = lagcli.load(HYBRID / "bouncing_ball.yaml")
-    try:
-        system.program("c")
-    except UsageError:
-        pass
-    else:
-        pytest.skip("the compiled driver runs events: the sweep takes such a spec")
-    result = run("sweep", HYBRID / "bouncing_ball.yaml", "--grid", "e=0.5:0.9:2", "-o", tmp_path / "s.csv")
-    assert result.exit_code == 2 and "bouncing_ball.yaml: lagcli sweep runs the compiled C driver" in result.stderr
-    assert not (tmp_path / "s.csv").exists()
+def test_each_point_of_an_event_sweep_is_the_single_run(tmp_path):
+    """The bouncing ball over three restitutions: each trajectory is, byte for byte, the
+    single run of `lagcli simulate --backend c`; t_last is the closed-form accumulation
+    time t1 (1 + e)/(1 - e) where it comes before t_end, and the Python backend's run ends
+    in the same state (1e-7)."""
+    spec, out, runs = HYBRID / "bouncing_ball.yaml", tmp_path / "s.csv", tmp_path / "runs"
+    result = run("sweep", spec, "--grid", "e=0.5:0.9:3", "--t-end", 3, "--trajectories", runs, "-o", out)
+    assert result.exit_code == 0, result.stderr
+    system = lagcli.load(spec)
+    t1 = math.sqrt(2 / 9.81)
+    for r in summary(out):
+        e = float(r["e"])
+        single = run("simulate", spec, "--backend", "c", "--t-end", 3, "--set", f"e={r['e']}")
+        assert single.exit_code == 0, single.stderr
+        assert (runs / f"run_{r['run']}.csv").read_text() == single.stdout
+        assert r["status"] == "ok"
+        assert float(r["t_last"]) == pytest.approx(min(3.0, t1 * (1 + e) / (1 - e)), abs=1e-6)
+        python = system.simulate(t_end=3.0, parameters={"e": e}, backend="python")
+        assert float(r["final_y"]) == pytest.approx(python["y"][-1], abs=1e-7)
+        assert float(r["final_y_dot"]) == pytest.approx(python["y_dot"][-1], abs=1e-7)
+
+
+def test_a_held_contact_is_refused_clearly(tmp_path):
+    result = run("sweep", HYBRID / "bouncing_ball_rest.yaml", "--grid", "e=0.5:0.9:2", "-o", tmp_path / "s.csv")
+    assert result.exit_code == 2, result.stderr
+    assert "lagcli sweep runs the compiled C driver, which cannot run this spec" in result.stderr
+    assert "rest: true" in result.stderr and not (tmp_path / "s.csv").exists()

@@ -57,11 +57,11 @@ def _symbolic(equations, unknowns, parameters) -> list[Stationary]:
 def solve_stationary(equations, unknowns, parameters: dict, guesses) -> list[Stationary]:
     """Real solutions of `equations` = 0 for `unknowns` (`parameters` symbol -> value): the
     closed forms, else those reached from each guess itself (Routh's steady motions)."""
-    problem = rest_problem(equations, unknowns, len(unknowns), parameters, (), ())
+    problem = rest_problem(equations, unknowns, len(unknowns), parameters, ())
     return distinct(_symbolic(equations, unknowns, parameters) or search(problem, guesses, vary=False), problem)
 
 
-def rest_problem(equations, unknowns, n: int, parameters: dict, angles, family) -> RestProblem:
+def rest_problem(equations, unknowns, n: int, parameters: dict, angles) -> RestProblem:
     """The equations with the parameters' values, compiled for the numeric search."""
     numbers = {s: sp.Float(v, 30) for s, v in parameters.items()}
     exprs = [sp.sympify(e).xreplace(numbers) for e in equations]
@@ -72,7 +72,7 @@ def rest_problem(equations, unknowns, n: int, parameters: dict, angles, family) 
     return RestProblem(lambda z: np.asarray(f(z), dtype=float).reshape(-1),
                        lambda z: np.asarray(jac(z), dtype=float).reshape(len(exprs), k),
                        n,
-                       frozenset(index[s] for s in angles), tuple(index[s] for s in family))
+                       frozenset(index[s] for s in angles))
 
 
 @dataclass(frozen=True)
@@ -101,9 +101,7 @@ def equilibria(d, parameters: dict, guesses: list[dict], independent=(), compile
     unknowns = list(model.q) + list(d.multipliers)
     symbols = {p.symbol: parameters[p.symbol.name] for p in (*model.parameters, *model.inputs)}
     angles = [q for q in model.q if q.name in angle_coordinates(model)]
-    mentioned = set().union(*(e.free_symbols for e in [*forcing, *holonomic]))
-    family = [q for q in model.q if q not in mentioned]
-    problem = rest_problem(list(balance) + holonomic, unknowns, len(model.q), symbols, angles, family)
+    problem = rest_problem(list(balance) + holonomic, unknowns, len(model.q), symbols, angles)
     closed = [] if d.constraints else _symbolic(list(balance), unknowns, symbols)
     starts = [[g.get(s.name, 0.0) for s in unknowns] for g in guesses]
     found = distinct(closed + search(problem, starts), problem)

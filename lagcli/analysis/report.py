@@ -13,15 +13,16 @@ import numpy as np
 import sympy as sp
 
 from lagcli.analysis.stability import on_imaginary_axis
-from lagcli.report.notation import analysis_letters
+from lagcli.report.notation import analysis_letters, linear_equations
 
 
 ROUND_OFF = 1000 * float(np.finfo(float).eps)   # relative size below which an entry is round-off
 ROUND_OFF_RULE = ("text and LaTeX show an entry as 0 when |entry| <= round_off x max|entry| of its matrix "
                   "(of G: of C); the JSON keeps every float as computed")
 
-POINT_ROUND_OFF_RULE = ("text shows a coordinate as 0 when |value| <= round_off x max(1, max|value|) "
-                        "of its point; the JSON keeps every float as computed")
+POINT_ROUND_OFF = 1e-10     # relative size below which a coordinate of a solved point is 0 (the solve's accuracy)
+POINT_ROUND_OFF_RULE = ("text shows a coordinate as 0 when |value| <= round_off x max(1, max|value|) of its "
+                        "point (a point is solved to residuals of 1e-10); the JSON keeps every float as computed")
 
 
 def shown(a, scale: float | None = None) -> np.ndarray:
@@ -33,10 +34,11 @@ def shown(a, scale: float | None = None) -> np.ndarray:
 
 
 def shown_point(point: dict) -> np.ndarray:
-    """The values of a point {coordinate: value} as text shows them: round-off of 0
-    (relative to the largest value, or to 1) is 0, so 7e-13 is not read as a position."""
+    """The values of a point {coordinate: value} as text shows them: what the solve cannot
+    tell from 0 (relative to the largest value, or to 1) is 0, so 7e-13 is not read as a position."""
     values = np.array(list(point.values()), dtype=float)
-    return shown(values, max(1.0, float(np.max(np.abs(values), initial=0.0))))
+    scale = max(1.0, float(np.max(np.abs(values), initial=0.0)))
+    return np.where(np.abs(values) <= POINT_ROUND_OFF * scale, 0.0, values)
 
 
 def number(x: float, digits: int = 10) -> str:
@@ -138,9 +140,7 @@ def linear_text(c: dict) -> str:
     if c["inputs"]:
         lines += _matrix_text(n["B"], c["states"], c["inputs"], np.array(c["B"]))
     lines.append("")
-    lines.append(f"second-order form  {n['M']} {n['v']}' + {n['C']} {n['v']} + {n['K']} {n['q']} = "
-                 + (f"{n['F']} {n['u']}" if c["inputs"] else "0")
-                 + f",  {n['v']} = (" + ", ".join(s["speeds"]) + f"), {n['q']} = (" + ", ".join(s["coordinates"]) + ")")
+    lines.append(f"second-order form  {linear_equations(n, bool(c['inputs']))[1]},  {n['v']} = (" + ", ".join(s["speeds"]) + f"), {n['q']} = (" + ", ".join(s["coordinates"]) + ")")
     lines += _matrix_text(n["M"], s["speeds"], s["speeds"], np.array(s["M"]))
     lines += _matrix_text(n["C"], s["speeds"], s["speeds"], np.array(s["C"]))
     gyroscopic = shown(s["gyroscopic"], np.max(np.abs(np.array(s["C"])), initial=0.0))
@@ -157,8 +157,7 @@ def linear_text(c: dict) -> str:
 
 def first_order_line(n: dict, states, inputs) -> str:
     """`x' = A x + B u,  x = (...), u = (...)` in the output's letters `n` (`linear_letters`)."""
-    return (f"{n['x']}' = {n['A']} {n['x']}" + (f" + {n['B']} {n['u']}" if inputs else "")
-            + f",  {n['x']} = (" + ", ".join(states) + ")"
+    return (linear_equations(n, bool(inputs))[0] + f",  {n['x']} = (" + ", ".join(states) + ")"
             + (f", {n['u']} = (" + ", ".join(inputs) + ")" if inputs else ""))
 
 
@@ -213,14 +212,12 @@ def linear_latex(c: dict, printer) -> str:
         return r"\begin{bmatrix}" + r" \\ ".join(printer(n) for n in names) + r"\end{bmatrix}"
 
     s, n, inputs = c["second_order"], linear_latex_letters(c["notation"]), c["inputs"]
+    first, second = (e.replace(" = ", " &= ") for e in linear_equations(n, bool(inputs), r"\,"))
     out = [r"\begin{align*}",
-           rf"{n['x']}' &= {n['A']}\,{n['x']}" + (rf" + {n['B']}\,{n['u']}" if inputs else "")
-           + rf", & {n['x']} &= {vec(c['states'])}" + (rf", & {n['u']} &= {vec(inputs)}" if inputs else "") + r" \\",
+           first + rf", & {n['x']} &= {vec(c['states'])}" + (rf", & {n['u']} &= {vec(inputs)}" if inputs else "") + r" \\",
            rf"{n['A']} &= {bmatrix(np.array(c['A']))}"
            + (rf", & {n['B']} &= {bmatrix(np.array(c['B']))}" if inputs else "") + r" \\",
-           rf"{n['M']}\,{n['v']}' + {n['C']}\,{n['v']} + {n['K']}\,{n['q']} &= "
-           + (rf"{n['F']}\,{n['u']}" if inputs else "0")
-           + rf", & {n['v']} &= {vec(s['speeds'])}, & {n['q']} &= {vec(s['coordinates'])} \\",
+           second + rf", & {n['v']} &= {vec(s['speeds'])}, & {n['q']} &= {vec(s['coordinates'])} \\",
            rf"{n['M']} &= {bmatrix(np.array(s['M']))}, & {n['C']} &= {bmatrix(np.array(s['C']))}, "
            rf"& {n['K']} &= {bmatrix(np.array(s['K']))}"
            + (rf", & {n['F']} &= {bmatrix(np.array(s['B']))}" if inputs else ""),
@@ -244,7 +241,7 @@ def equilibria_content(found, printer) -> dict:
         }
 
     return {"name": found.name, "equilibria": [one(e) for e in found],
-            "round_off": {"relative": ROUND_OFF, "rule": POINT_ROUND_OFF_RULE}}
+            "round_off": {"relative": POINT_ROUND_OFF, "rule": POINT_ROUND_OFF_RULE}}
 
 
 def equilibria_text(c: dict) -> str:
@@ -255,7 +252,7 @@ def equilibria_text(c: dict) -> str:
         where = ", ".join(f"{q} = {number(v, 12)}" for q, v in zip(e["coordinates"], shown_point(e["coordinates"])))
         lines.append(f"{k}. {where}: {e['verdict']}")
         if e["free"]:
-            lines.append(f"   the same for any {', '.join(e['free'])} (the equations at rest do not fix them)")
+            lines.append(f"   one of a family along {', '.join(e['free'])} (shown: the member nearest the first guess)")
         if e["closed_form"]:
             lines.append("   closed form: " + ", ".join(f"{q} = {v}" for q, v in e["closed_form"].items()))
         if e["eigenvalues"] is not None:

@@ -13,13 +13,15 @@ The combinations are tried in order of how many coordinates differ from the gues
 (the guess itself first), at most `MAX_STARTS` per guess: every single angle turned is
 always among them.
 
-An equilibrium is often one of a family: a disc rests upright at any position and
-heading. A coordinate that neither F(q, 0) nor the holonomic rows contain is tried for
-this: it is moved to its value in the first guess (through two intermediate values, and
-half a unit beyond), the other unknowns solved again each time; when every solve
-succeeds with the other coordinates unchanged, the solution is that member of the
-family and the coordinate is reported as free. Repeats are merged last, angles compared
-modulo 2 pi and reported in [0, 2 pi).
+An equilibrium is often one of a family: a disc rests upright at any position,
+heading and spin angle, and a coin at rest on an incline anywhere along the slope (y
+and z together). Each solution slides along its family to the member nearest the
+first guess: the family's directions are the null space of dE/dz there (each checked by
+a small step that stays a solution), the step is the coordinates' distance to the
+guess projected onto them (at most `STEP_LIMIT` long, halved until the solve from its
+end stays within `BEND` of it), until the step vanishes or the distance grows. The coordinates
+those directions move are reported. Repeats are merged last, angles compared modulo
+2 pi and reported in [0, 2 pi).
 """
 from __future__ import annotations
 
@@ -32,8 +34,10 @@ import numpy as np
 MAX_STARTS = 64            # starting points per guess
 RESIDUAL = 1e-10           # max |E(z)| of a solution
 SAME = 1e-7                # solutions this close (max norm over q, angles modulo 2 pi) are one
-_FAMILY_STEPS = (2 / 3, 1 / 3, 0.0)   # the way to the family's reference value
-_FAMILY_BEYOND = 0.5       # and this far past it (times 1 + |reference|)
+SLIDE_STEPS = 60           # steps along a family, at most
+HALVINGS = 30              # a step along a curved family is halved at most this often
+BEND = 0.1                 # a step may bend this much (of its length) back onto the family
+_PROBE = 1e-3              # the step that checks a family direction
 _TURN = 2 * math.pi
 
 
@@ -41,33 +45,34 @@ _TURN = 2 * math.pi
 class Stationary:
     values: tuple[float, ...]           # the unknowns' values (q first)
     symbolic: tuple | None = None       # closed forms (sympy; None: found numerically)
-    free: tuple[int, ...] = ()          # coordinates (indices) the equilibrium holds for any value of
+    free: tuple[int, ...] = ()          # coordinates (indices) along which it is one of a family
 
 
 @dataclass(frozen=True)
 class RestProblem:
     """E(z) = 0 compiled: `residual(z)`, `jacobian(z)`; the first `n` unknowns are the
-    coordinates, `angles` their indices that are angles, `family` the indices of those
-    neither F(q, 0) nor the holonomic rows contain."""
+    coordinates, `angles` their indices that are angles."""
 
     residual: object
     jacobian: object
     n: int
     angles: frozenset
-    family: tuple[int, ...]
 
 
 def search(problem: RestProblem, guesses: list[list[float]], vary: bool = True) -> list[Stationary]:
-    """Every distinct solution reached from the starting points around `guesses` (from
-    the guesses alone when not `vary`)."""
+    """Every distinct solution reached from the starting points around `guesses`, each
+    the member of its family nearest the first guess (from the guesses alone, and no
+    families, when not `vary`)."""
     found = []
     for guess in guesses:
         for start in (starting_points(problem, guess) if vary else [guess]):
             z = solve(problem, np.asarray(start, dtype=float))
             if z is not None:
                 found.append(Stationary(tuple(float(v) for v in z)))
+    if not vary:
+        return distinct(found, problem)
     reference = guesses[0] if guesses else [0.0] * problem.n
-    return distinct([one_of_family(problem, s, reference) for s in distinct(found, problem)], problem)
+    return distinct([nearest_member(problem, s, reference) for s in distinct(found, problem)], problem)
 
 
 def starting_points(problem: RestProblem, guess: list[float]) -> list[list[float]]:
@@ -110,20 +115,55 @@ def solve(problem: RestProblem, start: np.ndarray, fixed: dict | None = None) ->
     return full(np.where(np.abs(result.x) < 1e-13, 0.0, result.x))
 
 
-def one_of_family(problem: RestProblem, s: Stationary, reference: list[float]) -> Stationary:
-    """`s` moved, along each family coordinate it is free in, to the reference value."""
-    z, free = np.array(s.values), []
-    for k in problem.family:
-        target = reference[k]
-        gap = _difference(z[k], target, k in problem.angles)
-        probes = dict.fromkeys([target + gap * step for step in _FAMILY_STEPS]
-                               + [target + _FAMILY_BEYOND * (1 + abs(target))])
-        members = {p: solve(problem, z, {k: p}) for p in probes}
-        if all(m is not None and _close(m, z, problem, skip=k) for m in members.values()):
-            z, free = members[target], free + [k]
-    if not free:
-        return s
-    return replace(s, values=tuple(float(v) for v in z), free=tuple(free))
+def nearest_member(problem: RestProblem, s: Stationary, reference: list[float]) -> Stationary:
+    """`s` slid along its family (module docstring) to the member nearest `reference`."""
+    z = np.array(s.values)
+    for _ in range(SLIDE_STEPS):
+        directions = family_directions(problem, z)
+        step = directions @ (directions.T @ _gap(problem, z, reference))
+        if not directions.size or np.linalg.norm(step) < 1e-12:
+            break
+        moved = _follow(problem, z, step)
+        if moved is None or _distance(problem, moved, reference) > _distance(problem, z, reference) + 1e-12:
+            break
+        z = moved
+    moving = np.abs(family_directions(problem, z)[:problem.n]).max(axis=1, initial=0.0) > 1e-6
+    return replace(s, values=tuple(float(v) for v in z), free=tuple(int(k) for k in np.flatnonzero(moving)))
+
+
+def family_directions(problem: RestProblem, z: np.ndarray) -> np.ndarray:
+    """Columns: the directions along which the solution `z` is one of a family (the null
+    space of dE/dz, each checked by a small step that stays a solution)."""
+    from scipy.linalg import null_space
+
+    with np.errstate(all="ignore"):
+        jacobian = problem.jacobian(z)
+    if not np.all(np.isfinite(jacobian)):
+        return np.zeros((len(z), 0))
+    checked = [v for v in null_space(jacobian, rcond=1e-9).T if _follow(problem, z, _PROBE * v, halvings=0) is not None]
+    return np.array(checked).T if checked else np.zeros((len(z), 0))
+
+
+def _follow(problem: RestProblem, z: np.ndarray, step: np.ndarray, halvings: int = HALVINGS) -> np.ndarray | None:
+    """The solution reached from z + step when it is within BEND of it (the step halved
+    until it is, at most `halvings` times), else None."""
+    for _ in range(halvings + 1):
+        moved = solve(problem, z + step)
+        if moved is not None and np.linalg.norm(moved - z - step) <= BEND * np.linalg.norm(step):
+            return moved
+        step = step / 2
+    return None
+
+
+def _gap(problem: RestProblem, z: np.ndarray, reference: list[float]) -> np.ndarray:
+    """reference - z over the coordinates (angles the shorter way round), 0 for the multipliers."""
+    gap = np.zeros(len(z))
+    gap[:problem.n] = [-_difference(z[k], reference[k], k in problem.angles) for k in range(problem.n)]
+    return gap
+
+
+def _distance(problem: RestProblem, z: np.ndarray, reference: list[float]) -> float:
+    return float(np.linalg.norm(_gap(problem, z, reference)))
 
 
 def distinct(found: list[Stationary], problem: RestProblem) -> list[Stationary]:

@@ -279,14 +279,13 @@ def _plain_call(call) -> bool:
 def group_by_calls(expr) -> sp.Expr:
     """sum over distinct products of function calls f of (common factors pulled out of
     the sum of their coefficients) * f: `sympy.collect` over the calls, in one pass."""
-    groups: dict = {}
+    groups: dict = {}     # the calls (in the canonical order of a product's factors) -> coefficients
     for term in sp.Add.make_args(expr):
         calls, rest = [], []
         for factor in sp.Mul.make_args(term):
             (calls if factor.has(sp.Function) else rest).append(factor)
-        key = sp.Mul(*calls)
-        groups[key] = groups.get(key, []) + [sp.Mul(*rest)]
-    return sp.Add(*(common_factor(sp.Add(*coefficients)) * key for key, coefficients in groups.items()))
+        groups.setdefault(tuple(calls), []).append(sp.Mul(*rest))
+    return sp.Add(*(common_factor(sp.Add(*coefficients)) * sp.Mul(*calls) for calls, coefficients in groups.items()))
 
 
 def common_factor(expr) -> sp.Expr:
@@ -391,11 +390,12 @@ def pythagorean(expr) -> sp.Expr:
     Repeated while it helps, at most once per argument: one identity can open the way
     for another (sin(b)**2 + cos(b)**2*(sin(c)**2 + cos(c)**2) needs c, then b)."""
     arguments = _square_arguments(expr)
+    nested: dict = {}
     for _ in range(len(arguments)):
         before = expr
         for x in arguments:
-            options = [expr, _eliminate_square(expr, sp.sin(x), sp.cos(x)),
-                       _eliminate_square(expr, sp.cos(x), sp.sin(x))]
+            options = [expr, _eliminate_square(expr, sp.sin(x), sp.cos(x), nested),
+                       _eliminate_square(expr, sp.cos(x), sp.sin(x), nested)]
             expr = min(options, key=_pythagorean_cost)
         if expr == before:
             break
@@ -405,32 +405,82 @@ def pythagorean(expr) -> sp.Expr:
 
 def _square_arguments(expr) -> list:
     """The arguments x of which both sin(x)**k and cos(x)**l (k, l >= 2) appear in expr."""
-    squares = {p.base for p in expr.atoms(sp.Pow) if isinstance(p.base, (sp.sin, sp.cos))
+    squares = {p.base for p in powers_in(expr) if isinstance(p.base, (sp.sin, sp.cos))
                and p.exp.is_Integer and p.exp >= 2}
     return sorted({f.args[0] for f in squares if f.func(f.args[0]) in squares
                    and (sp.cos if f.func == sp.sin else sp.sin)(f.args[0]) in squares},
                   key=sp.default_sort_key)
 
 
+def powers_in(expr) -> set:
+    """expr.atoms(sp.Pow), each distinct subexpression visited once: a big expression
+    shares its parts (the frames bicycle's 1/sqrt(S) in hundreds of terms), which
+    `atoms` would walk through again at every occurrence."""
+    seen, found, stack = set(), set(), [expr]
+    while stack:
+        node = stack.pop()
+        if node in seen:
+            continue
+        seen.add(node)
+        if isinstance(node, sp.Pow):
+            found.add(node)
+        stack.extend(node.args)
+    return found
+
+
 def _pythagorean_cost(expr) -> tuple[int, int, int]:
     """Fewer terms, then fewer distinct powers, then fewer minus signs."""
     terms = sp.Add.make_args(expr)
-    return len(terms), len(expr.atoms(sp.Pow)), sum(t.could_extract_minus_sign() for t in terms)
+    return len(terms), len(powers_in(expr)), sum(t.could_extract_minus_sign() for t in terms)
 
 
-def _eliminate_square(expr, drop, keep) -> sp.Expr:
-    """drop**k -> drop**(k mod 2) * (1 - keep**2)**(k // 2), expanded."""
-    powers = {p for p in expr.atoms(sp.Pow) if p.base == drop and p.exp.is_Integer and p.exp >= 2}
+def _eliminate_square(expr, drop, keep, nested: dict | None = None) -> sp.Expr:
+    """drop**k -> drop**(k mod 2) * (1 - keep**2)**(k // 2), expanded. `nested` remembers
+    the expanded roots and reciprocals of sums met on the way (`_expanded_term`)."""
+    powers = {p for p in powers_in(expr) if p.base == drop and p.exp.is_Integer and p.exp >= 2}
     if not powers:
         return expr
     table = {p: drop ** (int(p.exp) % 2) * (1 - keep ** 2) ** (int(p.exp) // 2) for p in powers}
+    nested = {} if nested is None else nested
     terms = []
     for term in sp.Add.make_args(expr):      # expr is expanded: only terms with a power change
         if not term.has(*powers):
             terms.append(term)
         else:
-            terms.extend(_binomial_terms(term, powers, keep) or sp.Add.make_args(sp.expand(term.xreplace(table))))
+            terms.extend(_binomial_terms(term, powers, keep)
+                         or sp.Add.make_args(_expanded_term(term, table, nested)))
     return sp.Add(*terms)
+
+
+def _expanded_term(term, table: dict, nested: dict) -> sp.Expr:
+    """sympy.expand(term.xreplace(table)), with each factor of `term` that is a root or
+    a reciprocal of a sum (the frames bicycle's front wheel: 1/sqrt(S), S a sum of
+    hundreds of terms) expanded once for all the terms that share it and held as a
+    symbol meanwhile: expand leaves such a power of an expanded sum as it is, so the
+    result is the same, without expanding S again for every term."""
+    held, factors = {}, []
+    for factor in sp.Mul.make_args(term):
+        shown = _nested_power(factor, table, nested)
+        if shown is None:
+            factors.append(factor.xreplace(table))
+        else:
+            symbol = held.setdefault(shown, sp.Dummy(f"held{len(held)}", commutative=True))
+            factors.append(symbol)
+    expanded = sp.expand(sp.Mul(*factors))
+    return expanded.xreplace({symbol: shown for shown, symbol in held.items()}) if held else expanded
+
+
+def _nested_power(factor, table: dict, nested: dict):
+    """expand(factor.xreplace(table)) when `factor` is a power of a sum with an exponent
+    that expand leaves alone (negative or not an integer, |exponent| <= 1); else None."""
+    if not (factor.is_Pow and factor.base.is_Add and factor.exp.is_Rational
+            and abs(factor.exp) <= 1 and not (factor.exp.is_Integer and factor.exp > 0)):
+        return None
+    key = (factor, tuple(sorted(table.items(), key=sp.default_sort_key)))
+    if key not in nested:
+        nested[key] = sp.expand(factor.xreplace(table))
+    shown = nested[key]
+    return shown if shown.is_Pow and shown.base.is_Add and shown.exp == factor.exp else None
 
 
 def _binomial_terms(term, powers, keep) -> list | None:

@@ -14,8 +14,10 @@ user named them, and each of the report's quantities whose letter a spec name (o
     vectors, others
 
 The report's legend says what each shown form is. A report whose letters no spec name
-takes keeps the letters, byte for byte. Code targets are not reports: their identifiers
-follow their own rules (lagcli/targets/identifiers.py).
+takes keeps the letters, byte for byte. The analyses follow the same rule: `hamiltonian`'s
+H and `routh`'s R (`analysis_letters`), and the linear model's x, u, v, q, A, B, M, C,
+K, F, G (`linear_letters`: one letter, one thing in one output). Code targets are not
+reports: their identifiers follow their own rules (lagcli/targets/identifiers.py).
 """
 from __future__ import annotations
 
@@ -242,3 +244,15 @@ def analysis_letters(d) -> dict[str, dict[str, str]]:
         text[letter] = quantity.text if letter in taken else letter
         latex[letter] = quantity.latex if letter in taken else letter
     return {"text": text, "latex": latex}
+
+
+def linear_equations(n: dict[str, str], inputs: bool, times: str = " ") -> tuple[str, str]:
+    """The two equations of a linear model in the letters `n` ("x' = A x + B u",
+    "M v' + C v + K q = F u"), `times` between factors (LaTeX: a thin space)."""
+    def product(matrix: str, vector: str) -> str:
+        return f"{n[matrix]}{times}{n[vector]}"
+
+    first = f"{n['x']}' = {product('A', 'x')}" + (f" + {product('B', 'u')}" if inputs else "")
+    second = (f"{n['M']}{times}{n['v']}' + {product('C', 'v')} + {product('K', 'q')} = "
+              + (product("F", "u") if inputs else "0"))
+    return first, second

@@ -191,7 +191,7 @@ def _driver(system, held: dict, laws: dict) -> tuple[str, bytes]:
     except UsageError as exc:
         raise UsageError(f"{system.model.source}: lagcli sweep runs the compiled C driver, which cannot run this "
                          f"spec: {str(exc).splitlines()[0].split(': ', 1)[-1]}\n"
-                         "  hint: loop over `lagcli simulate` (its Python backend runs events)") from None
+                         "  hint: loop over `lagcli simulate` (its Python backend runs it)") from None
     return cached.binary, cached.entry.contents[c_backend.BINARY]
 
 

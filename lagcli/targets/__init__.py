@@ -73,17 +73,18 @@ class Language:
     directory: bool       # the output is a directory of several files (-o DIR required)
     embeds_initial: bool = True   # the output holds a default initial state (`initial=`)
     binary: bool = False          # the one output file is bytes, not text (the FMU's zip)
+    variational: bool = False     # carries the variational integrator (`variational=` option)
 
 
-def _python_files(d, layout, initial=None, initial_notes=()) -> dict[str, str]:
+def _python_files(d, layout, initial=None, initial_notes=(), variational=None) -> dict[str, str]:
     from lagcli.targets.python import python_module
 
-    return {f"{layout.name}.py": python_module(d, layout, initial, initial_notes)}
+    return {f"{layout.name}.py": python_module(d, layout, initial, initial_notes, variational)}
 
 
 LANGUAGES = {
-    "python": Language("python", __name__, "_python_files", directory=False),
-    "c": Language("c", "lagcli.targets.c", "c_files", directory=True),
+    "python": Language("python", __name__, "_python_files", directory=False, variational=True),
+    "c": Language("c", "lagcli.targets.c", "c_files", directory=True, variational=True),
     "octave": Language("octave", "lagcli.targets.octave", "octave_files", directory=True),
     "rust": Language("rust", "lagcli.targets.rust", "rust_files", directory=True),
     "latex": Language("latex", "lagcli.report.latex", "latex_files", directory=False, embeds_initial=False),
@@ -93,30 +94,41 @@ LANGUAGES = {
 }
 
 
-def generate(derivation, lang: str, initial=None, initial_notes=(), layout=None) -> dict[str, str]:
+def generate(derivation, lang: str, initial=None, initial_notes=(), layout=None,
+             variational: bool | None = None) -> dict[str, str]:
     """{file name: text} of `derivation` in the output language `lang`. `initial`: the
     default state [q..., q'...] generated code embeds, made consistent by the caller
     (None: the spec's `initial:` as given), `initial_notes` what was solved for; `layout`:
-    the system's run interface (`lagcli.interface.Layout`; None: `layout_of(derivation)`)."""
+    the system's run interface (`lagcli.interface.Layout`; None: `layout_of(derivation)`).
+    `variational` (python, c): the variational integrator's functions, True always,
+    None for a small system only (lagcli/targets/discrete_code.py, `included`)."""
     try:
         language = LANGUAGES[lang]
     except KeyError:
         raise EmitError(f"unknown output language {lang!r}; known: {', '.join(LANGUAGES)}") from None
+    if variational and not language.variational:
+        from lagcli.errors import UsageError
+
+        raise UsageError(f"--variational: the variational integrator is generated for --lang "
+                         f"{' and '.join(n for n, k in LANGUAGES.items() if k.variational)} only (not {lang})")
     if lang != "latex":
         _refuse_hybrid(derivation, lang)
-    return program_sources(derivation, lang, initial, initial_notes, layout)
+    return program_sources(derivation, lang, initial, initial_notes, layout, variational)
 
 
-def program_sources(derivation, lang: str, initial=None, initial_notes=(), layout=None) -> dict[str, str]:
+def program_sources(derivation, lang: str, initial=None, initial_notes=(), layout=None,
+                    variational: bool | None = True) -> dict[str, str]:
     """`generate` for the programs of a run (the System's: the Python module, the C driver):
-    the smooth equations, whatever events or laws the run layer adds around them. Every
-    target reads what it says of the system from `layout` (the System's, built once; made
-    here when the caller has none)."""
+    the smooth equations, whatever events or laws the run layer adds around them, with the
+    variational integrator's functions whatever the system's size (a run may ask for them).
+    Every target reads what it says of the system from `layout` (the System's, built once;
+    made here when the caller has none)."""
     from lagcli.interface import layout_of
 
     language = LANGUAGES[lang]
+    options = {"variational": variational} if language.variational else {}
     return getattr(importlib.import_module(language.module), language.function)(
-        derivation, layout if layout is not None else layout_of(derivation), initial, initial_notes)
+        derivation, layout if layout is not None else layout_of(derivation), initial, initial_notes, **options)
 
 
 def _refuse_hybrid(derivation, lang: str) -> None:

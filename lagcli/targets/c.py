@@ -55,11 +55,13 @@ class CPrinter(SlotPrinter, C99CodePrinter):
 
 
 
-def c_files(d: Derivation, layout: Layout, initial=None, initial_notes=()) -> dict[str, str]:
+def c_files(d: Derivation, layout: Layout, initial=None, initial_notes=(),
+            variational: bool | None = None) -> dict[str, str]:
     """{file name: text} of `<name>.h`, `<name>.c`, `<name>_main.c` and the C runtime;
     `layout`: the system's run interface; `initial` (the default state, made consistent
-    by the caller) and `initial_notes`: see `lagcli.targets.about.interface`."""
-    context = c_context(d, layout, initial, initial_notes)
+    by the caller) and `initial_notes`: see `lagcli.targets.about.interface`;
+    `variational`: see `discrete_code.variational_context` (None: for a small system only)."""
+    context = c_context(d, layout, initial, initial_notes, variational)
     name = d.model.name
     runtime = c_runtime_files()
     if {f"{name}.h", f"{name}.c", f"{name}_main.c"} & set(runtime):
@@ -75,14 +77,15 @@ def model_sources(context: dict) -> dict[str, str]:
     return {f"{name}.h": render("c/model.h.jinja", **context), f"{name}.c": render("c/model.c.jinja", **context)}
 
 
-def c_context(d: Derivation, layout: Layout, initial=None, initial_notes=()) -> dict:
+def c_context(d: Derivation, layout: Layout, initial=None, initial_notes=(),
+              variational: bool | None = None) -> dict:
     """Everything the C templates need, pre-printed."""
     from lagcli.targets.discrete_code import variational_context
     from lagcli.targets.event_code import event_context
 
     context = codegen.generated_context(d, CPrinter, layout, initial, initial_notes)
-    context.update(variational_context(d, CPrinter))     # the variational integrator's functions
-    context.update(event_context(d))                     # the spec's events (none: empty)
+    context.update(variational_context(d, CPrinter, variational))    # the variational integrator's functions
+    context.update(event_context(d, CPrinter))           # the spec's events (none: empty)
     name = layout.name
     settings = layout.settings
     residual = context["i"].residual_index

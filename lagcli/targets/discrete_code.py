@@ -2,17 +2,21 @@
 printed for a language: its own tidy + ONE cse over `DiscreteGroups` (kept apart from
 the model's functions, whose code stays as it was), in the slots y = [q, q'], p, u.
 
-    variational_context(d, printer_class) -> {"variational": VariationalCode | None,
-                                               "variational_refusal": str | None}
+    variational_context(d, printer_class, wanted) -> {"variational": VariationalCode | None,
+                                                       "variational_refusal": str | None}
 
 None and the refusal (naming the constraint) for a system with nonholonomic rows:
-then no function is generated and the integrator refuses to run.
+then no function is generated and the integrator refuses to run. The same for a big
+system (`included`) unless asked for (`wanted=True`: `lagcli generate --variational`, and
+every program lagcli runs itself): its second derivatives and their CSE cost several
+times the rest of the code (the 40-link chain: ~45 s of CPU against ~15 s,
+bench/README.md, "Scaling").
 """
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
 
-from lagcli.derive.discrete import HOLONOMIC, JACOBIAN, MOMENTA, discrete_groups, refusal
+from lagcli.derive.discrete import HOLONOMIC, JACOBIAN, MOMENTA, METHOD, discrete_groups, refusal
 from lagcli.targets import codegen
 from lagcli.targets.cse import eliminate
 from lagcli.targets.slots import slots
@@ -28,8 +32,25 @@ class VariationalCode:
     imports: tuple               # what the printed code calls (Python: names from math)
 
 
-def variational_context(d, printer_class) -> dict:
+VARIATIONAL_MAX_NODES = codegen.TIDY_MAX_TOTAL_NODES   # tree nodes of the model's outputs, together
+
+
+def included(d) -> bool:
+    """Whether the variational functions are generated when nobody asked: when M and F
+    as derived have at most VARIATIONAL_MAX_NODES tree nodes together (every bundled
+    spec; the planar chain up to 13 links)."""
+    return small([*d.mass_matrix, *d.forcing], VARIATIONAL_MAX_NODES)
+
+
+def variational_context(d, printer_class, wanted: bool | None = None) -> dict:
+    """`wanted`: True always generates the functions (when the system allows), False never,
+    None when the system is small (`included`)."""
     reason = refusal(d)
+    if reason is None and not (wanted if wanted is not None else included(d)):
+        reason = (f"--method {METHOD}: the variational integrator's functions were not generated "
+                  f"for this system (its equations have more than {VARIATIONAL_MAX_NODES} tree nodes, "
+                  "where they cost several times the rest of the code)\n"
+                  "  hint: generate with `lagcli generate --variational`")
     if reason is not None:
         return {"variational": None, "variational_refusal": reason}
     groups = discrete_groups(d)

@@ -50,16 +50,18 @@ class PythonPrinter(SlotPrinter, PythonCodePrinter):
 
 
 
-def python_module(d: Derivation, layout: Layout, initial=None, initial_notes=()) -> str:
+def python_module(d: Derivation, layout: Layout, initial=None, initial_notes=(),
+                  variational: bool | None = None) -> str:
     """The text of the generated module for `d` with its run interface `layout`; `initial`
     (the default state, made consistent by the caller) and `initial_notes`: see
-    `lagcli.targets.about.interface`."""
+    `lagcli.targets.about.interface`; `variational`: see
+    `discrete_code.variational_context` (None: for a small system only)."""
     from lagcli.targets.discrete_code import merged_imports, variational_context
 
     context = codegen.generated_context(d, PythonPrinter, layout, initial, initial_notes)
-    variational = variational_context(d, PythonPrinter)      # the variational integrator's functions
-    if variational["variational"] is not None:
-        context["imports"] = merged_imports(context["imports"], variational["variational"].imports)
-    return render("python/module.py.jinja", **context, **variational,
+    discrete = variational_context(d, PythonPrinter, variational)    # the variational integrator's functions
+    if discrete["variational"] is not None:
+        context["imports"] = merged_imports(context["imports"], discrete["variational"].imports)
+    return render("python/module.py.jinja", **context, **discrete,
                   run_rules=python_run_rules(),               # lagcli's own run rules, pasted verbatim
                   variational_runtime=python_variational())   # and its variational integrator
