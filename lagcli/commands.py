@@ -185,7 +185,9 @@ def _run_request(request, note, progress, sink, system):
     laws = input_laws(request.inputs, system)
     backend = request.backend or ("c" if compiler and settings.method in C_METHODS else "python")
     if request.backend is None and system.compiled_laws(overrides.values, laws) is None:
-        backend = "python"                   # a Python callable as a law (the API's)
+        if backend == "c":
+            note(f"lagcli: {system.python_only(system.laws(overrides.values, laws))} runs on the Python backend")
+        backend = "python"
     start = system.start(overrides.values, overrides.initial)
     for text in runs.at_rest(layout.initial, overrides.initial) + list(start.notes):
         note(text)

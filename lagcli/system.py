@@ -287,8 +287,9 @@ class System:
         `values` and input `laws`: "python" (the generated module,
         `lagcli.run.python_backend.PythonModule`; with events or callable laws
         `HybridModule`) or "c" (the compiled driver in the cache, `lagcli.run.c_backend.CDriver`,
-        its model generated with the run's expression laws substituted; `method` must be
-        one it implements)."""
+        its model generated with the run's expression laws substituted and carrying the
+        spec's events; `method` must be one it implements; `python_only` says what it
+        cannot run)."""
         values = values or {}
         compiled = self.compiled_laws(values, laws) if backend == "c" else None
         hybrid = self.hybrid(values, laws) if compiled is None else None

@@ -29,6 +29,15 @@ ROOT = SPECS.parent
 EVENT_SPECS = sorted(p.name for p in HYBRID.glob("*.yaml") if "rest: true" not in p.read_text())
 
 
+def test_a_cut_off_log_line_is_left_out():
+    from lagcli.run.records import read_event_log
+
+    line = "event,floor,impact,0.5,0,-4.9,0,4.41,9.31\n"
+    records, note = read_event_log(line + line[:20], 2)
+    assert len(records) == 1 and records[0].after == (0.0, 4.41) and records[0].impulse == 9.31
+    assert note is None
+
+
 def test_the_c_rules_are_the_python_rules():
     from lagcli.interface import ACCUMULATION_GAP, EVENT_BUDGET, FIRST_STEP_SAMPLES, RESTING_SPEED
 
@@ -64,11 +73,12 @@ def test_every_bundled_hybrid_spec_runs_alike_on_both_backends(name):
 
 def test_the_cli_prints_the_same_events_file_and_words_from_both_backends(tmp_path):
     outputs = {}
-    for backend in ("python", "c"):
+    for backend in ("python", "c", "c"):          # the second C run: the cached driver (the warm path)
         events = tmp_path / f"{backend}.csv"
         result = run("simulate", HYBRID / "bouncing_ball.yaml", "--backend", backend, "--events", events,
                      "-o", tmp_path / f"rows_{backend}.csv")
         assert result.exit_code == 0, result.stderr
+        assert outputs.get(backend, (result.stderr,))[0] == result.stderr
         outputs[backend] = (result.stderr, events.read_text().splitlines())
     (py_err, py_rows), (c_err, c_rows) = outputs["python"], outputs["c"]
     assert c_err == py_err          # the summary and the accumulation note: formatted once, in Python
@@ -78,6 +88,26 @@ def test_the_cli_prints_the_same_events_file_and_words_from_both_backends(tmp_pa
     for a, b in zip(c_rows[1:], py_rows[1:]):
         x, y = a.split(","), b.split(",")
         assert x[1:3] == y[1:3] and float(x[0]) == pytest.approx(float(y[0]), rel=1e-12)
+
+
+@pytest.mark.parametrize("method", ["DOP853", "RK45"])
+def test_a_reset_that_leaves_g_at_its_root_does_not_fire_again(method, tmp_path):
+    """A kick that halves the cart's speed as the balanced pole passes upright (g = theta,
+    untouched by the reset): g sits at its root after the event, on either side by
+    round-off; it has crossed, and the run goes on to the stop at x = 0.3 on both backends
+    (before, a round-off sign could make it fire again at once: an "accumulation")."""
+    spec = tmp_path / "kick.yaml"
+    spec.write_text((HYBRID / "cart_pole_lqr.yaml").read_text().replace(
+        "initial: {theta: 0.2}",
+        "events:\n  - {name: upright, when: theta, direction: falling, action: reset, reset: {x_dot: 0.5*x_dot}}\n"
+        "  - {name: far, when: x - 0.3, direction: rising, action: stop}\ninitial: {theta: 0.2}"))
+    system = lagcli.load(spec)
+    for backend in ("python", "c"):
+        traj = system.simulate(backend=backend, method=method)
+        assert [r.name for r in traj.events] == ["upright", "far"] and traj.end_note is None
+        upright = traj.events[0]
+        assert upright.after[2] == 0.5 * upright.before[2] and upright.after[:2] == upright.before[:2]
+        assert traj["x"][-1] == pytest.approx(0.3, abs=1e-12)
 
 
 def test_a_plastic_impact_ends_the_run_at_rest():

@@ -83,3 +83,25 @@ def test_count_ops_is_sympys_count_ops():
         for node in sp.preorder_traversal(expr):
             if isinstance(node, sp.Expr):
                 assert count_ops(node) == sp.count_ops(node), node
+
+
+def test_weighted_display_form_is_display_form():
+    """The shortcut for m_1 X + ... + m_n X gives display_form's result whenever it answers,
+    on monomials X of every shape (signs, fractions, powers, one or two calls, calls whose
+    arguments have a common factor) and on sums too big for display_form to touch."""
+    from lagcli.render.tidy import display_form
+    from lagcli.render.weighted import weighted_display_form
+
+    rng = random.Random(8)
+    masses = sp.symbols("m1:60", real=True)
+    parts = [x, y ** 2, l1, l2 ** 3, sp.cos(x - y), sp.sin(x), sp.cos(2 * x - 2 * y), sp.sin(y) ** 2, sp.tan(z)]
+    numbers = [1, -1, 2, -3, sp.Rational(1, 2), -sp.Rational(3, 4)]
+    answered = 0
+    for _ in range(150):
+        shared = sp.S(rng.choice(numbers)) * sp.Mul(*rng.sample(parts, rng.randint(1, 4)))
+        weights = list(rng.sample(masses, rng.choice([2, 3, 7, 20, 59])))
+        found = weighted_display_form(weights, shared)
+        if found is not None:
+            answered += 1
+            assert found == display_form(sp.Add(*(w * shared for w in weights))), (weights, shared)
+    assert answered >= 60

@@ -60,3 +60,61 @@ def test_chain_invariants(setup):
     _, derivation, _ = setup
     assert derivation.ignorable == ()
     assert derivation.jacobi_integral is not None and derivation.energy_is_jacobi
+
+
+def chain_closed_form(q, qd, m, l, g):
+    """The planar chain's textbook equations (absolute angles, point masses):
+    M_ij = l_i l_j mu_max(i,j) cos(q_i - q_j), mu_p = sum_{k>=p} m_k,
+    F_i = -sum_j l_i l_j mu_max(i,j) sin(q_i - q_j) q_j'^2 - g l_i mu_i sin q_i,
+    T + V = 1/2 q'^T M q' - g sum_i l_i mu_i cos q_i."""
+    mu = np.cumsum(m[::-1])[::-1]
+    tail = mu[np.maximum.outer(np.arange(len(q)), np.arange(len(q)))]
+    M = np.outer(l, l) * tail * np.cos(np.subtract.outer(q, q))
+    F = -(np.outer(l, l) * tail * np.sin(np.subtract.outer(q, q))) @ qd ** 2 - g * l * mu * np.sin(q)
+    return M, F, qd @ M @ qd / 2 - g * np.sum(l * mu * np.cos(q))
+
+
+def test_closed_form_is_kane(setup):
+    """The closed form the 40-link test uses, checked against KanesMethod on the 5-link chain."""
+    model, _, oracle = setup
+    ref = lambdify_oracle(oracle, model, oracle.mass_matrix, oracle.forcing, oracle.extras["energy"])
+    rng = np.random.default_rng(6)
+    q, qd, p = rng.uniform(-np.pi, np.pi, N_LINKS), rng.uniform(-2, 2, N_LINKS), param_values(model, rng)
+    values = dict(zip([s.name for s in model.parameter_symbols], p))
+    m, l = (np.array([values[f"{x}{i}"] for i in range(1, N_LINKS + 1)]) for x in "ml")
+    for ours, kane, what in zip(chain_closed_form(q, qd, m, l, values["g"]), ref(q, qd, p), ("M", "F", "E")):
+        assert_close(ours, np.reshape(kane, np.shape(ours)), rtol=1e-12, what=what)
+
+
+@pytest.mark.slow
+def test_forty_link_chain_matches_closed_form(tmp_path):
+    """The 40-link chain (the scale benchmark's size, bench/scaling.py; KanesMethod takes
+    minutes here, so the oracle is the closed form checked against Kane above): M, F and
+    T + V of the derivation, and the mass matrix as the JSON report prints it (tidied
+    from the weighted sums of masses, lagcli/render/weighted.py), at seeded states."""
+    import json
+
+    import sympy as sp
+
+    import lagcli
+    from lagcli.render.spec_printer import parse_output
+    from oracles import state_symbols
+
+    n = 40
+    path = tmp_path / f"chain{n}.yaml"
+    path.write_text(chain_spec(n))
+    system = lagcli.load(path)
+    model, d = system.model, system.derivation
+    printed = sp.Matrix([[parse_output(e, model) for e in row] for row in json.loads(system.report("json"))["mass_matrix"]])
+    evaluate = sp.lambdify(state_symbols(model), [d.mass_matrix, d.forcing, d.energy, printed], modules="numpy")
+    rng = np.random.default_rng(40)
+    for _ in range(3):
+        q, qd, p = rng.uniform(-np.pi, np.pi, n), rng.uniform(-2, 2, n), param_values(model, rng)
+        values = dict(zip([s.name for s in model.parameter_symbols], p))
+        m, l = (np.array([values[f"{x}{i}"] for i in range(1, n + 1)]) for x in "ml")
+        M, F, E, M_printed = (np.array(v, dtype=float) for v in evaluate(0.0, *q, *qd, *np.zeros(n), *p))
+        M0, F0, E0 = chain_closed_form(q, qd, m, l, values["g"])
+        assert_close(M, M0, rtol=1e-13, what="mass matrix")
+        assert_close(M_printed, M0, rtol=1e-13, what="mass matrix as reported")
+        assert_close(F.ravel(), F0, rtol=1e-12, what="forcing")
+        assert_close(E, E0, rtol=1e-13, what="T + V")

@@ -13,7 +13,7 @@ import numpy as np
 import sympy as sp
 
 from lagcli.analysis.stability import on_imaginary_axis
-from lagcli.report.notation import analysis_letters
+from lagcli.report.notation import analysis_letters, linear_equations
 
 
 ROUND_OFF = 1000 * float(np.finfo(float).eps)   # relative size below which an entry is round-off
@@ -140,9 +140,7 @@ def linear_text(c: dict) -> str:
     if c["inputs"]:
         lines += _matrix_text(n["B"], c["states"], c["inputs"], np.array(c["B"]))
     lines.append("")
-    lines.append(f"second-order form  {n['M']} {n['v']}' + {n['C']} {n['v']} + {n['K']} {n['q']} = "
-                 + (f"{n['F']} {n['u']}" if c["inputs"] else "0")
-                 + f",  {n['v']} = (" + ", ".join(s["speeds"]) + f"), {n['q']} = (" + ", ".join(s["coordinates"]) + ")")
+    lines.append(f"second-order form  {linear_equations(n, bool(c['inputs']))[1]},  {n['v']} = (" + ", ".join(s["speeds"]) + f"), {n['q']} = (" + ", ".join(s["coordinates"]) + ")")
     lines += _matrix_text(n["M"], s["speeds"], s["speeds"], np.array(s["M"]))
     lines += _matrix_text(n["C"], s["speeds"], s["speeds"], np.array(s["C"]))
     gyroscopic = shown(s["gyroscopic"], np.max(np.abs(np.array(s["C"])), initial=0.0))
@@ -159,8 +157,7 @@ def linear_text(c: dict) -> str:
 
 def first_order_line(n: dict, states, inputs) -> str:
     """`x' = A x + B u,  x = (...), u = (...)` in the output's letters `n` (`linear_letters`)."""
-    return (f"{n['x']}' = {n['A']} {n['x']}" + (f" + {n['B']} {n['u']}" if inputs else "")
-            + f",  {n['x']} = (" + ", ".join(states) + ")"
+    return (linear_equations(n, bool(inputs))[0] + f",  {n['x']} = (" + ", ".join(states) + ")"
             + (f", {n['u']} = (" + ", ".join(inputs) + ")" if inputs else ""))
 
 
@@ -215,14 +212,12 @@ def linear_latex(c: dict, printer) -> str:
         return r"\begin{bmatrix}" + r" \\ ".join(printer(n) for n in names) + r"\end{bmatrix}"
 
     s, n, inputs = c["second_order"], linear_latex_letters(c["notation"]), c["inputs"]
+    first, second = (e.replace(" = ", " &= ") for e in linear_equations(n, bool(inputs), r"\,"))
     out = [r"\begin{align*}",
-           rf"{n['x']}' &= {n['A']}\,{n['x']}" + (rf" + {n['B']}\,{n['u']}" if inputs else "")
-           + rf", & {n['x']} &= {vec(c['states'])}" + (rf", & {n['u']} &= {vec(inputs)}" if inputs else "") + r" \\",
+           first + rf", & {n['x']} &= {vec(c['states'])}" + (rf", & {n['u']} &= {vec(inputs)}" if inputs else "") + r" \\",
            rf"{n['A']} &= {bmatrix(np.array(c['A']))}"
            + (rf", & {n['B']} &= {bmatrix(np.array(c['B']))}" if inputs else "") + r" \\",
-           rf"{n['M']}\,{n['v']}' + {n['C']}\,{n['v']} + {n['K']}\,{n['q']} &= "
-           + (rf"{n['F']}\,{n['u']}" if inputs else "0")
-           + rf", & {n['v']} &= {vec(s['speeds'])}, & {n['q']} &= {vec(s['coordinates'])} \\",
+           second + rf", & {n['v']} &= {vec(s['speeds'])}, & {n['q']} &= {vec(s['coordinates'])} \\",
            rf"{n['M']} &= {bmatrix(np.array(s['M']))}, & {n['C']} &= {bmatrix(np.array(s['C']))}, "
            rf"& {n['K']} &= {bmatrix(np.array(s['K']))}"
            + (rf", & {n['F']} &= {bmatrix(np.array(s['B']))}" if inputs else ""),

@@ -99,7 +99,7 @@ class Linearization:
         return f"<Linearization of {self.name} about {where}: {self.verdict}; eigenvalues {values}>"
 
     def _repr_latex_(self) -> str:
-        from lagcli.report.notation import linear_latex_letters
+        from lagcli.report.notation import linear_equations, linear_latex_letters
 
         name, n = self.latex_names.get, linear_latex_letters(self.letters)
 
@@ -107,13 +107,11 @@ class Linearization:
             return r"\left(" + ", ".join(name(s, _texttt(s)) for s in names) + r"\right)^\mathsf{T}"
 
         inputs = self.inputs
-        rows = [rf"{n['x']}' &= {n['A']}\,{n['x']}" + (rf" + {n['B']}\,{n['u']}" if inputs else "")
-                + rf", \quad {n['x']} = {vector(self.states)}"
+        first, second = (e.replace(" = ", " &= ") for e in linear_equations(n, bool(inputs), r"\,"))
+        rows = [first + rf", \quad {n['x']} = {vector(self.states)}"
                 + (rf", \quad {n['u']} = {vector(inputs)}" if inputs else ""),
                 rf"{n['A']} &= {bmatrix(self.A)}" + (rf", \quad {n['B']} = {bmatrix(self.B)}" if inputs else ""),
-                rf"{n['M']}\,{n['v']}' + {n['C']}\,{n['v']} + {n['K']}\,{n['q']} &= "
-                + (rf"{n['F']}\,{n['u']}" if inputs else "0")
-                + rf", \quad {n['v']} = {vector(self.speeds)}, \quad {n['q']} = {vector(self.coordinates)}",
+                second + rf", \quad {n['v']} = {vector(self.speeds)}, \quad {n['q']} = {vector(self.coordinates)}",
                 rf"{n['M']} &= {bmatrix(self.M)}, \quad {n['C']} = {bmatrix(self.C)}, \quad {n['K']} = {bmatrix(self.K)}"
                 + (rf", \quad {n['F']} = {bmatrix(self.B_second)}" if inputs else ""),
                 r"\text{eigenvalues} &: " + (", ".join(complex_text(s, 6).replace("i", r"\,i")
@@ -123,10 +121,10 @@ class Linearization:
 
     def _repr_html_(self) -> str:
         where = ", ".join(f"{k} = {number(v, _HTML_DIGITS)}" for k, v in self.point.state.items())
+        from lagcli.report.notation import linear_equations
+
         n = self.letters
-        first = f"{n['x']}' = {n['A']} {n['x']}" + (f" + {n['B']} {n['u']}" if self.inputs else "")
-        second = (f"{n['M']} {n['v']}' + {n['C']} {n['v']} + {n['K']} {n['q']} = "
-                  + (f"{n['F']} {n['u']}" if self.inputs else "0"))
+        first, second = linear_equations(n, bool(self.inputs))
         parts = [f"<p><b>{escape(self.name)}</b> linearized about {escape(where)}: "
                  f"{escape(first)}; {escape(second)}</p>",
                  _html_matrix(n["A"], self.A, self.states, self.states)]

@@ -43,27 +43,48 @@ def refuse_unrepresentable(d) -> None:
 def _problems(d, quantities) -> list[Problem]:
     problems = []
     for what, value, loc in quantities:
-        if value.has(*_NOT_FINITE):
-            worst = next(str(s) for s in _NOT_FINITE if value.has(s))
+        leaves = _leaves(value)
+        if any(s in leaves for s in _NOT_FINITE):
+            worst = next(str(s) for s in _NOT_FINITE if s in leaves)
             problems.append(Problem(loc, f"{what} is infinite, undefined or complex as derived (it holds "
                                          f"{worst})", _HINT_INFINITE))
             continue
-        constant = out_of_range(value)
+        constant = out_of_range(value, leaves)
         if constant is not None:
             problems.append(Problem(_culprit(d.model, what, loc), f"{what} holds the constant {_short(constant)}, "
                                     f"{_why(constant)}", _HINT_RANGE))
     return problems
 
 
-def out_of_range(value) -> sp.Number | None:
-    """The first constant of `value` (an expression or matrix) that no double holds as
-    it is: beyond LARGEST, nonzero below SMALLEST, or an exact number of too many digits."""
-    for number in sorted(value.atoms(sp.Number), key=sp.default_sort_key):
+def out_of_range(value, leaves: set | None = None) -> sp.Number | None:
+    """The first constant of `value` (an expression or matrix; `leaves`: its `_leaves`) that
+    no double holds as it is: beyond LARGEST, nonzero below SMALLEST, or an exact number of
+    too many digits."""
+    leaves = _leaves(value) if leaves is None else leaves
+    for number in sorted((leaf for leaf in leaves if isinstance(leaf, sp.Number)), key=sp.default_sort_key):
         if number == 0 or not number.is_finite:
             continue
         if abs(number) > LARGEST or abs(number) < SMALLEST or _digits(number) > MAX_EXACT_NUMBER_DIGITS:
             return number
     return None
+
+
+def _leaves(value) -> set:
+    """The atoms of an expression or matrix (what `atoms()` finds), each distinct subtree
+    visited once: T and F of a chain share their sums, and walking them as trees (`has`,
+    `atoms`) was most of this check's time."""
+    stack = list(value) if isinstance(value, sp.MatrixBase) else [value]
+    seen, leaves = set(), set()
+    while stack:
+        node = stack.pop()
+        if node in seen:
+            continue
+        seen.add(node)
+        if node.args:
+            stack.extend(node.args)
+        else:
+            leaves.add(node)
+    return leaves
 
 
 def _quantities(d):

@@ -38,13 +38,14 @@ class TimeDerivative:
         free = free_symbols(expr, self.free)
         if free & self.accelerations:
             raise ValueError("cannot differentiate an expression containing accelerations")
-        result = derivative(expr, self.t, self.free) if self.t in free else sp.S.Zero
         last = len(self.chain) if accelerations else len(self.position_chain)
-        # the chain's variables that expr mentions, in the chain's order (not all 2n of them)
-        for k in sorted(k for k in map(self.order.get, free) if k is not None and k < last):
-            var, rate = self.chain[k]
-            result += derivative(expr, var, self.free) * rate
-        return result
+        # the chain's variables that expr mentions, in the chain's order (not all 2n of them),
+        # differentiated for in one pass over a sum's terms, summed once (adding term by
+        # term rebuilt the growing sum: a chain's positions made both quadratic)
+        chain = [self.chain[k] for k in sorted(k for k in map(self.order.get, free) if k is not None and k < last)]
+        partials = gradient(expr, [var for var, _ in chain], self.free)
+        terms = [partial * rate for partial, (_, rate) in zip(partials, chain)]
+        return sp.Add(derivative(expr, self.t, self.free) if self.t in free else sp.S.Zero, *terms)
 
     def matrix(self, m: sp.MatrixBase, accelerations: bool = True) -> sp.ImmutableMatrix:
         return sp.ImmutableMatrix(m.shape[0], m.shape[1], [self(e, accelerations) for e in m])
@@ -127,14 +128,15 @@ def jacobian_columns(exprs, variables, memo: dict) -> list[tuple[int, tuple[sp.E
     """The nonzero columns of `jacobian(exprs, variables)` as (index, column) pairs, in order:
     only the variables the expressions mention are differentiated for, so a point that
     moves with a few of n coordinates costs what those few do, not n."""
-    exprs = list(exprs)
-    mentioned = frozenset().union(*(free_symbols(sp.sympify(e), memo) for e in exprs))
+    exprs = [sp.sympify(e) for e in exprs]
+    mentioned = frozenset().union(*(free_symbols(e, memo) for e in exprs))
+    used = [(j, v) for j, v in enumerate(variables) if v in mentioned]
+    rows = [gradient(e, [v for _, v in used], memo) for e in exprs]    # one pass over each sum's terms
     columns = []
-    for j, v in enumerate(variables):
-        if v in mentioned:
-            column = tuple(derivative(e, v, memo) for e in exprs)
-            if any(column):
-                columns.append((j, column))
+    for k, (j, _) in enumerate(used):
+        column = tuple(row[k] for row in rows)
+        if any(column):
+            columns.append((j, column))
     return columns
 
 

@@ -127,9 +127,22 @@ def _real(expr: sp.Expr, values: dict) -> float | None:
     double precision node by node (`constants.value_at`): a tower like exp(exp(exp(x)))
     overflows instead of sending mpmath after millions of digits."""
     try:
-        return value_at(sp.sympify(expr), values, {})
+        return value_at(sp.sympify(expr), values, _memo_at(values))
     except (ConstantError, TypeError, ValueError, ArithmeticError):   # complex, undefined, overflow
         return None
+
+
+_LAST_MEMO: list = [None, {}]     # (the values, the value of every subexpression there)
+
+
+def _memo_at(values: dict) -> dict:
+    """The values of the subexpressions evaluated at `values` so far: the checks evaluate
+    the mass matrix's entries more than once at the initial state, and its entries share
+    their parts (a chain's dot products). One point is remembered, by its contents."""
+    key = tuple(values.items())
+    if _LAST_MEMO[0] != key:
+        _LAST_MEMO[:] = [key, {}]
+    return _LAST_MEMO[1]
 
 
 def _matrix(matrix, values: dict) -> np.ndarray | None:

@@ -279,14 +279,13 @@ def _plain_call(call) -> bool:
 def group_by_calls(expr) -> sp.Expr:
     """sum over distinct products of function calls f of (common factors pulled out of
     the sum of their coefficients) * f: `sympy.collect` over the calls, in one pass."""
-    groups: dict = {}
+    groups: dict = {}     # the calls (in the canonical order of a product's factors) -> coefficients
     for term in sp.Add.make_args(expr):
         calls, rest = [], []
         for factor in sp.Mul.make_args(term):
             (calls if factor.has(sp.Function) else rest).append(factor)
-        key = sp.Mul(*calls)
-        groups[key] = groups.get(key, []) + [sp.Mul(*rest)]
-    return sp.Add(*(common_factor(sp.Add(*coefficients)) * key for key, coefficients in groups.items()))
+        groups.setdefault(tuple(calls), []).append(sp.Mul(*rest))
+    return sp.Add(*(common_factor(sp.Add(*coefficients)) * sp.Mul(*calls) for calls, coefficients in groups.items()))
 
 
 def common_factor(expr) -> sp.Expr:

@@ -31,6 +31,7 @@ from lagcli.model import calculus
 from lagcli.model.calculus import almost_everywhere
 from lagcli.derive.result import Derivation
 from lagcli.render.tidy import DISPLAY_MAX_NODES, display_form, pull_signs, small
+from lagcli.render.weighted import weighted_display_form
 
 TREE_MAX_NODES = 5000     # tidy the parts of expressions up to this size (tree nodes)
 
@@ -113,6 +114,11 @@ class Display:
         (the children of a small expression are small)."""
         if expr.is_Atom or not (expr.is_Add or expr.is_Mul) or not (sized or small(expr, TREE_MAX_NODES)):
             return expr      # a huge expression is shown with named quantities instead
+        weighted = _weighted_sum(expr)
+        if weighted is not None:
+            found = weighted_display_form(weighted[0], self.tidy(weighted[1], sized=True))
+            if found is not None:
+                return found
         rebuilt = expr.func(*(self.tidy(a, sized=True) for a in expr.args))
         return display_form(rebuilt) if rebuilt.is_Add else rebuilt
 
@@ -188,16 +194,18 @@ class Display:
 
     def velocity_buckets(self, i: int) -> dict:
         """c_i grouped by monomial: {q'_j q'_l: C_ijl} (see the module docstring)."""
-        q, qd, n = self.q, self.qd, self.n
+        q, qd, n, zero = self.q, self.qd, self.n, sp.S.Zero
         out = {}
         for j in range(n):
             for l in range(j, n):
                 if j == l:
-                    coefficient = self._dM(i, j, q[j]) - self._dM(j, j, q[i]) / 2
+                    parts = (self._dM(i, j, q[j]), -self._dM(j, j, q[i]) / 2)
                 else:
-                    coefficient = self._dM(i, j, q[l]) + self._dM(i, l, q[j]) - self._dM(j, l, q[i])
-                if coefficient != 0:
-                    out[qd[j] * qd[l]] = coefficient
+                    parts = (self._dM(i, j, q[l]), self._dM(i, l, q[j]), -self._dM(j, l, q[i]))
+                if any(part is not zero for part in parts):     # most are: M_jl is free of most q
+                    coefficient = sp.Add(*parts)
+                    if coefficient != 0:
+                        out[qd[j] * qd[l]] = coefficient
         return out
 
     def parts(self, i: int) -> dict[str, dict]:
@@ -253,15 +261,33 @@ class Display:
 
         out: Terms = []
         for monomial in sorted(buckets, key=key):
-            coefficient = self.tidy_assembled(sign * buckets[monomial])
+            coefficient = self.tidy_assembled(buckets[monomial] if sign == 1 else sign * buckets[monomial])
             if coefficient == 0:
                 continue
             if monomial == 1:
                 out.extend(self.signs(term) for term in split(coefficient))
             else:
                 out.append(self.signs(coefficient * monomial))
-        free = [term for term in out if not term.free_symbols & set(qd)]
-        return [term for term in out if term.free_symbols & set(qd)] + free
+        velocities = set(qd)
+        moving = [not calculus.free_symbols(term, self._free_symbols).isdisjoint(velocities) for term in out]
+        return [term for term, m in zip(out, moving) if m] + [term for term, m in zip(out, moving) if not m]
+
+
+def _weighted_sum(expr) -> tuple[list, sp.Expr] | None:
+    """([m_1, ..., m_n], X) when expr = m_1 X + ... + m_n X (symbols m_k, one X)."""
+    if not expr.is_Add:
+        return None
+    weights, shared = [], None
+    for term in expr.args:
+        if not (term.is_Mul and len(term.args) == 2):
+            return None
+        first, second = term.args
+        weight, rest = (first, second) if first.is_Symbol else (second, first)
+        if not weight.is_Symbol or rest.is_Symbol or (shared is not None and rest != shared):
+            return None
+        weights.append(weight)
+        shared = rest
+    return weights, shared
 
 
 PARTS = ("velocity", "mass_rate", "gyroscopic", "t1_rate", "position", "forces")

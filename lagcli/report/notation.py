@@ -242,3 +242,15 @@ def analysis_letters(d) -> dict[str, dict[str, str]]:
         text[letter] = quantity.text if letter in taken else letter
         latex[letter] = quantity.latex if letter in taken else letter
     return {"text": text, "latex": latex}
+
+
+def linear_equations(n: dict[str, str], inputs: bool, times: str = " ") -> tuple[str, str]:
+    """The two equations of a linear model in the letters `n` ("x' = A x + B u",
+    "M v' + C v + K q = F u"), `times` between factors (LaTeX: a thin space)."""
+    def product(matrix: str, vector: str) -> str:
+        return f"{n[matrix]}{times}{n[vector]}"
+
+    first = f"{n['x']}' = {product('A', 'x')}" + (f" + {product('B', 'u')}" if inputs else "")
+    second = (f"{n['M']}{times}{n['v']}' + {product('C', 'v')} + {product('K', 'q')} = "
+              + (product("F", "u") if inputs else "0"))
+    return first, second

@@ -107,8 +107,7 @@ def _segment(solver, hybrid, fired, pending, times, row, sink, progress, check, 
         check(solver.t, solver.y)
         dense = solver.dense_output()
         g_new = [e.g(solver.t, solver.y) for e in events]
-        hit = _earliest(events, g_old, g_new, t_old, solver.t, dense,
-                        (fired, events[fired].action == "impact") if first and fired is not None else None)
+        hit = _earliest(events, g_old, g_new, t_old, solver.t, dense, fired if first else None)
         end = hit[1] if hit else solver.t
         while pending is not None and (pending < end or (hit is None and pending <= end)):
             sink.add_row(row(pending, dense(pending)))
@@ -123,11 +122,11 @@ def _segment(solver, hybrid, fired, pending, times, row, sink, progress, check, 
 
 def _earliest(events, g_old, g_new, t_old, t_new, dense, fired):
     """(index, t*, y(t*)) of the earliest crossing in (t_old, t_new], or None; `fired`:
-    (index, from_zero) of the event handled just before this step, or None."""
+    (index, from_zero, impact) of the event handled just before this step, or None."""
     best = None
     for k, e in enumerate(events):
         if fired is not None and k == fired[0]:
-            bracket = _bracket_after_event(k, e, t_old, t_new, dense, fired[1])
+            bracket = _bracket_after_event(k, e, t_old, t_new, dense, *fired[1:])
         else:
             bracket = (t_old, t_new) if _crosses(e.direction, g_old[k], g_new[k]) else None
         if bracket is None:
@@ -145,10 +144,11 @@ def _crosses(direction: str, before: float, after: float) -> bool:
     return falling if direction == "falling" else rising if direction == "rising" else falling or rising
 
 
-def _bracket_after_event(k, e, t_old, t_new, dense, from_zero: bool):
+def _bracket_after_event(k, e, t_old, t_new, dense, from_zero: bool, impact: bool):
     """The event just handled, in the first step after it: where, if anywhere, does g
     cross again in its direction? Found on FIRST_STEP_SAMPLES samples of the step
-    (`from_zero`: after an impact g starts at exactly zero)."""
+    (`from_zero`: g starts at exactly zero, after an impact or a reset that left g as it
+    was; only an impact must turn back: else it accumulates)."""
     samples = np.linspace(t_old, t_new, FIRST_STEP_SAMPLES + 1)
     values = [0.0 if from_zero and i == 0 else e.g(t, dense(t)) for i, t in enumerate(samples)]
     for i in range(1, len(values)):
@@ -157,7 +157,7 @@ def _bracket_after_event(k, e, t_old, t_new, dense, from_zero: bool):
     first = next((v for v in values if v != 0.0), None)
     wrong_side = first is not None and ((e.direction == "falling" and first < 0)
                                         or (e.direction == "rising" and first > 0))
-    if first is None or (from_zero and wrong_side):
+    if first is None or (impact and wrong_side):
         raise _End(end_note("unresolved", e.name, t_old, t_old), k, "it recurs faster than a step resolves")
     return None
 
@@ -182,9 +182,10 @@ class _State:
         if e.action == "reset":
             y_plus = e.reset(t, y_minus)
             self._check_constraints(e, t, y_plus, residual)
+            from_zero = e.g(t, y_plus) == e.g(t, y_minus)     # g left at its root: it has crossed
         else:
             y_plus, impulse, note = self._impact(e, t, y_minus)
-            why = "the contact has come to rest"
+            why, from_zero = "the contact has come to rest", True
         self._record(t, e, y_minus, y_plus, impulse)
         self.y = y_plus
         gap = t - self.last.get(e.name, -np.inf)
@@ -196,7 +197,7 @@ class _State:
             raise _End(end_note("budget", e.name, t, EVENT_BUDGET))
         if note is not None:
             raise _End(note, k, why)
-        return t, y_plus, k
+        return t, y_plus, (k, from_zero, e.action == "impact")
 
     def _impact(self, e, t, y_minus):
         n = len(y_minus) // 2

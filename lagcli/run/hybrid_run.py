@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from lagcli.errors import SimulationError
-from lagcli.interface import RunSettings
+from lagcli.interface import RESIDUAL, RunSettings
 from lagcli.run.python_backend import PythonModule
 from lagcli.run.rows import RowSink
 from lagcli.run.event_loop import run_events
@@ -44,7 +44,7 @@ def integrate_hybrid(module, p, y0, s, hybrid, u_constant, progress=None, sink=N
         return module.output_row(t, y, accelerations(t, y)[1], p)
 
     def residual(t, y):
-        return module.invariants(t, y, p)["constraint_residual"] if module.MULTIPLIERS else None
+        return module.invariants(t, y, p)[RESIDUAL] if module.MULTIPLIERS else None
 
     sink = Trajectory() if sink is None else sink
     sink.begin(module.HEADER)

@@ -69,9 +69,10 @@ def end_note(kind: str, name: str, t: float, value: float) -> str:
 
 
 def read_event_log(text: str, nstate: int) -> tuple[list[EventRecord], str | None]:
-    """The records and the end note of the C driver's `--events` log (lagcli_events.h)."""
+    """The records and the end note of the C driver's `--events` log (lagcli_events.h); a
+    last line cut off (the driver killed while writing it) is left out."""
     records, note = [], None
-    for line in text.splitlines():
+    for line in text[:text.rfind("\n") + 1].splitlines():
         fields = line.split(",")
         if fields[0] == "event":
             values = [float(v) for v in fields[3:3 + 2 * nstate + 1]]

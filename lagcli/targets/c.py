@@ -85,7 +85,7 @@ def c_context(d: Derivation, layout: Layout, initial=None, initial_notes=(),
 
     context = codegen.generated_context(d, CPrinter, layout, initial, initial_notes)
     context.update(variational_context(d, CPrinter, variational))    # the variational integrator's functions
-    context.update(event_context(d))                     # the spec's events (none: empty)
+    context.update(event_context(d, CPrinter))           # the spec's events (none: empty)
     name = layout.name
     settings = layout.settings
     residual = context["i"].residual_index

@@ -27,7 +27,9 @@ def signs_normalised(memo: dict):
     out), giving the same expressions, with its per-sum test remembered across
     expressions in `memo` and without its sort of the sums (it only orders a dict,
     which `xreplace` reads by key): the test and the sort were 80% of `generate` of
-    the 20-link chain (bench/README.md)."""
+    the 20-link chain (bench/README.md). Its `atoms` and `xreplace` visit each distinct
+    subexpression once (`sums`, `xreplaced`): a big system's trees share subtrees, which
+    sympy's walk once per occurrence (a third of `generate` of the 40-link chain)."""
     def extracts(add) -> bool:
         if add not in memo:
             memo[add] = add.could_extract_minus_sign()
@@ -35,7 +37,7 @@ def signs_normalised(memo: dict):
 
     def normalise(expr):
         reps, ignore = {}, set()
-        for add in expr.atoms(sp.Add):
+        for add in sums(expr):
             if not extracts(add):
                 continue
             negated = -add
@@ -43,20 +45,57 @@ def signs_normalised(memo: dict):
                 ignore.add(add)
             else:
                 reps[add] = sp.Mul._from_args([sp.S.NegativeOne, negated])
-        expr = expr.xreplace(reps)
+        expr = xreplaced(expr, reps)
         if not isinstance(expr, sp.Basic):
             return expr
         negs = {}
-        for add in expr.atoms(sp.Add):          # sums still there: mark them 1*-1*(x - y)
+        for add in sums(expr):          # sums still there: mark them 1*-1*(x - y)
             if add in ignore:
                 continue
             if add in reps:
                 negs[add] = reps[add]
             elif extracts(add):
                 negs[add] = sp.Mul._from_args([sp.S.One, sp.S.NegativeOne, -add])
-        return expr.xreplace(negs)
+        return xreplaced(expr, negs)
 
     return normalise
+
+
+def sums(expr) -> set:
+    """`expr.atoms(sp.Add)`, each distinct subexpression visited once."""
+    found, seen, stack = set(), set(), [expr]
+    while stack:
+        node = stack.pop()
+        if node not in seen:
+            seen.add(node)
+            if isinstance(node, sp.Add):
+                found.add(node)
+            stack.extend(node.args)
+    return found
+
+
+def xreplaced(expr, rule: dict):
+    """`expr.xreplace(rule)`, each distinct subexpression rebuilt once (sympy's
+    `Basic._xreplace` with a memo: a node is rebuilt, `func(*args)`, when a replacement
+    happened below it, as there)."""
+    memo: dict = {}
+
+    def walk(node):
+        if node in rule:
+            return rule[node], True
+        if not rule or not node.args:
+            return node, False
+        done = memo.get(node)
+        if done is None:
+            args, changed = [], False
+            for arg in node.args:
+                new, below = walk(arg) if isinstance(arg, sp.Basic) else (arg, False)
+                args.append(new)
+                changed |= below
+            done = memo[node] = (node.func(*args), True) if changed else (node, False)
+        return done
+
+    return walk(expr)[0] if isinstance(expr, sp.Basic) else expr.xreplace(rule)
 
 
 CSE_OPTIMIZATIONS = "basic"   # `basic_optimizations`; None: no preprocessing

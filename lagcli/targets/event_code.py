@@ -15,20 +15,20 @@ ACTION_CODES = {"impact": 0, "reset": 1, "stop": 2}           # lagcli_model.h: 
 DIRECTION_CODES = {"falling": -1, "rising": 1, "either": 0}
 
 
-def event_context(d) -> dict:
+def event_context(d, printer_class) -> dict:
     """`events`: one dict per event (name, action, direction, g, and for an impact G,
     g_t, e; for a reset the (slot, code) of each new value), `bias`: the constraint rows'
-    d (A q' + d = 0), printed; {"events": ()} for a spec without events."""
+    d (A q' + d = 0), printed by `printer_class` (the C target's, which calls this);
+    {"events": ()} for a spec without events."""
     if not d.events:
         return dict(events=(), bias=())
-    from lagcli.targets.c import CPrinter
     from lagcli.targets.slots import check_slots
 
     model = d.model
     table = {model.t: "t"}
     table.update({s: f"y[{k}]" for k, s in enumerate((*model.q, *model.qd))})
     table.update({s: f"p[{k}]" for k, s in enumerate((*model.parameter_symbols, *model.input_symbols))})
-    printer = CPrinter(table)
+    printer = printer_class(table)
 
     def code(expr) -> str:
         check_slots([expr], table)

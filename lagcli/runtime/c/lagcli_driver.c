@@ -4,6 +4,7 @@
  *
  *   ./<name> [--t-end T] [--dt DT] [--method RK45|DOP853|variational] [--rtol R] [--atol A]
  *       [--set NAME=VALUE]... [--init NAME=VALUE]... [--baumgarte ALPHA BETA] [--steps-per-row K]
+ *       [--max-steps N] [--events FILE]
  *
  * Defaults: the model's (the spec's simulate: and initial: blocks), Baumgarte
  * alpha = beta = LAGCLI_BAUMGARTE. Integrates from t = 0 and prints a header (t, state,
@@ -21,6 +22,9 @@
  * between output times) / K, carrying (q, p) from row to row; the rows' multipliers are those of
  * the exact equations (alpha = beta = 0). A model without the variational functions
  * (nonholonomic constraints) refuses it with exit status 2.
+ * A model with events (model->events) runs them with lagcli_events.c (RK45, DOP853; the
+ * run may end early at an event, exit status 0); --events FILE writes their log
+ * (lagcli_events.h), which lagcli reads. A restitution outside [0, 1] is exit status 2.
  *
  * The numbers below are the C side of lagcli/interface.py (tests/test_c_runtime.py
  * checks that both say the same).

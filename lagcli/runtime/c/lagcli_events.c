@@ -22,6 +22,7 @@ typedef struct {
     double *inv;                /* the invariants (the constraint residual after a reset) */
     double *G, *d;              /* an impact's dg/dq (nq) and the constraint rows' d (nlambda) */
     double t;                   /* the time of the last event (its y+ in y) */
+    int from_zero;              /* its g starts at exactly 0 (an impact, a reset that left g) */
     long used;                  /* steps taken, over every segment */
 } event_loop;
 
@@ -101,11 +102,13 @@ static void end_line(event_loop *L, const char *kind, int k, double t, double va
 }
 
 /* The event just handled, in the first step after it: a crossing in its direction on
- * LAGCLI_EVENTS_SAMPLES samples of the step (`from_zero`: after an impact g starts at 0).
- * 1 with the bracket, 0 for none, -1 when it returns faster than the samples resolve. */
-static int bracket_after_event(event_loop *L, int k, double t_old, double t_new, int from_zero,
-                               double *a, double *b)
+ * LAGCLI_EVENTS_SAMPLES samples of the step (L->from_zero: g starts at exactly 0, after an
+ * impact or a reset that left g as it was; only an impact must turn back, else it
+ * accumulates). 1 with the bracket, 0 for none, -1 when it returns faster than the
+ * samples resolve. */
+static int bracket_after_event(event_loop *L, int k, double t_old, double t_new, double *a, double *b)
 {
+    const int from_zero = L->from_zero, impact = L->ev->actions[k] == LAGCLI_EVENT_IMPACT;
     const double step = (t_new - t_old) / LAGCLI_EVENTS_SAMPLES;
     const int direction = L->ev->directions[k];
     double before = 0.0, first = 0.0;
@@ -124,7 +127,7 @@ static int bracket_after_event(event_loop *L, int k, double t_old, double t_new,
         }
         before = value;
     }
-    if (!found_first || (from_zero && ((direction < 0 && first < 0.0) || (direction > 0 && first > 0.0)))) {
+    if (!found_first || (impact && ((direction < 0 && first < 0.0) || (direction > 0 && first > 0.0)))) {
         end_line(L, "unresolved", k, t_old, t_old);
         return -1;
     }
@@ -141,7 +144,7 @@ static int earliest(event_loop *L, int fired, double *t_hit)
         double a = t_old, b = t_new, root;
         int found;
         if (k == fired) {
-            found = bracket_after_event(L, k, t_old, t_new, L->ev->actions[k] == LAGCLI_EVENT_IMPACT, &a, &b);
+            found = bracket_after_event(L, k, t_old, t_new, &a, &b);
             if (found < 0)
                 return UNRESOLVED;
         } else {
@@ -231,8 +234,8 @@ static void record(event_loop *L, int k, double t, double impulse)
 static int fail(event_loop *L, const char *format, int k, double t, double value)
 {
     char text[600];
-    sprintf(text, format, L->ev->names[k], value);
-    sprintf(L->result->message, "at t = %.10g: %.700s", t, text);
+    snprintf(text, sizeof text, format, L->ev->names[k], value);     /* a long name is cut, not overrun */
+    snprintf(L->result->message, sizeof L->result->message, "at t = %.10g: %s", t, text);
     return LAGCLI_EVENTS_FAILED;
 }
 
@@ -279,8 +282,14 @@ static int act(event_loop *L, int k, double t)
         L->result->ended = 1;
         return END;
     }
+    L->from_zero = 1;
     if (action == LAGCLI_EVENT_RESET) {
+        double g_before;
         L->ev->reset(k, t, L->y_minus, L->run->p, L->y_plus);
+        L->ev->functions(t, L->y_minus, L->run->p, L->g_scratch);
+        g_before = L->g_scratch[k];
+        L->ev->functions(t, L->y_plus, L->run->p, L->g_scratch);
+        L->from_zero = L->g_scratch[k] == g_before;    /* g left at its root: it has crossed */
         if (m->residual_column >= 0) {
             (void)m->invariants(t, L->y_plus, L->run->p, L->inv);
             if (L->inv[m->residual_column] > L->run->constraint_tolerance)

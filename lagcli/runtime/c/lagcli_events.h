@@ -12,6 +12,8 @@
  *   reset   the model's reset map; the new state must satisfy the constraints
  *   stop    the run ends at t* (its last row the state there)
  *
+ * After an impact, or a reset that leaves g as it was, g counts as exactly 0 where the
+ * next step starts (it has crossed; a round-off sign at its root does not fire it again).
  * A run ends early (exit status 0, its last row at that event) where the same event
  * recurs within LAGCLI_EVENTS_GAP max(1, |t|) of its last time, an impact leaves slower
  * than LAGCLI_EVENTS_RESTING times the largest approach speed of that event, the event

@@ -15,7 +15,7 @@
 #include "double_pendulum.h"
 
 #define LAGCLI_FMU_MODEL double_pendulum_model
-#define LAGCLI_FMU_GUID "{76304e6c-5bea-85e9-33d3-6d18a1037fb0}"
+#define LAGCLI_FMU_GUID "{0c9d10e6-8f47-3b7f-b192-882f3d8904af}"
 #define LAGCLI_FMU_NINPUT 0u
 #define LAGCLI_FMU_ALPHA 10.0        /* Baumgarte stabilisation (constrained systems) */
 #define LAGCLI_FMU_BETA 10.0

@@ -1,0 +1,69 @@
+"""`display_form` of a weighted sum m_1 X + m_2 X + ... + m_n X without building it.
+
+A chain's mass matrix entry is such a sum, one term per mass beyond the joint, with X
+the tidied dot product of two Jacobian columns (l1*l2*cos(q1 - q2)): a 40-link chain
+has 820 entries and ~11 000 terms, and building every term only for `display_form` to
+pull X out again was half of its report. When X is a monomial (a rational number
+times symbols, their powers and plain function calls) and the weights are distinct
+symbols that X does not contain, each of display_form's steps is known in advance:
+the sum is expanded; no power of sin or cos repeats (`pythagorean` finds nothing);
+no two terms share a rest (`fold_angle_sums` folds nothing); all terms share X's
+calls (`group_by_calls` makes one group) and X's number and powers are the common
+factor (`common_factor`). So the result is computed from X and the sum of the weights
+alone, with the same final steps and the same operation-count comparison;
+tests/test_fast_sympy_rules.py compares it with display_form on every shape.
+"""
+from __future__ import annotations
+
+import sympy as sp
+from sympy.core.mul import _keep_coeff
+
+from lagcli.render.operations import count_ops
+from lagcli.render.tidy import (DISPLAY_MAX_NODES, MAX_POWER, _square_arguments, common_factor,
+                                is_expanded, pull_signs)
+
+
+def weighted_display_form(weights, shared) -> sp.Expr | None:
+    """display_form(sum(w * shared for w in weights)), or None when the shortcut does not
+    apply (the caller then builds the sum)."""
+    split = _monomial(shared)
+    if split is None or len(weights) < 2 or len(set(weights)) != len(weights) \
+            or not all(w.is_Symbol for w in weights) or not shared.free_symbols.isdisjoint(weights):
+        return None
+    number, powers, calls = split
+    first = weights[0] * shared                                    # every term counts as this one
+    if 1 + len(weights) * _nodes(first) > DISPLAY_MAX_NODES:
+        return None                                                # display_form leaves a big sum alone
+    grouped = _keep_coeff(number, sp.Mul(*powers) * sp.Add(*weights), clear=True, sign=True) * sp.Mul(*calls)
+    result = pull_signs(common_factor(grouped))
+    negative = number.is_negative
+    whole = len(weights) * count_ops(-first if negative else first) + len(weights) - 1 + negative
+    return result if count_ops(result) <= whole else None
+
+
+def _monomial(shared):
+    """(number, [symbols and their powers], [calls]) of a plain monomial, else None."""
+    if not (shared.is_Mul or shared.is_Symbol or shared.is_Pow or shared.is_Function):
+        return None
+    if not is_expanded(shared) or _square_arguments(shared):
+        return None
+    number, factors = shared.as_coeff_mul()
+    if not number.is_Rational or number == 0:
+        return None
+    powers, calls = [], []
+    for factor in factors:
+        if factor.is_Pow and abs(factor.exp) > MAX_POWER:
+            return None
+        if factor.has(sp.Function):
+            if factor.is_Pow or common_factor(factor) != factor:
+                return None
+            calls.append(factor)
+        elif factor.is_Symbol or (factor.is_Pow and factor.exp.is_Integer and factor.exp > 0):
+            powers.append(factor)
+        else:
+            return None
+    return number, powers, calls
+
+
+def _nodes(expr) -> int:
+    return sum(1 for _ in sp.preorder_traversal(expr))
