@@ -14,8 +14,10 @@ user named them, and each of the report's quantities whose letter a spec name (o
     vectors, others
 
 The report's legend says what each shown form is. A report whose letters no spec name
-takes keeps the letters, byte for byte. Code targets are not reports: their identifiers
-follow their own rules (lagcli/targets/identifiers.py).
+takes keeps the letters, byte for byte. The analyses follow the same rule: `hamiltonian`'s
+H and `routh`'s R (`analysis_letters`), and the linear model's x, u, v, q, A, B, M, C,
+K, F, G (`linear_letters`: one letter, one thing in one output). Code targets are not
+reports: their identifiers follow their own rules (lagcli/targets/identifiers.py).
 """
 from __future__ import annotations
 
