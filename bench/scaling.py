@@ -18,8 +18,9 @@ child, from os.wait4: the machine is shared, wall times mean little) and peak me
   planar chain of point masses, microseconds per call timed from Python (the binding's
   call overhead, measured on the 1-link chain, is printed with it).
 
-Then the growth exponent of each lagcli command, the slope of log(cost) against log(N)
-between the two largest N. Nothing is asserted (machines are noisy).
+Then the growth exponent of each lagcli command: the least-squares slope of log(cost)
+against log(N) over every N measured. sympy's runs are bounded by --sympy-cpu seconds
+of CPU each (prlimit; nan past it). Nothing is asserted (machines are noisy).
 """
 from __future__ import annotations
 
@@ -81,13 +82,18 @@ int main(int argc, char **argv)
 CFLAGS = ["-std=c99", "-O2", "-Wall", "-Wextra", "-Werror", "-pedantic"]
 
 
-def child(args: list[str]) -> tuple[float, float]:
+def child(args: list[str], cpu_limit: int | None = None) -> tuple[float, float]:
     """(CPU seconds, peak MB) of one child process, started by posix_spawn (a forked child
-    would count this process's memory in its peak), output discarded."""
+    would count this process's memory in its peak), output discarded; with `cpu_limit`,
+    run under `prlimit --cpu` and (nan, nan) when it is killed there."""
+    if cpu_limit is not None:
+        args = [shutil.which("prlimit"), f"--cpu={cpu_limit}", *args]
     actions = [(os.POSIX_SPAWN_OPEN, 1, os.devnull, os.O_WRONLY, 0),
                (os.POSIX_SPAWN_OPEN, 2, os.devnull, os.O_WRONLY, 0)]
     pid = os.posix_spawn(args[0], args, dict(os.environ), file_actions=actions)
     _, status, usage = os.wait4(pid, 0)
+    if status != 0 and cpu_limit is not None:
+        return float("nan"), float("nan")
     if status != 0:
         raise SystemExit(f"failed ({status}): {' '.join(args)}")
     return usage.ru_utime + usage.ru_stime, usage.ru_maxrss / 1024
@@ -134,8 +140,10 @@ def pinocchio_in_child(n: int) -> float:
 
 
 def exponent(ns, values) -> float:
-    (n0, v0), (n1, v1) = list(zip(ns, values))[-2:]
-    return math.log(v1 / v0) / math.log(n1 / n0)
+    """Least-squares slope of log(value) against log(N)."""
+    xs, ys = [math.log(n) for n in ns], [math.log(v) for v in values]
+    mx, my = sum(xs) / len(xs), sum(ys) / len(ys)
+    return sum((x - mx) * (y - my) for x, y in zip(xs, ys)) / sum((x - mx) ** 2 for x in xs)
 
 
 def plot(table: Path, picture: Path) -> None:
@@ -178,6 +186,7 @@ def main() -> None:
     parser.add_argument("--lagranges-max", type=int, default=10)
     parser.add_argument("--pinocchio", action="store_true")
     parser.add_argument("--rhs-calls", type=int, default=20000)
+    parser.add_argument("--sympy-cpu", type=int, default=600, help="CPU seconds allowed to each sympy run")
     args = parser.parse_args()
     have_cc = shutil.which("cc") is not None
     print(f"{'N':>4} {'derive s':>9} {'MB':>6} {'generate s':>10} {'MB':>6} {'C rhs us':>9} "
@@ -194,9 +203,9 @@ def main() -> None:
             generate, generate_mb = child([*lagcli, "generate", str(spec), "--lang", "c", "-o", str(folder)])
             rhs = rhs_microseconds(folder, f"pendulum{n}", args.rhs_calls) if have_cc else float("nan")
             mechanics = [sys.executable, "-c"]
-            kane = child([*mechanics, MECHANICS.format(here=str(HERE), n=n, method="kane")])[0] \
+            kane = child([*mechanics, MECHANICS.format(here=str(HERE), n=n, method="kane")], args.sympy_cpu)[0] \
                 if n <= args.kane_max else float("nan")
-            lagrange = child([*mechanics, MECHANICS.format(here=str(HERE), n=n, method="lagrange")])[0] \
+            lagrange = child([*mechanics, MECHANICS.format(here=str(HERE), n=n, method="lagrange")], args.sympy_cpu)[0] \
                 if n <= args.lagranges_max else float("nan")
             aba = pinocchio_in_child(n) if args.pinocchio else float("nan")
             rows.append((n, derive, generate, rhs))
@@ -207,7 +216,7 @@ def main() -> None:
     if len(rows) >= 2:
         ns = [r[0] for r in rows]
         for k, what in ((1, "derive --json"), (2, "generate --lang c"), (3, "C rhs")):
-            print(f"growth exponent of {what} between N = {ns[-2]} and {ns[-1]}: "
+            print(f"growth exponent of {what} (least squares, N = {ns[0]}..{ns[-1]}): "
                   f"{exponent(ns, [r[k] for r in rows]):.2f}")
 
 

@@ -6,7 +6,8 @@
  *                                            constrained model): Gaussian elimination
  *                                            with partial pivoting
  *   int lagcli_solve_symmetric(n, K, r, d)   M x = r for the symmetric mass matrix of
- *                                            an unconstrained model: Cholesky
+ *                                            an unconstrained model: LU below
+ *                                            LAGCLI_CHOLESKY_MIN rows, else Cholesky
  *                                            (M = U^T U, n^3/6 multiply-adds against
  *                                            LU's n^3/3, no pivot search), and LU when
  *                                            M is not positive definite at this state
@@ -111,9 +112,16 @@ static inline int lagcli_cholesky(int n, double *K)
     return 0;
 }
 
+/* Below this size LU is the faster solve: the generated RHS of the planar chain, CPU us
+ * per call, Cholesky / LU: N = 5 0.156 / 0.131, N = 10 0.429 / 0.404, N = 15 0.915 / 1.445
+ * (gcc 12 -O2, medians of alternated runs; bench/README.md, issue 24). */
+#define LAGCLI_CHOLESKY_MIN 11
+
 static inline int lagcli_solve_symmetric(int n, double *K, double *r, double *d)
 {
     int i, k;
+    if (n < LAGCLI_CHOLESKY_MIN)
+        return lagcli_solve_lu(n, K, r);
     if (!lagcli_all_finite(n * n, K) || !lagcli_all_finite(n, r))
         return 2;
     for (i = 0; i < n; ++i)
