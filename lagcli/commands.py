@@ -93,7 +93,7 @@ def simulate(request, output: str | None = None, plot: str | None = None,
         try:                   # the title, angles and units from the run interface: no model rebuilt
             layout = outcome.layout
             plot_file(shown.trajectory(), outcome.coordinates, outcome.energy_conserved, plot, layout.name,
-                      PlotOptions(columns, tuple(phase), layout.angles, layout.units))
+                      PlotOptions(columns, tuple(phase), layout.angles, layout.units, layout.kinds))
         except SimulationError as exc:
             plot_error = exc
     where = "stdout" if output in (None, "-") else output

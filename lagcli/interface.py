@@ -281,6 +281,12 @@ class Layout:
         return tuple(c.name for c in self.columns)
 
     @property
+    def kinds(self) -> dict[str, str]:
+        """Each CSV column's kind, in CSV order: what pictures group columns by (never
+        a guess from the name)."""
+        return {c.name: c.kind for c in self.columns}
+
+    @property
     def invariants(self) -> tuple[Column, ...]:
         """The invariant columns (energy, jacobi, momenta, residual), in CSV order."""
         return tuple(c for c in self.columns if c.kind in INVARIANT_KINDS)

@@ -102,7 +102,7 @@ class Trajectory:
         rows = Rows(self.columns, data=self.data)
         conserved = any(c.kind == "jacobi" for c in self.column_info) and self.energy_is_jacobi
         options = plot.PlotOptions(None if columns is None else tuple(columns), tuple(phase), self.angles,
-                                   self.layout.units)
+                                   self.layout.units, self.layout.kinds)
         if path is not None:
             plot.figure_format(path, "plot(path=)")                  # before drawing
             plot.plot_file(rows, self.layout.coordinates, conserved, path, self.layout.name, options)

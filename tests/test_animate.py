@@ -136,7 +136,7 @@ def test_simulate_plot_groups_the_chosen_columns_by_kind(tmp_path):
     header, *lines = (tmp_path / "c.csv").read_text().splitlines()
     figure = build_figure(Trajectory(header.split(","), lines), ["x", "theta"], True, "cart",
                           PlotOptions(("theta_dot", "x", "theta", "energy"), ("theta",), frozenset({"theta"}),
-                                      {"x": "m"}))
+                                      {"x": "m"}, lagcli.load(spec_path("cart_pole")).layout.kinds))
     labels = [ax.get_ylabel() for ax in figure.axes]
     assert labels == ["angle (rad)", "x [m]", "velocities", "invariants", "drift / residual", "theta_dot"]
     assert [t.get_text() for t in figure.axes[1].get_legend().get_texts()] == ["x [m]"]

@@ -26,6 +26,7 @@ from lagcli.cli import cli
 from lagcli.runtime.run_rules import output_times
 from lagcli.run.rows import parse_csv
 
+import lagcli
 from conftest import ROOT, spec_path
 
 BLOWUP = """\
@@ -245,20 +246,26 @@ def test_plot_without_matplotlib_exits_1_after_the_csv(tmp_path, monkeypatch):
 def test_drift_panel_shows_only_conserved_columns():
     from lagcli.viz.plot import drift_series
 
-    header = ["t", "q1", "q1_dot", "energy", "jacobi", "p_phi", "constraint_residual"]
-    assert drift_series(header, energy_conserved=True) == [
+    kinds = {"t": "time", "q1": "coordinate", "q1_dot": "velocity", "energy": "energy", "jacobi": "jacobi",
+             "p_phi": "momentum", "constraint_residual": "residual"}
+    assert drift_series(kinds, energy_conserved=True) == [
         ("jacobi", "jacobi = energy"), ("p_phi", "p_phi"), ("constraint_residual", "constraint_residual")]
-    assert drift_series(["t", "q", "q_dot", "energy"], energy_conserved=False) == []
+    assert drift_series({"t": "time", "q": "coordinate", "q_dot": "velocity", "energy": "energy"},
+                        energy_conserved=False) == []
+    # by kind, not by name: a coordinate called p_x is drawn with the coordinates
+    assert drift_series({"t": "time", "p_x": "coordinate", "p_x_dot": "velocity"}, True) == []
 
 
 def test_plot_figure_has_two_labelled_panels_and_a_log_scale(tmp_path):
-    from lagcli.viz.plot import build_figure
+    from lagcli.viz.plot import PlotOptions, build_figure
     from lagcli.run.rows import Trajectory
 
     result = invoke(spec_path("cartesian_pendulum"), "--t-end", "1", "--dt", "0.1")
     assert result.exit_code == 0, result.stderr
     header, *lines = result.stdout.splitlines()
-    figure = build_figure(Trajectory(header.split(","), lines), ["x", "y"], True, "cartesian")
+    kinds = lagcli.load(spec_path("cartesian_pendulum")).layout.kinds
+    figure = build_figure(Trajectory(header.split(","), lines), ["x", "y"], True, "cartesian",
+                          PlotOptions(kinds=kinds))
     top, bottom = figure.axes
     assert top.get_ylabel() == "coordinates" and bottom.get_xlabel() == "t" and bottom.get_ylabel()
     assert [t.get_text() for t in top.get_legend().get_texts()] == ["x", "y"]

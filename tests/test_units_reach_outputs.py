@@ -42,7 +42,7 @@ def test_the_plot_axes_carry_the_units():
     rows = Rows(list(trajectory.names), trajectory.to_csv().splitlines()[1:])
     layout = system.layout
     figure = build_figure(rows, layout.coordinates, layout.energy_conserved, "units",
-                          PlotOptions(None, (), layout.angles, layout.units))
+                          PlotOptions(None, (), layout.angles, layout.units, layout.kinds))
     labels = {ax.get_ylabel() for ax in figure.axes} | {figure.axes[-1].get_xlabel()}
     assert {"x [m]", "angle (rad)", "t [s]"} <= labels
 

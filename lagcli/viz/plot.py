@@ -46,8 +46,7 @@ from dataclasses import dataclass, field
 
 from lagcli.render.escape import plot_text
 from lagcli.errors import SimulationError, UsageError
-from lagcli.interface import (ENERGY, JACOBI, MOMENTUM_PREFIX, MULTIPLIER_PREFIX, RESIDUAL, TIME,
-                           velocity_name)
+from lagcli.interface import INVARIANT_KINDS, TIME, velocity_name
 from lagcli.render.output import write_output
 from lagcli.run.rows import Trajectory
 
@@ -65,30 +64,29 @@ class PlotOptions:
     phase: tuple[str, ...] = ()               # coordinates to draw q_dot against q for
     angles: frozenset = frozenset()           # coordinates that are angles (radians)
     units: dict = field(default_factory=dict) # column -> unit, where known
+    kinds: dict = field(default_factory=dict) # column -> its kind (`Layout.kinds`), in CSV order
 
 
-def column_kind(name: str, coordinates, angles) -> str | None:
-    """The panel of a CSV column (by the layout's naming rules), None for t."""
-    if name in coordinates:
+def column_kind(name: str, kinds: dict, angles) -> str | None:
+    """The panel of a CSV column, from its kind in the run interface (None for t)."""
+    kind = kinds.get(name)
+    if kind == "coordinate":
         return "angle" if name in angles else "length"
-    if name in {velocity_name(q) for q in coordinates}:
-        return "velocity"
-    if name.startswith(MULTIPLIER_PREFIX):
-        return "multiplier"
-    if name in (ENERGY, JACOBI, RESIDUAL) or name.startswith(MOMENTUM_PREFIX):
-        return "invariant"
-    return None
+    if kind in ("velocity", "multiplier"):
+        return kind
+    return "invariant" if kind in INVARIANT_KINDS else None
 
 
-def drift_series(header: list[str], energy_conserved: bool) -> list[tuple[str, str]]:
-    """(column, label) of the bottom panel, in CSV order."""
+def drift_series(kinds: dict, energy_conserved: bool) -> list[tuple[str, str]]:
+    """(column, label) of the bottom panel, in CSV order (`kinds`: column -> kind)."""
+    has_jacobi = "jacobi" in kinds.values()
     chosen = []
-    for name in header:
-        if name == "jacobi":
+    for name, kind in kinds.items():
+        if kind == "jacobi":
             chosen.append((name, "jacobi = energy" if energy_conserved else "jacobi"))
-        elif name == "energy" and energy_conserved and "jacobi" not in header:
+        elif kind == "energy" and energy_conserved and not has_jacobi:
             chosen.append((name, "energy"))
-        elif name.startswith("p_") or name == "constraint_residual":
+        elif kind in ("momentum", "residual"):
             chosen.append((name, name))
     return chosen
 
@@ -140,7 +138,7 @@ def build_figure(traj: Trajectory, coordinates, energy_conserved: bool, title: s
     header, data = traj.header, traj.data                 # floats: no CSV text on the way
     column = {name: data[:, i] for i, name in enumerate(header)}
     panels = by_scale(_panels(header, coordinates, options), column)
-    series = drift_series(header, energy_conserved)
+    series = drift_series({n: options.kinds[n] for n in header if n in options.kinds}, energy_conserved)
     phase = _phase_names(options.phase, coordinates)
     count = len(panels) + bool(series)
     fig = Figure(figsize=(8, 1.5 + 2.5 * (count + len(phase))), constrained_layout=True)
@@ -176,7 +174,7 @@ def _panels(header, coordinates, options: PlotOptions) -> list[tuple[str, list[s
         raise UsageError(f"--columns: no column {unknown[0]!r}; columns are: {', '.join(header[1:])}")
     if options.columns is None and not options.angles:
         return [("coordinates", chosen)] if chosen else []
-    kinds = {name: column_kind(name, coordinates, options.angles) for name in chosen}
+    kinds = {name: column_kind(name, options.kinds, options.angles) for name in chosen}
     return [(label, [n for n in chosen if kinds[n] == kind]) for kind, label in PANELS
             if any(kinds[n] == kind for n in chosen)]
 
