@@ -133,7 +133,8 @@ def program_sources(derivation, lang: str, initial=None, initial_notes=(), layou
 
 def _refuse_hybrid(derivation, lang: str) -> None:
     """Generated code does not carry events or the spec's input laws yet: refuse rather than
-    drop them (lagcli simulate runs them on its Python backend)."""
+    drop them (lagcli simulate runs them: events and expression laws on both backends, a
+    held contact on the Python backend)."""
     model = derivation.model
     events = model.events if lang not in ("c", "fmu", "octave") else ()   # those have them (event_code.py, octave_hybrid.py)
     laws = model.laws if lang not in ("octave", "fmu", "casadi", "jax") else ()
@@ -143,7 +144,8 @@ def _refuse_hybrid(derivation, lang: str) -> None:
     if keys:
         from lagcli.errors import UsageError
 
+        backends = "--backend python only" if rest else "--backend python or c"
         raise UsageError(f"{model.source}: --lang {lang} does not implement {' and '.join(keys)} yet; "
                         "the generated code would silently ignore them\n"
-                        "  hint: `lagcli simulate` runs them (on its Python backend); remove them from a copy "
+                        f"  hint: `lagcli simulate` runs them ({backends}); remove them from a copy "
                         "of the spec to generate the smooth equations")
