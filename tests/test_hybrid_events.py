@@ -183,3 +183,4 @@ def test_code_targets_refuse_events_clearly(lang, tmp_path):
     result = run("generate", HYBRID / "bouncing_ball.yaml", "--lang", lang, "-o", tmp_path / "out")
     assert result.exit_code == 2
     assert f"--lang {lang} does not implement events: yet" in result.stderr
+    assert "`lagcli simulate` runs them (--backend python or c)" in result.stderr   # both run events

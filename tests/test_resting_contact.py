@@ -76,3 +76,4 @@ def test_bad_rest_is_a_located_error(tmp_path, item, message):
 def test_targets_with_events_refuse_rest_clearly(lang, tmp_path):
     result = run("generate", SPEC, "--lang", lang, "-o", tmp_path / "out")
     assert result.exit_code == 2 and f"--lang {lang} does not implement an event's rest: true yet" in result.stderr
+    assert "`lagcli simulate` runs them (--backend python only)" in result.stderr   # C refuses a held contact

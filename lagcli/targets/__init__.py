@@ -113,6 +113,8 @@ def generate(derivation, lang: str, initial=None, initial_notes=(), layout=None,
                          f"{' and '.join(n for n, k in LANGUAGES.items() if k.variational)} only (not {lang})")
     if lang != "latex":
         _refuse_hybrid(derivation, lang)
+    if lang in LAWS_SUBSTITUTED and derivation.model.laws:
+        derivation, layout, initial_notes = _laws_substituted(derivation, layout, initial_notes)
     return program_sources(derivation, lang, initial, initial_notes, layout, variational)
 
 
@@ -131,19 +133,37 @@ def program_sources(derivation, lang: str, initial=None, initial_notes=(), layou
         derivation, layout if layout is not None else layout_of(derivation), initial, initial_notes, **options)
 
 
+LAWS_SUBSTITUTED = ("c",)     # targets whose code gets the spec's laws substituted into F
+
+
+def _laws_substituted(derivation, layout, notes):
+    """The derivation with the spec's input laws substituted for its inputs in the forcing
+    (`lagcli.derive.closed_loop`, as `lagcli simulate --backend c` compiles them), the
+    layout of the original (the inputs stay in the interface) and a note saying so."""
+    from lagcli.derive.closed_loop import closed_loop
+    from lagcli.interface import layout_of
+    from lagcli.render.spec_printer import spec_str
+
+    laws = "; ".join(f"{law.symbol.name} = {spec_str(law.expr)}" for law in derivation.model.laws)
+    note = f"The input laws (simulate: inputs:) are substituted into the forcing: {laws}."
+    return closed_loop(derivation), layout if layout is not None else layout_of(derivation), (*notes, note)
+
+
 def _refuse_hybrid(derivation, lang: str) -> None:
     """Generated code does not carry events or the spec's input laws yet: refuse rather than
-    drop them (lagcli simulate runs them on its Python backend)."""
+    drop them (lagcli simulate runs them: events and expression laws on both backends, a
+    held contact on the Python backend)."""
     model = derivation.model
     events = model.events if lang not in ("c", "fmu", "octave") else ()   # those have them (event_code.py, octave_hybrid.py)
-    laws = model.laws if lang not in ("octave", "fmu", "casadi", "jax") else ()
+    laws = model.laws if lang not in ("python", "octave", "fmu", "casadi", "jax", *LAWS_SUBSTITUTED) else ()
     rest = any(e.rest for e in model.events) and not events      # held contacts: lagcli simulate only
     keys = [key for key, used in (("events:", events), ("an event's rest: true", rest),
                                   ("simulate: inputs:", laws)) if used]
     if keys:
         from lagcli.errors import UsageError
 
+        backends = "--backend python only" if rest else "--backend python or c"
         raise UsageError(f"{model.source}: --lang {lang} does not implement {' and '.join(keys)} yet; "
                         "the generated code would silently ignore them\n"
-                        "  hint: `lagcli simulate` runs them (on its Python backend); remove them from a copy "
+                        f"  hint: `lagcli simulate` runs them ({backends}); remove them from a copy "
                         "of the spec to generate the smooth equations")

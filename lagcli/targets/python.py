@@ -57,11 +57,15 @@ def python_module(d: Derivation, layout: Layout, initial=None, initial_notes=(),
     `lagcli.targets.about.interface`; `variational`: see
     `discrete_code.variational_context` (None: for a small system only)."""
     from lagcli.targets.discrete_code import merged_imports, variational_context
+    from lagcli.targets.laws import printed_laws, state_printer
 
     context = codegen.generated_context(d, PythonPrinter, layout, initial, initial_notes)
     discrete = variational_context(d, PythonPrinter, variational)    # the variational integrator's functions
     if discrete["variational"] is not None:
         context["imports"] = merged_imports(context["imports"], discrete["variational"].imports)
-    return render("python/module.py.jinja", **context, **discrete,
+    code = state_printer(d, PythonPrinter)
+    laws = printed_laws(d, PythonPrinter, code)       # the spec's input laws: simulate's default u
+    context["imports"] = merged_imports(context["imports"], code.printer.imports())
+    return render("python/module.py.jinja", **context, **discrete, laws=laws,
                   run_rules=python_run_rules(),               # lagcli's own run rules, pasted verbatim
                   variational_runtime=python_variational())   # and its variational integrator
