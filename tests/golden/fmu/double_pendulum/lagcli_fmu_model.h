@@ -15,7 +15,7 @@
 #include "double_pendulum.h"
 
 #define LAGCLI_FMU_MODEL double_pendulum_model
-#define LAGCLI_FMU_GUID "{0c9d10e6-8f47-3b7f-b192-882f3d8904af}"
+#define LAGCLI_FMU_GUID "{03efced5-274d-ebb8-1e39-fdfd2bb5aadf}"
 #define LAGCLI_FMU_NINPUT 0u
 #define LAGCLI_FMU_ALPHA 10.0        /* Baumgarte stabilisation (constrained systems) */
 #define LAGCLI_FMU_BETA 10.0
