@@ -16,11 +16,18 @@ parts of it are missing.
 """
 from __future__ import annotations
 
+import signal
 from pathlib import Path
 
 import numpy as np
 import pytest
 import sympy as sp
+
+# The signal tests send SIGHUP and expect lagcli to end a run like Ctrl-C. A suite started
+# under `nohup` inherits SIGHUP ignored, and lagcli rightly leaves an ignored signal alone,
+# so those tests would hang: the suite restores the default for itself and its children.
+if signal.getsignal(signal.SIGHUP) == signal.SIG_IGN:
+    signal.signal(signal.SIGHUP, signal.SIG_DFL)
 
 ROOT = Path(__file__).resolve().parent.parent
 SPECS = ROOT / "specs"
