@@ -68,6 +68,25 @@ def test_a_block_pulled_up_lifts_off_at_m_g_over_k_and_then_flies_freely():
     assert traj.column_info[-1].name == "force_floor" and traj.column_info[-1].unit == "N"
 
 
+def test_a_block_let_fall_again_lands_and_rests_again():
+    """F = k t until t = 6 s, then 0: lift-off at t_L = m g / k, free flight, at 6 s
+    y_T = k (6 - t_L)^3 / (6 m), v_T = k (6 - t_L)^2 / (2 m), then a fall under gravity
+    alone to the floor (e = 0: a plastic landing), where the block rests again (N = m g)."""
+    m, g, k, T = 2.0, 9.81, 4.0, 6.0
+    traj = lagcli.load(LIFT_OFF).simulate(t_end=8.0, inputs={"F": "k*t*max(0, sign(6 - t))"})
+    t_lift = m * g / k
+    y_T, v_T = k * (T - t_lift) ** 3 / (6 * m), k * (T - t_lift) ** 2 / (2 * m)
+    t_land = T + (v_T + math.sqrt(v_T ** 2 + 2 * g * y_T)) / g
+    assert [r.action for r in traj.events] == ["rest", "release", "impact", "rest"]
+    assert traj.events[1].t == pytest.approx(t_lift, rel=1e-9)
+    assert traj.events[2].t == pytest.approx(t_land, rel=1e-9) and traj.events[3].t == traj.events[2].t
+    assert traj.events[2].before[1] == pytest.approx(v_T - g * (t_land - T), rel=1e-8)   # F jumps at 6 s
+    again = traj.t > t_land
+    assert again.sum() > 100 and traj.end_note is None
+    assert np.allclose(traj["force_floor"][again], m * g, rtol=1e-9, atol=0)
+    assert np.all(np.abs(traj["y"][again]) < 1e-12)
+
+
 def test_lift_off_on_the_command_line_logs_the_rest_and_the_release(tmp_path):
     out, log = tmp_path / "lift.csv", tmp_path / "events.csv"
     result = run("simulate", LIFT_OFF, "-o", out, "--events", log)
@@ -181,6 +200,15 @@ def test_bad_rest_is_a_located_error(tmp_path, item, message):
     assert result.exit_code == 2 and message in result.stderr and "bad.yaml:" in result.stderr, result.stderr
 
 
+def test_a_coordinate_named_like_the_force_column_is_a_located_error(tmp_path):
+    spec = tmp_path / "clash.yaml"
+    spec.write_text(SPEC.read_text().replace("coordinates: [y]", "coordinates: [y, force_floor]"))
+    result = run("check", spec)
+    assert result.exit_code == 2 and "clash.yaml:" in result.stderr, result.stderr
+    assert "events[0].name: a coordinate is called 'force_floor', the column of this event's contact force" \
+        in result.stderr
+
+
 def test_the_c_backend_refuses_a_held_contact_with_a_located_error():
     result = run("simulate", SPEC, "--backend", "c")
     assert result.exit_code == 2 and "Traceback" not in result.stderr
@@ -194,3 +222,10 @@ def test_targets_with_events_refuse_rest_clearly(lang, tmp_path):
     result = run("generate", SPEC, "--lang", lang, "-o", tmp_path / "out")
     assert result.exit_code == 2 and f"--lang {lang} does not implement an event's rest: true yet" in result.stderr
     assert "`lagcli simulate` runs them (--backend python only)" in result.stderr   # C refuses a held contact
+
+
+def test_the_plot_draws_the_contact_force_with_its_unit():
+    pytest.importorskip("matplotlib")
+    figure = lagcli.load(LIFT_OFF).simulate(t_end=1.0).plot()
+    labels = [ax.get_ylabel() for ax in figure.axes]
+    assert labels == ["y [m]", "force_floor [N]"]
