@@ -137,6 +137,34 @@ def test_a_particle_slides_off_a_sphere_where_cos_theta_is_two_thirds_and_more(t
     assert np.allclose(traj["y"][off], y + yd * s - g * s ** 2 / 2, rtol=0, atol=1e-9)
 
 
+LOOP = """coordinates: [x, y]
+parameters: {m: 1.0, g: 9.81, R: 1.0, v0: 6.264184}
+gravity: [0, -g]
+particles:
+  p: {mass: m, position: [x, y]}
+events:
+  - {name: track, when: R - sqrt(x^2 + y^2), action: impact, restitution: 0, rest: true}
+initial: {x: 0, y: -R, x_dot: v0}
+simulate: {t_end: 1.5, dt: 0.01}
+"""
+
+
+def test_a_particle_inside_a_loop_falls_off_where_cos_theta_is_closed_form(tmp_path):
+    """Inside a vertical circle (the free side inside), from the bottom with speed v0: the
+    track pushes with N = m v^2 / R + m g cos(phi) (phi from the bottom) and lets go where
+    N = 0: -cos(phi_L) = (v0^2 - 2 g R) / (3 g R), with v^2 = v0^2 - 2 g R (1 - cos(phi))."""
+    g, R, v0 = 9.81, 1.0, 6.264184
+    traj = lagcli.load(_spec(tmp_path, "loop", LOOP)).simulate()
+    rest, release = traj.events[:2]
+    assert (rest.t, rest.action, release.action) == (0.0, "rest", "release")
+    x, y, xd, yd = release.before
+    assert -y / math.hypot(x, y) == pytest.approx(-(v0 ** 2 - 2 * g * R) / (3 * g * R), abs=1e-9)
+    on = traj.t < release.t
+    cos_phi = -traj["y"][on] / np.hypot(traj["x"][on], traj["y"][on])
+    speed2 = v0 ** 2 - 2 * g * R * (1 - cos_phi)
+    assert np.allclose(traj["force_track"][on], speed2 / R + g * cos_phi, rtol=0, atol=1e-7)
+
+
 WALL = """coordinates: [theta]
 parameters: {m: 1.0, l: 1.0, g: 9.81, alpha: 0.3, tau0: 5.0, c: 2.0}
 inputs: [tau]
@@ -161,6 +189,34 @@ def test_a_pendulum_pressed_against_a_wall_is_let_go_by_its_law(tmp_path):
     assert np.allclose(traj["force_wall"][on], tau0 - c * traj.t[on] - m * g * l * math.sin(alpha), atol=1e-9)
     assert np.all(np.abs(traj["theta"][on] - alpha) < 1e-12)
     assert np.all(traj["theta"][traj.t > t_release] < alpha)                     # it swings away from the wall
+
+
+CEILING = """coordinates: [y]
+parameters: {m: 2.0, g: 9.81, k: 4.0}
+inputs: [F]
+gravity: [0, -g]
+particles:
+  block: {mass: m, position: [0, y]}
+forces:
+  - {at: block, force: [0, F]}
+events:
+  - {name: ceiling, when: y, direction: DIRECTION, action: impact, restitution: 0, rest: true}
+initial: {y: 0}
+simulate: {t_end: 7.0, dt: 0.01, inputs: {F: 2*m*g - k*t}}
+"""
+
+
+@pytest.mark.parametrize("direction", ["rising", "either"])
+def test_a_block_pressed_against_a_ceiling_drops_where_the_push_no_longer_beats_gravity(tmp_path, direction):
+    """The mirror of the lift-off: the free side of the gap is y < 0 (a rising event), the
+    ceiling pushes down with N = F - m g = m g - k t, and lets go at m g / k."""
+    m, g, k = 2.0, 9.81, 4.0
+    traj = lagcli.load(_spec(tmp_path, "ceiling", CEILING.replace("DIRECTION", direction))).simulate()
+    t_drop = m * g / k
+    assert [(r.action, r.t) for r in traj.events] == [("rest", 0.0), ("release", pytest.approx(t_drop, rel=1e-9))]
+    on, off = traj.t < t_drop, traj.t > t_drop
+    assert np.allclose(traj["force_ceiling"][on], m * g - k * traj.t[on], rtol=0, atol=1e-9)
+    assert np.allclose(traj["y"][off], -k * (traj.t[off] - t_drop) ** 3 / (6 * m), rtol=1e-8, atol=1e-12)
 
 
 def test_a_pendulum_on_a_floor_rests_there_keeping_its_rod(tmp_path):
