@@ -273,10 +273,11 @@ def test_the_c_backend_refuses_a_held_contact_with_a_located_error():
     assert "--backend python" in result.stderr
 
 
-@pytest.mark.parametrize("lang", ["octave", "fmu"])
-def test_targets_with_events_refuse_rest_clearly(lang, tmp_path):
+@pytest.mark.parametrize("lang", ["c", "python", "octave", "rust", "fmu", "casadi", "jax"])
+def test_every_code_target_refuses_rest_clearly(lang, tmp_path):
     result = run("generate", SPEC, "--lang", lang, "-o", tmp_path / "out")
-    assert result.exit_code == 2 and f"--lang {lang} does not implement an event's rest: true yet" in result.stderr
+    assert result.exit_code == 2 and f"--lang {lang} does not implement " in result.stderr
+    assert "an event's rest: true yet" in result.stderr and not (tmp_path / "out").exists()
     assert "`lagcli simulate` runs them (--backend python only)" in result.stderr   # C refuses a held contact
 
 
