@@ -54,6 +54,14 @@ def test_the_ball_rests_on_the_floor_pressed_by_m_g_from_its_accumulation_time()
     assert np.all(np.abs(energy) < 1e-12) and np.ptp(energy) < 1e-12
 
 
+def test_an_either_way_floor_rests_the_ball_pressed_by_m_g_too(tmp_path):
+    spec = tmp_path / "either.yaml"
+    spec.write_text(SPEC.read_text().replace("direction: falling", "direction: either"))
+    traj = lagcli.load(spec).simulate()
+    assert traj.events[-1].action == "rest" and traj.t[-1] == 3.0
+    assert traj["force_floor"][-1] == pytest.approx(9.81, rel=1e-9)
+
+
 def test_a_block_pulled_up_lifts_off_at_m_g_over_k_and_then_flies_freely():
     traj = lagcli.load(LIFT_OFF).simulate()
     m, g, k = 2.0, 9.81, 4.0
