@@ -14,7 +14,8 @@ constraint rows A and multipliers lambda0):
 with h = `hold_bias` (g'' = 0, lagcli/derive/event_functions.py) and the run's Baumgarte
 gains, solved by the same augmented system as an impact. The spec's multipliers are
 lambda0 + nu while held. The normal force is N = s mu, s = +1 when the free side is g > 0
-(a falling event), -1 when it is g < 0 (rising); it is the column `force_<event>` (0 while
+(a falling event), -1 when it is g < 0 (rising; `either`: the sign of mu at the hold, which
+pushes there); it is the column `force_<event>` (0 while
 free). A contact pushes and never pulls: where N falls through zero the contact is released,
 located like any event (Brent's method on the step's dense output, N being a function of
 (t, y)), and the free motion resumes with the impact event watched again. One contact is
