@@ -19,6 +19,7 @@ from __future__ import annotations
 
 from typing import Any
 
+from lagcli.interface import contact_force_name
 from lagcli.spec.checker import did_you_mean
 from lagcli.spec.format import ACTIONS, DIRECTIONS, EVENT
 from lagcli.spec.reader import KeyPath
@@ -67,6 +68,9 @@ def _event(checker, path: KeyPath, value: Any, names: set[str]) -> Event | None:
     restitution = _restitution(checker, path, table, action)
     reset = _reset(checker, path, table, action)
     rest = _rest(checker, path, table, action)
+    if rest and name is not None and contact_force_name(name) in checker.coordinate_names:
+        checker.fail(path + ("name",), f"a coordinate is called '{contact_force_name(name)}', the column of this "
+                     "event's contact force (rest: true)", "rename the event or the coordinate")
     if None in (name, direction, action, when, reset, rest):
         return None
     return Event(name, when, direction, action, restitution, reset, checker.raw.loc(path), rest)
