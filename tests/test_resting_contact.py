@@ -54,6 +54,14 @@ def test_the_ball_rests_on_the_floor_pressed_by_m_g_from_its_accumulation_time()
     assert np.all(np.abs(energy) < 1e-12) and np.ptp(energy) < 1e-12
 
 
+def test_an_either_way_floor_rests_the_ball_pressed_by_m_g_too(tmp_path):
+    spec = tmp_path / "either.yaml"
+    spec.write_text(SPEC.read_text().replace("direction: falling", "direction: either"))
+    traj = lagcli.load(spec).simulate()
+    assert traj.events[-1].action == "rest" and traj.t[-1] == 3.0
+    assert traj["force_floor"][-1] == pytest.approx(9.81, rel=1e-9)
+
+
 def test_a_block_pulled_up_lifts_off_at_m_g_over_k_and_then_flies_freely():
     traj = lagcli.load(LIFT_OFF).simulate()
     m, g, k = 2.0, 9.81, 4.0
@@ -273,10 +281,11 @@ def test_the_c_backend_refuses_a_held_contact_with_a_located_error():
     assert "--backend python" in result.stderr
 
 
-@pytest.mark.parametrize("lang", ["octave", "fmu"])
-def test_targets_with_events_refuse_rest_clearly(lang, tmp_path):
+@pytest.mark.parametrize("lang", ["c", "python", "octave", "rust", "fmu", "casadi", "jax"])
+def test_every_code_target_refuses_rest_clearly(lang, tmp_path):
     result = run("generate", SPEC, "--lang", lang, "-o", tmp_path / "out")
-    assert result.exit_code == 2 and f"--lang {lang} does not implement an event's rest: true yet" in result.stderr
+    assert result.exit_code == 2 and f"--lang {lang} does not implement " in result.stderr
+    assert "an event's rest: true yet" in result.stderr and not (tmp_path / "out").exists()
     assert "`lagcli simulate` runs them (--backend python only)" in result.stderr   # C refuses a held contact
 
 
