@@ -110,7 +110,7 @@ def equilibria(system, parameters=None, inputs=None, guesses=None) -> Equilibria
     return Equilibria(d.model.name, values, tuple(
         Equilibrium(e.coordinates, e.symbolic, linearization(d, e.linear, e.stability) if e.linear else None,
                     e.free, e.singular)
-        for e in found))
+        for e in found), found.proved_none)
 
 
 def _constants(system, parameters, inputs) -> dict[str, float]:

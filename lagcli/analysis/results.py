@@ -190,6 +190,7 @@ class Equilibria:
     name: str
     parameters: dict[str, float]        # the parameter and input values they are for
     found: tuple[Equilibrium, ...]
+    proved_none: bool = False           # none found, and the closed forms show there is none
 
     def __len__(self) -> int:
         return len(self.found)
@@ -201,7 +202,7 @@ class Equilibria:
         return self.found[k]
 
     def __repr__(self) -> str:
-        return (f"<Equilibria of {self.name}: {len(self)} found" + "".join(
+        return (f"<Equilibria of {self.name}: " + ("none exists" if self.proved_none else f"{len(self)} found") + "".join(
             f"; {', '.join(f'{k} = {number(v, 6)}' for k, v in zip(e.point, shown_point(e.point)))} {e.verdict}"
             for e in self) + ">")
 
@@ -213,7 +214,8 @@ class Equilibria:
             + f"<td>{escape(e.verdict)}{_notes_html(e)}</td>"
             + f"<td>{escape(', '.join(complex_text(s, _HTML_DIGITS) for s in e.eigenvalues))}</td></tr>"
             for k, e in enumerate(self, 1))
-        caption = f"equilibria of {self.name} (q' = 0): {len(self)} found"
+        caption = f"equilibria of {self.name} (q' = 0): " + ("none exists (the equations at rest have no solution)"
+                                                          if self.proved_none else f"{len(self)} found")
         return f"<table><caption>{escape(caption)}</caption><tr>{head}</tr>{rows}</table>"
 
 
