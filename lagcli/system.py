@@ -259,7 +259,7 @@ class System:
 
     def python_only(self, laws: dict) -> str | None:
         """Why a run with these input `laws` needs the Python backend (a Python callable as a
-        law, a contact held after it accumulates: `rest: true`), or None."""
+        law, a contact held while it pushes: `rest: true`), or None."""
         if any(callable(v) and not hasattr(v, "free_symbols") for v in laws.values()):
             return "Python callables as input laws"
         if any(e.rest for e in self.model.events):

@@ -42,7 +42,7 @@ def test_the_ball_rests_on_the_floor_pressed_by_m_g_from_its_accumulation_time()
     expected = [t0 + sum(2 * e ** j * v0 / g for j in range(1, k + 1)) for k in range(len(impacts))]
     assert np.allclose(impacts[:10], expected[:10], rtol=1e-9, atol=0)          # the bounces before it
     rest = traj.events[-1]
-    assert (rest.name, rest.action) == ("floor", "rest") and rest.t == pytest.approx(t_inf, abs=1e-6)
+    assert (rest.name, rest.action) == ("floor", "rest") and rest.t == pytest.approx(t_inf, abs=1e-8)
     assert traj.t[-1] == 3.0 and traj.end_note is None                          # the run goes on to t_end
     resting = traj.t > t_inf + 1e-6
     assert resting.sum() > 150
@@ -52,6 +52,14 @@ def test_the_ball_rests_on_the_floor_pressed_by_m_g_from_its_accumulation_time()
     assert np.all(traj["force_floor"][traj.t < t_inf - 1e-6] == 0.0)             # free: no force
     energy = traj["energy"][resting]
     assert np.all(np.abs(energy) < 1e-12) and np.ptp(energy) < 1e-12
+
+
+def test_an_either_way_floor_rests_the_ball_pressed_by_m_g_too(tmp_path):
+    spec = tmp_path / "either.yaml"
+    spec.write_text(SPEC.read_text().replace("direction: falling", "direction: either"))
+    traj = lagcli.load(spec).simulate()
+    assert traj.events[-1].action == "rest" and traj.t[-1] == 3.0
+    assert traj["force_floor"][-1] == pytest.approx(9.81, rel=1e-9)
 
 
 def test_a_block_pulled_up_lifts_off_at_m_g_over_k_and_then_flies_freely():
@@ -66,6 +74,25 @@ def test_a_block_pulled_up_lifts_off_at_m_g_over_k_and_then_flies_freely():
     assert np.allclose(traj["y"][off], k * (traj.t[off] - t_lift) ** 3 / (6 * m), rtol=1e-8, atol=1e-12)
     assert np.allclose(traj["y_dot"][off], k * (traj.t[off] - t_lift) ** 2 / (2 * m), rtol=1e-8, atol=1e-12)
     assert traj.column_info[-1].name == "force_floor" and traj.column_info[-1].unit == "N"
+
+
+def test_a_block_let_fall_again_lands_and_rests_again():
+    """F = k t until t = 6 s, then 0: lift-off at t_L = m g / k, free flight, at 6 s
+    y_T = k (6 - t_L)^3 / (6 m), v_T = k (6 - t_L)^2 / (2 m), then a fall under gravity
+    alone to the floor (e = 0: a plastic landing), where the block rests again (N = m g)."""
+    m, g, k, T = 2.0, 9.81, 4.0, 6.0
+    traj = lagcli.load(LIFT_OFF).simulate(t_end=8.0, inputs={"F": "k*t*max(0, sign(6 - t))"})
+    t_lift = m * g / k
+    y_T, v_T = k * (T - t_lift) ** 3 / (6 * m), k * (T - t_lift) ** 2 / (2 * m)
+    t_land = T + (v_T + math.sqrt(v_T ** 2 + 2 * g * y_T)) / g
+    assert [r.action for r in traj.events] == ["rest", "release", "impact", "rest"]
+    assert traj.events[1].t == pytest.approx(t_lift, rel=1e-9)
+    assert traj.events[2].t == pytest.approx(t_land, rel=1e-9) and traj.events[3].t == traj.events[2].t
+    assert traj.events[2].before[1] == pytest.approx(v_T - g * (t_land - T), rel=1e-8)   # F jumps at 6 s
+    again = traj.t > t_land
+    assert again.sum() > 100 and traj.end_note is None
+    assert np.allclose(traj["force_floor"][again], m * g, rtol=1e-9, atol=0)
+    assert np.all(np.abs(traj["y"][again]) < 1e-12)
 
 
 def test_lift_off_on_the_command_line_logs_the_rest_and_the_release(tmp_path):
@@ -118,6 +145,34 @@ def test_a_particle_slides_off_a_sphere_where_cos_theta_is_two_thirds_and_more(t
     assert np.allclose(traj["y"][off], y + yd * s - g * s ** 2 / 2, rtol=0, atol=1e-9)
 
 
+LOOP = """coordinates: [x, y]
+parameters: {m: 1.0, g: 9.81, R: 1.0, v0: 6.264184}
+gravity: [0, -g]
+particles:
+  p: {mass: m, position: [x, y]}
+events:
+  - {name: track, when: R - sqrt(x^2 + y^2), action: impact, restitution: 0, rest: true}
+initial: {x: 0, y: -R, x_dot: v0}
+simulate: {t_end: 1.5, dt: 0.01}
+"""
+
+
+def test_a_particle_inside_a_loop_falls_off_where_cos_theta_is_closed_form(tmp_path):
+    """Inside a vertical circle (the free side inside), from the bottom with speed v0: the
+    track pushes with N = m v^2 / R + m g cos(phi) (phi from the bottom) and lets go where
+    N = 0: -cos(phi_L) = (v0^2 - 2 g R) / (3 g R), with v^2 = v0^2 - 2 g R (1 - cos(phi))."""
+    g, R, v0 = 9.81, 1.0, 6.264184
+    traj = lagcli.load(_spec(tmp_path, "loop", LOOP)).simulate()
+    rest, release = traj.events[:2]
+    assert (rest.t, rest.action, release.action) == (0.0, "rest", "release")
+    x, y, xd, yd = release.before
+    assert -y / math.hypot(x, y) == pytest.approx(-(v0 ** 2 - 2 * g * R) / (3 * g * R), abs=1e-9)
+    on = traj.t < release.t
+    cos_phi = -traj["y"][on] / np.hypot(traj["x"][on], traj["y"][on])
+    speed2 = v0 ** 2 - 2 * g * R * (1 - cos_phi)
+    assert np.allclose(traj["force_track"][on], speed2 / R + g * cos_phi, rtol=0, atol=1e-7)
+
+
 WALL = """coordinates: [theta]
 parameters: {m: 1.0, l: 1.0, g: 9.81, alpha: 0.3, tau0: 5.0, c: 2.0}
 inputs: [tau]
@@ -142,6 +197,34 @@ def test_a_pendulum_pressed_against_a_wall_is_let_go_by_its_law(tmp_path):
     assert np.allclose(traj["force_wall"][on], tau0 - c * traj.t[on] - m * g * l * math.sin(alpha), atol=1e-9)
     assert np.all(np.abs(traj["theta"][on] - alpha) < 1e-12)
     assert np.all(traj["theta"][traj.t > t_release] < alpha)                     # it swings away from the wall
+
+
+CEILING = """coordinates: [y]
+parameters: {m: 2.0, g: 9.81, k: 4.0}
+inputs: [F]
+gravity: [0, -g]
+particles:
+  block: {mass: m, position: [0, y]}
+forces:
+  - {at: block, force: [0, F]}
+events:
+  - {name: ceiling, when: y, direction: DIRECTION, action: impact, restitution: 0, rest: true}
+initial: {y: 0}
+simulate: {t_end: 7.0, dt: 0.01, inputs: {F: 2*m*g - k*t}}
+"""
+
+
+@pytest.mark.parametrize("direction", ["rising", "either"])
+def test_a_block_pressed_against_a_ceiling_drops_where_the_push_no_longer_beats_gravity(tmp_path, direction):
+    """The mirror of the lift-off: the free side of the gap is y < 0 (a rising event), the
+    ceiling pushes down with N = F - m g = m g - k t, and lets go at m g / k."""
+    m, g, k = 2.0, 9.81, 4.0
+    traj = lagcli.load(_spec(tmp_path, "ceiling", CEILING.replace("DIRECTION", direction))).simulate()
+    t_drop = m * g / k
+    assert [(r.action, r.t) for r in traj.events] == [("rest", 0.0), ("release", pytest.approx(t_drop, rel=1e-9))]
+    on, off = traj.t < t_drop, traj.t > t_drop
+    assert np.allclose(traj["force_ceiling"][on], m * g - k * traj.t[on], rtol=0, atol=1e-9)
+    assert np.allclose(traj["y"][off], -k * (traj.t[off] - t_drop) ** 3 / (6 * m), rtol=1e-8, atol=1e-12)
 
 
 def test_a_pendulum_on_a_floor_rests_there_keeping_its_rod(tmp_path):
@@ -181,6 +264,15 @@ def test_bad_rest_is_a_located_error(tmp_path, item, message):
     assert result.exit_code == 2 and message in result.stderr and "bad.yaml:" in result.stderr, result.stderr
 
 
+def test_a_coordinate_named_like_the_force_column_is_a_located_error(tmp_path):
+    spec = tmp_path / "clash.yaml"
+    spec.write_text(SPEC.read_text().replace("coordinates: [y]", "coordinates: [y, force_floor]"))
+    result = run("check", spec)
+    assert result.exit_code == 2 and "clash.yaml:" in result.stderr, result.stderr
+    assert "events[0].name: a coordinate is called 'force_floor', the column of this event's contact force" \
+        in result.stderr
+
+
 def test_the_c_backend_refuses_a_held_contact_with_a_located_error():
     result = run("simulate", SPEC, "--backend", "c")
     assert result.exit_code == 2 and "Traceback" not in result.stderr
@@ -189,8 +281,16 @@ def test_the_c_backend_refuses_a_held_contact_with_a_located_error():
     assert "--backend python" in result.stderr
 
 
-@pytest.mark.parametrize("lang", ["octave", "fmu"])
-def test_targets_with_events_refuse_rest_clearly(lang, tmp_path):
+@pytest.mark.parametrize("lang", ["c", "python", "octave", "rust", "fmu", "casadi", "jax"])
+def test_every_code_target_refuses_rest_clearly(lang, tmp_path):
     result = run("generate", SPEC, "--lang", lang, "-o", tmp_path / "out")
-    assert result.exit_code == 2 and f"--lang {lang} does not implement an event's rest: true yet" in result.stderr
+    assert result.exit_code == 2 and f"--lang {lang} does not implement " in result.stderr
+    assert "an event's rest: true yet" in result.stderr and not (tmp_path / "out").exists()
     assert "`lagcli simulate` runs them (--backend python only)" in result.stderr   # C refuses a held contact
+
+
+def test_the_plot_draws_the_contact_force_with_its_unit():
+    pytest.importorskip("matplotlib")
+    figure = lagcli.load(LIFT_OFF).simulate(t_end=1.0).plot()
+    labels = [ax.get_ylabel() for ax in figure.axes]
+    assert labels == ["y [m]", "force_floor [N]"]

@@ -8,7 +8,7 @@
         direction: falling                # falling (default) | rising | either
         action: impact                    # impact | reset | stop
         restitution: e                    # impact: a constant expression in [0, 1]
-        rest: true                        # impact: after an accumulation, hold g = 0 (default false)
+        rest: true                        # impact: hold g = 0 while it pushes (default false)
       - {name: step, when: theta + alpha, action: reset, reset: {theta: theta + 2*alpha}}
 
 Shapes, names and references are checked here; what the expressions may depend on
@@ -77,7 +77,7 @@ def _event(checker, path: KeyPath, value: Any, names: set[str]) -> Event | None:
 
 
 def _rest(checker, path: KeyPath, table: dict, action: str | None) -> bool | None:
-    """`rest: true`: after an accumulation, hold the impact's contact g = 0 as a constraint."""
+    """`rest: true`: hold the impact's contact g = 0 as a constraint while it pushes (lagcli/run/contact.py)."""
     value = table.get("rest", False)
     if not isinstance(value, bool):
         checker.fail(path + ("rest",), f"expected true or false; got {value!r}")
