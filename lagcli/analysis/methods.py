@@ -109,7 +109,7 @@ def equilibria(system, parameters=None, inputs=None, guesses=None) -> Equilibria
     found = find(d, values, default_guesses(d, _guesses(d, guesses)))
     return Equilibria(d.model.name, values, tuple(
         Equilibrium(e.coordinates, e.symbolic, linearization(d, e.linear, e.stability) if e.linear else None,
-                    e.free)
+                    e.free, e.singular)
         for e in found))
 
 

@@ -268,13 +268,14 @@ def equilibria_content(found, printer) -> dict:
         return {
             "coordinates": e.point,
             "closed_form": {k: printer(v) for k, v in e.closed_form.items()} if e.closed_form else None,
-            "eigenvalues": [_pair(s) for s in e.eigenvalues] if e.linearization else None,
+            "eigenvalues": [_pair(s) for s in e.eigenvalues] if e.linearization or e.eigenvalues.size else None,
             "frequencies": list(e.frequencies),
             "modes": modes_content(e.linearization.modes) if e.linearization else None,
             "drift": list(e.drift),
             "verdict": e.verdict,
             "evidence": e.evidence,
             "free": list(e.free),
+            "coordinate_singularity": list(e.singular.notes) if e.singular is not None else [],
         }
 
     return {"name": found.name, "equilibria": [one(e) for e in found],
@@ -290,6 +291,7 @@ def equilibria_text(c: dict) -> str:
         lines.append(f"{k}. {where}: {e['verdict']}")
         if e["free"]:
             lines.append(f"   one of a family along {', '.join(e['free'])} (shown: the member nearest the first guess)")
+        lines += [f"   {note}" for note in e["coordinate_singularity"]]
         if e["closed_form"]:
             lines.append("   closed form: " + ", ".join(f"{q} = {v}" for q, v in e["closed_form"].items()))
         if e["evidence"]:

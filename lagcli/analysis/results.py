@@ -167,14 +167,25 @@ class Equilibrium:
     closed_form: dict | None
     linearization: Linearization | None
     free: tuple[str, ...] = ()
+    singular: object = None     # where M is singular because of the coordinates: what lagcli can say
+                                # (`singular_chart.CoordinateSingularity`: `notes`, and eigenvalues in a
+                                # regular chart assembled there when it can decide)
 
     @property
     def eigenvalues(self) -> np.ndarray:
-        return self.linearization.eigenvalues if self.linearization else np.zeros(0, dtype=complex)
+        if self.linearization:
+            return self.linearization.eigenvalues
+        if self.singular is not None and self.singular.stability is not None:
+            return self.singular.stability.eigenvalues
+        return np.zeros(0, dtype=complex)
 
     @property
     def verdict(self) -> str:
-        return self.linearization.verdict if self.linearization else "not linearizable here (singular mass matrix)"
+        if self.linearization:
+            return self.linearization.verdict
+        if self.singular is not None:
+            return self.singular.stability.verdict if self.singular.stability is not None else "not decided"
+        return "not linearizable here (singular mass matrix)"
 
     @property
     def frequencies(self) -> tuple[float, ...]:
@@ -222,11 +233,18 @@ class Equilibria:
         head = "".join(f"<th>{escape(n)}</th>" for n in ["", *names, "verdict", "eigenvalues"])
         rows = "".join(
             f"<tr><td>{k}</td>" + "".join(f"<td>{number(v, _HTML_DIGITS)}</td>" for v in shown_point(e.point))
-            + f"<td>{escape(e.verdict)}</td>"
+            + f"<td>{escape(e.verdict)}{_notes_html(e)}</td>"
             + f"<td>{escape(', '.join(complex_text(s, _HTML_DIGITS) for s in e.eigenvalues))}</td></tr>"
             for k, e in enumerate(self, 1))
         caption = f"equilibria of {self.name} (q' = 0): {len(self)} found"
         return f"<table><caption>{escape(caption)}</caption><tr>{head}</tr>{rows}</table>"
+
+
+def _notes_html(e: Equilibrium) -> str:
+    """The family and coordinate-singularity notes of `e`, as the text report words them."""
+    notes = ([f"one of a family along {', '.join(e.free)}"] if e.free else []) \
+        + list(e.singular.notes if e.singular is not None else ())
+    return "".join(f"<br><small>{escape(n)}</small>" for n in notes)
 
 
 @dataclass(frozen=True, eq=False)

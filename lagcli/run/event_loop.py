@@ -24,8 +24,9 @@ the last row is the state after that event, at its time. Right after an event, t
 event just handled is watched on 8 samples of the first step's dense output (its g
 starts at zero): a return to zero within that step is found too, and one that cannot
 be resolved there counts as an accumulation. An impact event with `rest: true` that
-accumulates does not end the run: its contact is held from there on as a constraint
-(lagcli/run/contact.py), without that event, and the run goes on to t_end with a note.
+accumulates (or that the run starts resting on) does not end the run: its contact is held
+as a constraint while it pushes and released where it would pull (lagcli/run/contact.py:
+the release is watched like an event, its function the contact's normal force).
 """
 from __future__ import annotations
 
@@ -35,7 +36,7 @@ from scipy.optimize import brentq
 from lagcli.errors import SimulationError
 from lagcli.interface import (ACCUMULATION_GAP, EVENT_BUDGET, FIRST_STEP_SAMPLES, RESTING_SPEED,
                               STEP_BUDGET_TEXT)
-from lagcli.run.contact import hold_contact, hold_note
+from lagcli.run.contact import REST, RELEASE
 from lagcli.run.impact import approach_speed, impact
 from lagcli.runtime.run_rules import max_step
 from lagcli.run.records import EventRecord, end_note
@@ -50,33 +51,41 @@ class _End(Exception):
         self.note, self.event, self.why = note, event, why     # event: the one that accumulates
 
 
-def run_events(solver_class, fun, row, y0, s, cap, hybrid, times, sink, progress, check, residual):
+def run_events(solver_class, fun, row, y0, s, cap, hybrid, times, sink, progress, check, residual,
+               contacts=None):
     """Integrate from t = 0 to s.t_end with `hybrid`'s events, giving rows for the output
     `times` (an iterator, 0 first) to `sink`; returns (records, note). `check(t, y)` raises
-    on a non-finite state; `residual(t, y)` is the constraint residual (None: unconstrained).
+    on a non-finite state; `residual(t, y)` is the constraint residual (None: unconstrained);
+    `contacts`: the `rest: true` events (lagcli.run.contact.Contacts; then `fun` is its `rhs`).
     The events go to `sink.events` as they happen; returns why the run ended early (or None)."""
     records = sink.events
     state = _State(hybrid, records)
     t0, y, fired = 0.0, np.array(y0, dtype=float), None
     pending = next(times, None)
     budget = _StepBudget(s.step_budget)
-    held = None                       # the note of a contact held after its accumulation (rest: true)
+    free_cap, held_cap = cap, max_step(s.method, s.alpha, s.beta, True)
+    if contacts is not None and (start := contacts.at_start(t0, y)) is not None:
+        y = state.rest(contacts, t0, y, *start)
+        cap = held_cap
     while True:
         try:
             solver = solver_class(fun, t0, y, s.t_end, rtol=s.rtol, atol=s.atol, max_step=cap)
             hit, pending = _segment(solver, state.hybrid, fired, pending, times, row, sink, progress, check,
                                     budget)
             if hit is None:
-                return held
+                return None
+            if state.hybrid.events[hit[0]].action == RELEASE:
+                t0, y, fired = state.release(contacts, *hit[1:])
+                cap = free_cap
+                continue
             t0, y, fired = state.act(*hit, residual)
         except _End as end:
-            if end.event is None or held is not None or state.hybrid.events[end.event].hold_bias is None:
+            held = None if contacts is None or end.event is None else contacts.hold(end.event, state.t, state.y)
+            if held is None:
                 sink.add_row(row(state.t, state.y))
                 return end.note
-            name = state.hybrid.events[end.event].name
-            fun, state.hybrid, y = hold_contact(state.hybrid, end.event, fun, state.t, state.y, s.alpha, s.beta)
-            t0, fired, held = state.t, None, hold_note(name, state.t, end.why)
-            cap = max_step(s.method, s.alpha, s.beta, True)
+            t0, y, fired = state.t, state.rest(contacts, state.t, state.y, end.event, *held), None
+            cap = held_cap
 
 
 class _StepBudget:
@@ -199,6 +208,19 @@ class _State:
             raise _End(note, k, why)
         return t, y_plus, (k, from_zero, e.action == "impact")
 
+    def rest(self, contacts, t, y_minus, k, y_plus, impulse):
+        """Event k's contact is held from t on (contacts.hold): record it, watch its release."""
+        self._record(t, self.hybrid.events[k], y_minus, y_plus, impulse, REST)
+        self.hybrid, self.t, self.y = contacts.watched, t, y_plus
+        return y_plus
+
+    def release(self, contacts, t, y):
+        """The held contact lets go at t: record it; its impact event is watched again."""
+        k = contacts.release()
+        self._record(t, contacts.free.events[k], y, y, None, RELEASE)
+        self.hybrid, self.t, self.y = contacts.watched, t, np.asarray(y, dtype=float)
+        return t, self.y, (k, True, True)
+
     def _impact(self, e, t, y_minus):
         n = len(y_minus) // 2
         q, qd = y_minus[:n], y_minus[n:]
@@ -225,6 +247,6 @@ class _State:
                                   f"constraints (constraint_residual = {value:.3g}); reset the dependent "
                                   "coordinates and velocities consistently")
 
-    def _record(self, t, e, before, after, impulse) -> None:
-        self.records.append(EventRecord(float(t), e.name, e.action, tuple(map(float, before)),
-                                        tuple(map(float, after)), impulse))
+    def _record(self, t, e, before, after, impulse, action=None) -> None:
+        self.records.append(EventRecord(float(t), e.name, action or e.action, tuple(map(float, before)),
+                                        tuple(map(float, after)), None if impulse is None else float(impulse)))

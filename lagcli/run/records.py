@@ -18,7 +18,7 @@ from lagcli.interface import ACCUMULATION_GAP, EVENT_BUDGET, RESTING_SPEED
 class EventRecord:
     t: float
     name: str
-    action: str                      # "impact" | "reset" | "stop"
+    action: str                      # "impact" | "reset" | "stop"; "rest" | "release" (a held contact)
     before: tuple[float, ...]        # the state y- (layout order)
     after: tuple[float, ...]         # the state y+
     impulse: float | None = None     # impact: P
@@ -41,11 +41,13 @@ def events_csv(records, state_names) -> str:
 
 
 def summary(records) -> str:
-    """One line: how many events of each name, and when the first happened."""
+    """One line: how many events of each name (a held contact's rests and releases apart:
+    "floor rest"), and when the first happened."""
     if not records:
         return "0 events"
-    counts = Counter(r.name for r in records)
-    names = sorted(counts, key=lambda name: next(i for i, r in enumerate(records) if r.name == name))
+    keys = [r.name if r.action not in ("rest", "release") else f"{r.name} {r.action}" for r in records]
+    counts = Counter(keys)
+    names = sorted(counts, key=keys.index)
     each = ", ".join(f"{name} \u00d7{counts[name]}" for name in names)
     plural = "" if len(records) == 1 else "s"
     return f"{len(records)} event{plural}: {each}, first at t = {records[0].t:.10g} s"
