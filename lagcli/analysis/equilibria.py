@@ -150,6 +150,7 @@ def _rest_point(system, charts, s: Stationary, parameters: dict, independent, an
         singular = examine(charts(), q, frozenset(names[k] for k in angles))
         if not singular.equilibrium:
             return None
+        lm = singular.linear
     else:
         try:
             lm = linearize(system, Point(0.0, q, np.zeros(n), dict(parameters)), independent)

@@ -168,24 +168,18 @@ class Equilibrium:
     linearization: Linearization | None
     free: tuple[str, ...] = ()
     singular: object = None     # where M is singular because of the coordinates: what lagcli can say
-                                # (`singular_chart.CoordinateSingularity`: `notes`, and eigenvalues in a
-                                # regular chart assembled there when it can decide)
+                                # (`singular_chart.CoordinateSingularity`: `notes`); the linearization
+                                # is then in a regular chart assembled there (states w1, ..), if any
 
     @property
     def eigenvalues(self) -> np.ndarray:
-        if self.linearization:
-            return self.linearization.eigenvalues
-        if self.singular is not None and self.singular.stability is not None:
-            return self.singular.stability.eigenvalues
-        return np.zeros(0, dtype=complex)
+        return self.linearization.eigenvalues if self.linearization else np.zeros(0, dtype=complex)
 
     @property
     def verdict(self) -> str:
         if self.linearization:
             return self.linearization.verdict
-        if self.singular is not None:
-            return self.singular.stability.verdict if self.singular.stability is not None else "not decided"
-        return "not linearizable here (singular mass matrix)"
+        return "not decided" if self.singular is not None else "not linearizable here (singular mass matrix)"
 
     @property
     def frequencies(self) -> tuple[float, ...]:
