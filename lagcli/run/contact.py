@@ -3,7 +3,7 @@ its gap g = 0 is a constraint of the motion, so a ball with e < 1 rests on the f
 instead of the run ending at its accumulation time.
 
 At the hold the velocities lose their approach speed by a plastic impact (e = 0, the
-law of lagcli/run/impact.py: G q' + g_t = 0 while every spec constraint keeps holding).
+law of lagcli/runtime/event_loop_code.py: G q' + g_t = 0 while every spec constraint keeps holding).
 Then each right-hand side adds the contact to the spec's accelerations q''0 (those of the
 generated module, with its own constraint rows A):
 
@@ -19,7 +19,7 @@ import dataclasses
 
 import numpy as np
 
-from lagcli.run.impact import impact
+from lagcli.runtime.event_loop_code import impact
 
 
 def hold_contact(hybrid, k: int, fun, t: float, y, alpha: float, beta: float):

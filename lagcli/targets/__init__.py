@@ -154,7 +154,7 @@ def _refuse_hybrid(derivation, lang: str) -> None:
     drop them (lagcli simulate runs them: events and expression laws on both backends, a
     held contact on the Python backend)."""
     model = derivation.model
-    events = model.events if lang not in ("c", "fmu", "octave") else ()   # those have them (event_code.py, octave_hybrid.py)
+    events = model.events if lang not in ("c", "fmu", "octave", "python") else ()   # those have them (event_code.py, octave_hybrid.py)
     laws = model.laws if lang not in ("python", "octave", "fmu", "casadi", "jax", *LAWS_SUBSTITUTED) else ()
     rest = any(e.rest for e in model.events) and not events      # held contacts: lagcli simulate only
     keys = [key for key, used in (("events:", events), ("an event's rest: true", rest),
