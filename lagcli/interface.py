@@ -15,6 +15,9 @@ A `Layout` says, in spec order, what a run of a system is made of:
                     jacobi                   jacobi           J  (when the integral exists)
                     p_<q>                    momentum         J*s/(unit of q) (each ignorable q)
                     constraint_residual      residual         (constrained)
+                    force_<event>            contact          the normal force of an impact event
+                                                              with `rest: true` (0 while free):
+                                                              J per unit of its gap g (N for a length)
     settings      t_end, dt, method, rtol, atol with their defaults (`Settings`); a run's
                   own settings add the stabilisation gains (`RunSettings`, `DEFAULT_BAUMGARTE`)
     initial       the spec's `initial:`; start: the consistent default state and its notes
@@ -72,9 +75,10 @@ VELOCITY_SUFFIX = "_dot"
 ACCELERATION_SUFFIX = "_ddot"
 MULTIPLIER_PREFIX = "lambda_"
 MOMENTUM_PREFIX = "p_"
+CONTACT_PREFIX = "force_"
 
 COLUMN_KINDS = ("time", "coordinate", "velocity", "multiplier", "energy", "jacobi",
-                "momentum", "residual")
+                "momentum", "residual", "contact")
 INVARIANT_KINDS = ("energy", "jacobi", "momentum", "residual")
 
 
@@ -93,6 +97,11 @@ def multiplier_name(row: int, label: str | None = None) -> str:
 
 def momentum_name(coordinate: str) -> str:
     return MOMENTUM_PREFIX + coordinate
+
+
+def contact_force_name(event: str) -> str:
+    """The column of the normal force of a held contact (an impact event with `rest: true`)."""
+    return CONTACT_PREFIX + event
 
 
 def reserved_reason(name: str, coordinates: set[str] | frozenset[str]) -> str:
@@ -288,6 +297,11 @@ class Layout:
         return tuple(c.name for c in self.invariants)
 
     @property
+    def contacts(self) -> tuple[Column, ...]:
+        """The contact force columns (impact events with `rest: true`), last in CSV order."""
+        return tuple(c for c in self.columns if c.kind == "contact")
+
+    @property
     def residual_index(self) -> int | None:
         """The place of `constraint_residual` among the invariant columns (None: unconstrained)."""
         kinds = [c.kind for c in self.invariants]
@@ -357,6 +371,8 @@ def layout_of(d, start: Start | None = None, angles=frozenset()) -> Layout:
                 for q in d.ignorable]
     if multipliers:
         columns.append(Column(RESIDUAL, "residual"))
+    columns += [Column(contact_force_name(e.name), "contact", unit=e.force_unit)
+                for e in d.events if e.hold_bias is not None]
     layout = Layout(model.name, tuple(states),
                     tuple(Parameter(p.symbol.name, float(p.value), unit.get(p.symbol.name))
                           for p in model.parameters),

@@ -61,8 +61,9 @@ def solve_stationary(equations, unknowns, parameters: dict, guesses) -> list[Sta
     return distinct(_symbolic(equations, unknowns, parameters) or search(problem, guesses, vary=False), problem)
 
 
-def rest_problem(equations, unknowns, n: int, parameters: dict, angles) -> RestProblem:
-    """The equations with the parameters' values, compiled for the numeric search."""
+def rest_problem(equations, unknowns, n: int, parameters: dict, angles, pose=None) -> RestProblem:
+    """The equations with the parameters' values, compiled for the numeric search
+    (`pose`: the pose key of the coordinates, `pose.pose_function`)."""
     numbers = {s: sp.Float(v, 30) for s, v in parameters.items()}
     exprs = [sp.sympify(e).xreplace(numbers) for e in equations]
     k = len(unknowns)
@@ -72,7 +73,7 @@ def rest_problem(equations, unknowns, n: int, parameters: dict, angles) -> RestP
     return RestProblem(lambda z: np.asarray(f(z), dtype=float).reshape(-1),
                        lambda z: np.asarray(jac(z), dtype=float).reshape(len(exprs), k),
                        n,
-                       frozenset(index[s] for s in angles))
+                       frozenset(index[s] for s in angles), pose)
 
 
 @dataclass(frozen=True)
@@ -88,6 +89,7 @@ def equilibria(d, parameters: dict, guesses: list[dict], independent=(), compile
     """Every equilibrium found, with its linearization and stability (`compiled`: the
     derivation's `linearize.CompiledSystem`, when the caller has it)."""
     from lagcli.analysis.linearize import CompiledSystem
+    from lagcli.analysis.pose import pose_function
     from lagcli.model.angles import angle_coordinates
 
     model = d.model
@@ -101,7 +103,8 @@ def equilibria(d, parameters: dict, guesses: list[dict], independent=(), compile
     unknowns = list(model.q) + list(d.multipliers)
     symbols = {p.symbol: parameters[p.symbol.name] for p in (*model.parameters, *model.inputs)}
     angles = [q for q in model.q if q.name in angle_coordinates(model)]
-    problem = rest_problem(list(balance) + holonomic, unknowns, len(model.q), symbols, angles)
+    problem = rest_problem(list(balance) + holonomic, unknowns, len(model.q), symbols, angles,
+                           pose_function(model, symbols))
     closed = [] if d.constraints else _symbolic(list(balance), unknowns, symbols)
     starts = [[g.get(s.name, 0.0) for s in unknowns] for g in guesses]
     found = distinct(closed + search(problem, starts), problem)

@@ -11,15 +11,18 @@ from __future__ import annotations
 
 from collections import Counter
 
-from lagcli.runtime.run_limits import EventRecord, end_note, events_csv, events_header  # noqa: F401  (the records' home)
+from lagcli.runtime.run_limits import (RELEASE, REST, EventRecord, end_note, events_csv,  # noqa: F401
+                                       events_header)                                     # (the records' home)
 
 
 def summary(records) -> str:
-    """One line: how many events of each name, and when the first happened."""
+    """One line: how many events of each name (a held contact's rests and releases apart:
+    "floor rest"), and when the first happened."""
     if not records:
         return "0 events"
-    counts = Counter(r.name for r in records)
-    names = sorted(counts, key=lambda name: next(i for i, r in enumerate(records) if r.name == name))
+    keys = [r.name if r.action not in (REST, RELEASE) else f"{r.name} {r.action}" for r in records]
+    counts = Counter(keys)
+    names = sorted(counts, key=keys.index)
     each = ", ".join(f"{name} \u00d7{counts[name]}" for name in names)
     plural = "" if len(records) == 1 else "s"
     return f"{len(records)} event{plural}: {each}, first at t = {records[0].t:.10g} s"

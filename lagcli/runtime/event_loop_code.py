@@ -29,8 +29,9 @@ the last row is the state after that event, at its time (the numbers and notes:
 lagcli/runtime/run_limits.py). Right after an event, the event just handled is watched
 on FIRST_STEP_SAMPLES samples of the first step's dense output (its g starts at zero): a
 return to zero within that step is found too, and one that cannot be resolved there
-counts as an accumulation. A caller may hold an accumulating contact instead of ending
-the run (`hold`: lagcli's `rest: true`, lagcli/run/contact.py).
+counts as an accumulation. lagcli's Python backend may hold an accumulating contact
+instead of ending the run (`contacts`: `rest: true`, lagcli/run/contact.py): held while it
+pushes, released (a RELEASE event of the contacts' own) where it would pull.
 
 The impact law, solved numerically like the augmented system (never a symbolic
 inverse): at an impact of gap g(t, q) with G = dg/dq, restitution e and the constraint
@@ -44,8 +45,10 @@ for the constraints):
 The positions do not change. The matrix is singular when G lies in the span of the
 constraint rows (the constraints already forbid the motion the impact would stop).
 """
-from lagcli.runtime.run_limits import (ACCUMULATION_GAP, EVENT_BUDGET, FIRST_STEP_SAMPLES, RESTING_SPEED,
-                                       STEP_BUDGET_TEXT, EventRecord, end_note)   # above it in the generated module
+# lagcli's imports of what the generated module has above this code (not pasted):
+from lagcli.runtime.run_limits import (ACCUMULATION_GAP, EVENT_BUDGET, FIRST_STEP_SAMPLES, RELEASE, REST,
+                                       RESTING_SPEED, STEP_BUDGET_TEXT, EventRecord, end_note)
+from lagcli.runtime.run_rules import max_step
 
 # --- lagcli's event loop (lagcli/runtime/event_loop_code.py) ---
 from dataclasses import dataclass
@@ -127,40 +130,46 @@ class _End(Exception):
 
 
 def run_events(solver_class, fun, row, y0, s, cap, model, times, sink, progress=None, check=check_finite,
-               residual=None, tolerance=0.0, hold=None):
+               residual=None, tolerance=0.0, contacts=None):
     """Integrate from t = 0 to s.t_end (s: t_end, rtol, atol, step_budget and, optionally,
     budget_option: how the step budget's message names its option) with `model`'s
     events (an EventModel), giving `sink.add_row` the rows `row(t, y)` for the output
     `times` (an iterator, 0 first) and appending the EventRecords to `sink.events` as they
     happen; returns why the run ended early (a note) or None. `check(t, y)` raises on a
     state that must not go on; `residual(t, y)`: the constraint residual a reset must keep
-    within `tolerance` (None: unconstrained). `hold(model, k, fun, t, y, why)`: instead of
-    ending the run at event k's accumulation, (fun, model, y, note, cap) to go on with, or
-    None. Raises EventRunFailure."""
+    within `tolerance` (None: unconstrained). `contacts`: lagcli's held contacts
+    (`rest: true`, lagcli/run/contact.py; then `fun` is their right-hand side and s also
+    holds method, alpha, beta), None in the generated module. Raises EventRunFailure."""
     from scipy.optimize import brentq
 
     state = _State(model, sink.events, residual, tolerance)
     t0, y, fired = 0.0, np.array(y0, dtype=float), None
     pending = next(times, None)
     budget = _StepBudget(s.step_budget, getattr(s, "budget_option", None))
-    held = None                       # the note of a contact held after its accumulation
+    free_cap = cap
+    held_cap = max_step(s.method, s.alpha, s.beta, True) if contacts is not None else None
+    if contacts is not None and (start := contacts.at_start(t0, y)) is not None:
+        y = state.rest(contacts, t0, y, *start)
+        cap = held_cap
     while True:
         try:
             solver = solver_class(fun, t0, y, s.t_end, rtol=s.rtol, atol=s.atol, max_step=cap)
             hit, pending = _segment(solver, state.model, fired, pending, times, row, sink, progress, check,
                                     budget, brentq)
             if hit is None:
-                return held
+                return None
+            if state.model.events[hit[0]].action == RELEASE:
+                t0, y, fired = state.release(contacts, *hit[1:])
+                cap = free_cap
+                continue
             t0, y, fired = state.act(*hit)
         except _End as end:
-            taken = None
-            if end.event is not None and held is None and hold is not None:
-                taken = hold(state.model, end.event, fun, state.t, state.y, end.why)
-            if taken is None:
+            held = None if contacts is None or end.event is None else contacts.hold(end.event, state.t, state.y)
+            if held is None:
                 sink.add_row(row(state.t, state.y))
                 return end.note
-            fun, state.model, y, held, cap = taken
-            t0, fired = state.t, None
+            t0, y, fired = state.t, state.rest(contacts, state.t, state.y, end.event, *held), None
+            cap = held_cap
 
 
 class _StepBudget:
@@ -288,6 +297,19 @@ class _State:
             raise _End(note, k, why)
         return t, y_plus, (k, from_zero, e.action == "impact")
 
+    def rest(self, contacts, t, y_minus, k, y_plus, impulse):
+        """Event k's contact is held from t on (contacts.hold): record it, watch its release."""
+        self._record(t, self.model.events[k], y_minus, y_plus, impulse, REST)
+        self.model, self.t, self.y = contacts.watched, t, y_plus
+        return y_plus
+
+    def release(self, contacts, t, y):
+        """The held contact lets go at t: record it; its impact event is watched again."""
+        k = contacts.release()
+        self._record(t, contacts.free.events[k], y, y, None, RELEASE)
+        self.model, self.t, self.y = contacts.watched, t, np.asarray(y, dtype=float)
+        return t, self.y, (k, True, True)
+
     def _impact(self, e, t, y_minus):
         n = len(y_minus) // 2
         q, qd = y_minus[:n], y_minus[n:]
@@ -312,6 +334,6 @@ class _State:
                                   f"constraints (constraint_residual = {value:.3g}); reset the dependent "
                                   "coordinates and velocities consistently")
 
-    def _record(self, t, e, before, after, impulse):
-        self.records.append(EventRecord(float(t), e.name, e.action, tuple(map(float, before)),
-                                        tuple(map(float, after)), impulse))
+    def _record(self, t, e, before, after, impulse, action=None):
+        self.records.append(EventRecord(float(t), e.name, action or e.action, tuple(map(float, before)),
+                                        tuple(map(float, after)), None if impulse is None else float(impulse)))

@@ -9,7 +9,7 @@ log with it (lagcli/run/records.py).
     ACCUMULATION_GAP, RESTING_SPEED,   when accumulating events end a run
     EVENT_BUDGET, FIRST_STEP_SAMPLES   (docs/simulate.md, "Events and input laws")
     EventRecord                        one event: t, name, action, the state before and after,
-                                       the impulse of an impact
+                                       the impulse of an impact (REST, RELEASE: a held contact)
     end_note                           the note saying why a run with events ended early
     events_csv                         the `--events` file: one row per event
 
@@ -28,6 +28,7 @@ ACCUMULATION_GAP = 1e-9           # the same event again within this x max(1, |t
 RESTING_SPEED = 1e-9              # separation speed below this x the largest approach speed
 EVENT_BUDGET = 100_000            # events of one run
 FIRST_STEP_SAMPLES = 8            # samples of the first step after an impact (its gap starts at 0)
+REST, RELEASE = "rest", "release"  # the actions of the records of a contact held and let go (lagcli's rest: true)
 
 
 def default_max_steps(t_end, dt):
@@ -42,7 +43,7 @@ class EventRecord:
 
     t: float
     name: str
-    action: str                      # "impact" | "reset" | "stop"
+    action: str                      # "impact" | "reset" | "stop"; REST | RELEASE (a held contact)
     before: tuple                    # the state y-
     after: tuple                     # the state y+
     impulse: float = None            # impact: P; None for a reset or a stop
