@@ -21,10 +21,12 @@ import sympy as sp
 SAME_POSE = 1e-7          # keys this close (max norm, relative to max(1, |key|)) are one pose
 
 
-def pose_function(model, parameters: dict):
+def pose_function(model, parameters: dict, exprs: list | None = None):
     """`key(q) -> ndarray`: the pose key (module docstring) at coordinates q, with the
-    `parameters` {symbol: value}, t = 0 and every velocity 0."""
-    f = sp.lambdify([list(model.q)], pose_expressions(model, parameters), modules="numpy", cse=True)
+    `parameters` {symbol: value}, t = 0 and every velocity 0 (`exprs`: the key's
+    `pose_expressions`, when the caller has them)."""
+    exprs = pose_expressions(model, parameters) if exprs is None else exprs
+    f = sp.lambdify([list(model.q)], exprs, modules="numpy", cse=True)
     return lambda q: np.asarray(f(list(q)), dtype=float).reshape(-1)
 
 

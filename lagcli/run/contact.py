@@ -14,10 +14,13 @@ constraint rows A and multipliers lambda0):
 with h = `hold_bias` (g'' = 0, lagcli/derive/event_functions.py) and the run's Baumgarte
 gains, solved by the same augmented system as an impact. The spec's multipliers are
 lambda0 + nu while held. The normal force is N = s mu, s = +1 when the free side is g > 0
-(a falling event), -1 when it is g < 0 (rising); it is the column `force_<event>` (0 while
+(a falling event), -1 when it is g < 0 (rising; `either`: the sign of mu at the hold, which
+pushes there); it is the column `force_<event>` (0 while
 free). A contact pushes and never pulls: where N falls through zero the contact is released,
 located like any event (Brent's method on the step's dense output, N being a function of
-(t, y)), and the free motion resumes with the impact event watched again. One contact is
+(t, y); its sign is watched on FIRST_STEP_SAMPLES samples of every step, since the held
+motion is smooth enough for steps longer than a brief pull), and the free motion resumes
+with the impact event watched again. One contact is
 held at a time: another `rest: true` event accumulating meanwhile ends the run as without
 `rest`. The hold and the release are event records (actions "rest" and "release").
 """
@@ -100,10 +103,10 @@ class Contacts:
         A, d = self.free.constraint_rows(t, y)
         qd, impulse = impact(self.free.mass_matrix(t, y), A, d, G, g_t, 0.0, y[n:])
         y_plus = np.concatenate([y[:n], qd])
-        self.held, self.side = k, _free_side(e.direction, approach_speed(G, g_t, y[n:]))
-        if e.direction == "either" and approach_speed(G, g_t, y[n:]) == 0.0:
-            self.side = 1.0 if self._solve(t, y_plus)[2] >= 0.0 else -1.0
-        if not self.force(t, y_plus) > 0.0:
+        self.held = k
+        mu = self._solve(t, y_plus)[2]
+        self.side = _free_side(e.direction, mu)
+        if not self.side * mu > 0.0:
             self.held = None
             return None
         release = dataclasses.replace(e, action=RELEASE, direction="falling", g=self.force)
@@ -124,10 +127,10 @@ def contacts_of(hybrid, accelerations, alpha: float, beta: float) -> Contacts | 
     return Contacts(hybrid, accelerations, alpha, beta)
 
 
-def _free_side(direction: str, approach: float) -> float:
-    """+1 when the free side of the gap is g > 0 (a falling event), -1 when g < 0."""
-    if direction == "falling":
-        return 1.0
-    if direction == "rising":
-        return -1.0
-    return 1.0 if approach < 0.0 else -1.0
+def _free_side(direction: str, mu: float) -> float:
+    """+1 when the free side of the gap is g > 0, -1 when it is g < 0: a falling event's and
+    a rising event's; for `either`, the side the held contact pushes to (held where the
+    motion presses into the contact, it pushes away from it)."""
+    if direction != "either":
+        return 1.0 if direction == "falling" else -1.0
+    return 1.0 if mu >= 0.0 else -1.0

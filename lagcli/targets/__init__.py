@@ -158,7 +158,7 @@ def _refuse_hybrid(derivation, lang: str) -> None:
     # c, fmu, octave and python carry events (event_code.py, octave_hybrid.py, python_events.py)
     events = model.events if lang not in ("c", "fmu", "octave", "python") else ()
     laws = model.laws if lang not in ("python", "octave", "fmu", "casadi", "jax", *LAWS_SUBSTITUTED) else ()
-    rest = any(e.rest for e in model.events) and not events      # held contacts: lagcli simulate only
+    rest = any(e.rest for e in model.events)      # held contacts: lagcli simulate (Python backend) only
     keys = [key for key, used in (("events:", events), ("an event's rest: true", rest),
                                   ("simulate: inputs:", laws)) if used]
     if keys:

@@ -47,15 +47,9 @@ while true
     segment = odeset(options, 'Events', @(t, y) segment_events(gfun, t, y, t0, fired));
     [T, Y, TE, ~, IE] = ode45(fun, [t0, t_end], y, segment);
     [k, t_star, y_minus, ja, ended] = next_event(gfun, fun, T, Y, TE, IE, fired, model);
-    if k == 0 && T(end) >= t_end
+    if k == 0               % no event (a report in the first step is never terminal): ode45 ran to
         [times_out, states] = add_rows(times_out, states, times, t0, t_end, y, T, Y, fun, true);
-        return;
-    elseif k == 0           % ode45 stopped at a report that was no event: go on from there
-        [times_out, states] = add_rows(times_out, states, times, t0, T(end), y, T, Y, fun, false);
-        t0 = T(end);
-        y = Y(end, :).';
-        fired = 0;
-        continue;
+        return;             % t_end, or to the step budget, which lagcli's simulate reports
     end
     if ended
         note = sprintf(['event ''%s'' recurs at t = %.10g faster than the integrator''s step can ', ...
