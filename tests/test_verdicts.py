@@ -213,3 +213,15 @@ def test_the_page_linearizes_at_the_spec_initial_state_and_names_the_point_and_c
     assert content["operating_point"] == {"x": 0.0, "theta": 0.05, "x_dot": 0.0, "theta_dot": 0.0}
     assert f"<b>{content['verdict']}</b> ({content['evidence']})".replace("'", "&#x27;") in html
     assert content["verdict"] == "no verdict" and "theta_dot' = " in content["evidence"]
+
+
+def test_an_equilibrium_at_a_coordinate_singularity_prints_its_chart_modes():
+    """The top hanging at theta = pi (Euler angles singular there) swings at
+    sqrt(m g h / (A + m h^2)) in the chart assembled from the other descriptions."""
+    text = commands.equilibria(str(SPECS / "heavy_symmetric_top.yaml"))
+    m, h, A, g = 0.5, 0.04, 2.0e-4, 9.81
+    swing = math.sqrt(m * g * h / (A + m * h ** 2))
+    hanging = text.split("\n2. ")[1]
+    assert hanging.startswith("psi = 0, theta = 3.14159265359, phi = 0: stable")
+    assert f"small-oscillation frequencies (rad/s): {swing:.10g}" in hanging
+    assert "Lagrange-Dirichlet" in hanging

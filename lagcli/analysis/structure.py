@@ -77,7 +77,8 @@ class StructureBasis:
         from lagcli.analysis.stability import STEADY
 
         limit = STEADY * max(1.0, float(np.max(np.abs(model.point.qd), initial=0.0)))
-        moving = np.linalg.solve(self.Tc, model.coordinate_rates) if self.Tc.size else np.zeros(0)
+        qd = model.coordinate_rates if model.coordinate_rates.size else np.zeros(len(model.coordinates))
+        moving = np.linalg.solve(self.Tc, qd) if self.Tc.size else qd
         return ([(_rate_name(q), float(r)) for q, r in zip(self.coordinates, moving) if q in kept and abs(r) > limit]
                 + [(f"{u}'", float(r)) for u, r in zip(model.speeds, model.speed_rates) if abs(r) > limit])
 
