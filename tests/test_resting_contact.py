@@ -95,6 +95,22 @@ def test_a_block_let_fall_again_lands_and_rests_again():
     assert np.all(np.abs(traj["y"][again]) < 1e-12)
 
 
+@pytest.mark.parametrize("e", [0.0, 0.5])
+def test_a_shaken_block_hops_and_rests_again_and_again_never_pulled_nor_sunk(tmp_path, e):
+    """F = m g (0.5 - 0.6 cos(20 t)): the floor lets go each time F exceeds m g and takes
+    the block back when it lands (after its bounces accumulate, for e > 0). The floor never
+    pulls (force >= 0), the block never sinks (y >= 0), the energy T + V is m g y + m v^2/2,
+    and the run reaches t_end, however often the contact is held and released."""
+    spec = tmp_path / "shaken.yaml"
+    spec.write_text(LIFT_OFF.read_text().replace("restitution: 0", f"restitution: {e}"))
+    traj = lagcli.load(spec).simulate(t_end=3.0, inputs={"F": "m*g*(0.5 - 0.6*cos(20*t))"})
+    actions = [r.action for r in traj.events]
+    assert actions.count("rest") >= 4 and actions.count("release") >= 4 and traj.t[-1] == 3.0
+    assert traj.end_note is None and traj.failure is None
+    assert np.all(traj["force_floor"] >= -1e-9) and np.all(traj["y"] >= -1e-12)
+    assert np.allclose(traj["energy"], 2.0 * 9.81 * traj["y"] + traj["y_dot"] ** 2, rtol=1e-12, atol=1e-12)
+
+
 def test_lift_off_on_the_command_line_logs_the_rest_and_the_release(tmp_path):
     out, log = tmp_path / "lift.csv", tmp_path / "events.csv"
     result = run("simulate", LIFT_OFF, "-o", out, "--events", log)

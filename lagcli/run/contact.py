@@ -18,7 +18,9 @@ lambda0 + nu while held. The normal force is N = s mu, s = +1 when the free side
 pushes there); it is the column `force_<event>` (0 while
 free). A contact pushes and never pulls: where N falls through zero the contact is released,
 located like any event (Brent's method on the step's dense output, N being a function of
-(t, y)), and the free motion resumes with the impact event watched again. One contact is
+(t, y); its sign is watched on FIRST_STEP_SAMPLES samples of every step, since the held
+motion is smooth enough for steps longer than a brief pull), and the free motion resumes
+with the impact event watched again. One contact is
 held at a time: another `rest: true` event accumulating meanwhile ends the run as without
 `rest`. The hold and the release are event records (actions "rest" and "release").
 """

@@ -26,7 +26,8 @@ starts at zero): a return to zero within that step is found too, and one that ca
 be resolved there counts as an accumulation. An impact event with `rest: true` that
 accumulates (or that the run starts resting on) does not end the run: its contact is held
 as a constraint while it pushes and released where it would pull (lagcli/run/contact.py:
-the release is watched like an event, its function the contact's normal force).
+the release is watched like an event, its function the contact's normal force, on
+FIRST_STEP_SAMPLES samples of every step).
 """
 from __future__ import annotations
 
@@ -136,6 +137,9 @@ def _earliest(events, g_old, g_new, t_old, t_new, dense, fired):
     for k, e in enumerate(events):
         if fired is not None and k == fired[0]:
             bracket = _bracket_after_event(k, e, t_old, t_new, dense, *fired[1:])
+        elif e.action == RELEASE:     # a held contact's force may dip below 0 and back within a step
+            samples = np.linspace(t_old, t_new, FIRST_STEP_SAMPLES + 1)
+            bracket = _first_crossing(e.direction, samples, [e.g(t, dense(t)) for t in samples])
         else:
             bracket = (t_old, t_new) if _crosses(e.direction, g_old[k], g_new[k]) else None
         if bracket is None:
@@ -153,6 +157,14 @@ def _crosses(direction: str, before: float, after: float) -> bool:
     return falling if direction == "falling" else rising if direction == "rising" else falling or rising
 
 
+def _first_crossing(direction: str, samples, values):
+    """(a, b): the first interval between samples where the values cross zero in `direction`, or None."""
+    for i in range(1, len(values)):
+        if _crosses(direction, values[i - 1], values[i]):
+            return samples[i - 1], samples[i]
+    return None
+
+
 def _bracket_after_event(k, e, t_old, t_new, dense, from_zero: bool, impact: bool):
     """The event just handled, in the first step after it: where, if anywhere, does g
     cross again in its direction? Found on FIRST_STEP_SAMPLES samples of the step
@@ -160,9 +172,9 @@ def _bracket_after_event(k, e, t_old, t_new, dense, from_zero: bool, impact: boo
     was; only an impact must turn back: else it accumulates)."""
     samples = np.linspace(t_old, t_new, FIRST_STEP_SAMPLES + 1)
     values = [0.0 if from_zero and i == 0 else e.g(t, dense(t)) for i, t in enumerate(samples)]
-    for i in range(1, len(values)):
-        if _crosses(e.direction, values[i - 1], values[i]):
-            return samples[i - 1], samples[i]
+    bracket = _first_crossing(e.direction, samples, values)
+    if bracket is not None:
+        return bracket
     first = next((v for v in values if v != 0.0), None)
     wrong_side = first is not None and ((e.direction == "falling" and first < 0)
                                         or (e.direction == "rising" and first > 0))
