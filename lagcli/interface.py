@@ -15,6 +15,9 @@ A `Layout` says, in spec order, what a run of a system is made of:
                     jacobi                   jacobi           J  (when the integral exists)
                     p_<q>                    momentum         J*s/(unit of q) (each ignorable q)
                     constraint_residual      residual         (constrained)
+                    force_<event>            contact          the normal force of an impact event
+                                                              with `rest: true` (0 while free):
+                                                              J per unit of its gap g (N for a length)
     settings      t_end, dt, method, rtol, atol with their defaults (`Settings`); a run's
                   own settings add the stabilisation gains (`RunSettings`, `DEFAULT_BAUMGARTE`)
     initial       the spec's `initial:`; start: the consistent default state and its notes
@@ -41,6 +44,9 @@ import math
 from dataclasses import asdict, dataclass, field, fields
 from pathlib import PurePath
 
+from lagcli.runtime.run_limits import (ACCUMULATION_GAP, EVENT_BUDGET, FIRST_STEP_SAMPLES,  # noqa: F401
+                                       RESTING_SPEED, STEP_BUDGET_BASE, STEP_BUDGET_PER_OUTPUT, STEP_BUDGET_TEXT,
+                                       default_max_steps)
 from lagcli.runtime.run_rules import EXPLICIT_METHODS
 
 # --- the numbers every stage shares ---------------------------------------------------
@@ -53,22 +59,11 @@ METHODS = ("RK45", "DOP853", "Radau", "BDF", "LSODA", VARIATIONAL)   # scipy's i
 C_METHODS = (*EXPLICIT_METHODS, VARIATIONAL)                         # the ones the compiled driver implements
 DEFAULT_BAUMGARTE = (10.0, 10.0)                         # (alpha, beta) of the constraint stabilisation
 CONSTRAINT_TOLERANCE = 1e-8                              # largest |constraint| of a consistent initial state
-STEP_BUDGET_BASE = 20_000         # a run takes at most this many integrator steps, plus
-STEP_BUDGET_PER_OUTPUT = 1_000    # this many per output interval, unless --max-steps says otherwise
-STEP_BUDGET_TEXT = ("the integration reached its bound of {steps} steps before t_end (a stiff or "
-                    "blowing-up solution?); raise the bound with --max-steps N")
-# When a run with events ends at an accumulation (docs/simulate.md, "Events and input laws"):
-# lagcli/run/event_loop.py and the event loops of generated code (MATLAB/Octave) alike.
-ACCUMULATION_GAP = 1e-9           # the same event again within this x max(1, |t|)
-RESTING_SPEED = 1e-9              # separation speed below this x the largest approach speed
-EVENT_BUDGET = 100_000            # events of one run
-FIRST_STEP_SAMPLES = 8            # samples of the first step after an impact (its gap starts at 0)
-
-
-def default_max_steps(t_end: float, dt: float) -> int:
-    """The step budget of a run (`--max-steps` default): deterministic, from the output grid
-    (the C driver's `step_budget` is the same rule)."""
-    return STEP_BUDGET_BASE + STEP_BUDGET_PER_OUTPUT * math.ceil(t_end / dt - 1e-9)
+# The step budget of a run and the rules that end a run with accumulating events
+# (docs/simulate.md, "Events and input laws") are code the generated Python module carries
+# too: lagcli/runtime/run_limits.py (STEP_BUDGET_BASE, STEP_BUDGET_PER_OUTPUT,
+# STEP_BUDGET_TEXT, default_max_steps, ACCUMULATION_GAP, RESTING_SPEED, EVENT_BUDGET,
+# FIRST_STEP_SAMPLES), imported here for every stage.
 
 # --- naming rules ---------------------------------------------------------------------
 
@@ -80,9 +75,10 @@ VELOCITY_SUFFIX = "_dot"
 ACCELERATION_SUFFIX = "_ddot"
 MULTIPLIER_PREFIX = "lambda_"
 MOMENTUM_PREFIX = "p_"
+CONTACT_PREFIX = "force_"
 
 COLUMN_KINDS = ("time", "coordinate", "velocity", "multiplier", "energy", "jacobi",
-                "momentum", "residual")
+                "momentum", "residual", "contact")
 INVARIANT_KINDS = ("energy", "jacobi", "momentum", "residual")
 
 
@@ -101,6 +97,11 @@ def multiplier_name(row: int, label: str | None = None) -> str:
 
 def momentum_name(coordinate: str) -> str:
     return MOMENTUM_PREFIX + coordinate
+
+
+def contact_force_name(event: str) -> str:
+    """The column of the normal force of a held contact (an impact event with `rest: true`)."""
+    return CONTACT_PREFIX + event
 
 
 def reserved_reason(name: str, coordinates: set[str] | frozenset[str]) -> str:
@@ -296,6 +297,11 @@ class Layout:
         return tuple(c.name for c in self.invariants)
 
     @property
+    def contacts(self) -> tuple[Column, ...]:
+        """The contact force columns (impact events with `rest: true`), last in CSV order."""
+        return tuple(c for c in self.columns if c.kind == "contact")
+
+    @property
     def residual_index(self) -> int | None:
         """The place of `constraint_residual` among the invariant columns (None: unconstrained)."""
         kinds = [c.kind for c in self.invariants]
@@ -365,6 +371,8 @@ def layout_of(d, start: Start | None = None, angles=frozenset()) -> Layout:
                 for q in d.ignorable]
     if multipliers:
         columns.append(Column(RESIDUAL, "residual"))
+    columns += [Column(contact_force_name(e.name), "contact", unit=e.force_unit)
+                for e in d.events if e.hold_bias is not None]
     layout = Layout(model.name, tuple(states),
                     tuple(Parameter(p.symbol.name, float(p.value), unit.get(p.symbol.name))
                           for p in model.parameters),

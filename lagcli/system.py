@@ -259,11 +259,11 @@ class System:
 
     def python_only(self, laws: dict) -> str | None:
         """Why a run with these input `laws` needs the Python backend (a Python callable as a
-        law, a contact held after it accumulates: `rest: true`), or None."""
+        law, a contact held while it pushes: `rest: true`), or None."""
         if any(callable(v) and not hasattr(v, "free_symbols") for v in laws.values()):
             return "Python callables as input laws"
         if any(e.rest for e in self.model.events):
-            return "an event's rest: true (the contact held after it accumulates)"
+            return "an event's rest: true (a contact held while it pushes)"
         return None
 
     def run(self, settings, values: dict[str, float], start, backend: str, sink=None, progress=None,
@@ -297,9 +297,12 @@ class System:
             from lagcli.run.hybrid_run import HybridModule
 
             if backend != "python":
-                raise UsageError(f"{self.model.source}: the {backend} backend does not run "
-                                 f"{self.python_only(self.laws(values, laws))}\n  hint: use the Python backend "
-                                 "(--backend python; the default for such a run)")
+                why = self.python_only(self.laws(values, laws))
+                rest = next((e.loc for e in self.model.events if e.rest and e.loc is not None), None)
+                where = rest.child("rest") if rest is not None and why.startswith("an event's rest") \
+                    else self.model.source
+                raise UsageError(f"{where}: the {backend} backend does not run {why}\n  hint: use the Python "
+                                 "backend (--backend python; the default for such a run)")
             return HybridModule(self._module(), self.layout, hybrid)
         if backend == "python":
             from lagcli.run.python_backend import PythonModule

@@ -17,7 +17,8 @@ import sympy as sp
 import lagcli
 from conftest import SPECS
 
-BUNDLED = sorted(p.stem for p in SPECS.glob("*.yaml"))
+BUNDLED = sorted(p.relative_to(SPECS).with_suffix("").as_posix()
+                 for p in [*SPECS.glob("*.yaml"), *SPECS.glob("hybrid/*.yaml")])
 UNTIDY = [re.compile(r"sin\((\w+)\)\*\*2 \+ \w*\**cos\(\1\)\*\*2"), re.compile(r"sqrt\(1 - (sin|cos)\("),
           re.compile(r"Abs\(")]
 
@@ -45,6 +46,27 @@ def test_notebook_parts_are_the_latex_report_rows(systems, name):
             assert row in fragment, f"{name}: {part_name} row not in derive --latex:\n{row}"
     shown = system._repr_latex_()
     assert all(row in shown for row in system.parts.equations.rows)
+    assert list(system.parts.equations.rows) == block_rows(fragment, r"\subsection*{Equations of motion}")
+    if system.derivation.constraints:
+        assert list(system.parts.constraints.rows) == constraint_rows(fragment)
+
+
+def block_rows(fragment: str, heading: str) -> list[str]:
+    """The rows of the first align* block after `heading` in a LaTeX report."""
+    body = fragment.split(heading, 1)[1].split(r"\begin{align*}", 1)[1].split(r"\end{align*}", 1)[0]
+    return [line.strip().removesuffix(r"\\").strip() for line in body.strip().splitlines()]
+
+
+def constraint_rows(fragment: str) -> list[str]:
+    """Each constraint's `= 0` row (with its `&\\quad` continuations, before its row of a) in
+    the Constraints section."""
+    section = fragment.split(r"\subsection*{Constraints}", 1)[1].split(r"\subsection*", 1)[0]
+    rows = []
+    for item in section.split(r"\noindent Constraint ")[1:]:
+        block = item.split(r"\begin{align*}", 1)[1].split(r"\end{align*}", 1)[0]
+        lines = [line.strip().removesuffix(r"\\").strip() for line in block.strip().splitlines()]
+        rows += lines[:next(k for k, line in enumerate(lines) if k and not line.startswith("&"))]
+    return rows
 
 
 @pytest.mark.parametrize("name", BUNDLED)

@@ -61,8 +61,9 @@ def solve_stationary(equations, unknowns, parameters: dict, guesses) -> list[Sta
     return distinct(_symbolic(equations, unknowns, parameters) or search(problem, guesses, vary=False), problem)
 
 
-def rest_problem(equations, unknowns, n: int, parameters: dict, angles) -> RestProblem:
-    """The equations with the parameters' values, compiled for the numeric search."""
+def rest_problem(equations, unknowns, n: int, parameters: dict, angles, pose=None) -> RestProblem:
+    """The equations with the parameters' values, compiled for the numeric search
+    (`pose`: the pose key of the coordinates, `pose.pose_function`)."""
     numbers = {s: sp.Float(v, 30) for s, v in parameters.items()}
     exprs = [sp.sympify(e).xreplace(numbers) for e in equations]
     k = len(unknowns)
@@ -72,7 +73,7 @@ def rest_problem(equations, unknowns, n: int, parameters: dict, angles) -> RestP
     return RestProblem(lambda z: np.asarray(f(z), dtype=float).reshape(-1),
                        lambda z: np.asarray(jac(z), dtype=float).reshape(len(exprs), k),
                        n,
-                       frozenset(index[s] for s in angles))
+                       frozenset(index[s] for s in angles), pose)
 
 
 @dataclass(frozen=True)
@@ -82,12 +83,15 @@ class RestPoint:
     linear: object                      # LinearModel about it (None at a singular point)
     stability: object                   # Stability (None at a singular point)
     free: tuple[str, ...] = ()          # coordinates it is an equilibrium for any value of
+    singular: object = None             # singular_chart.CoordinateSingularity where M is singular
 
 
 def equilibria(d, parameters: dict, guesses: list[dict], independent=(), compiled=None) -> list[RestPoint]:
     """Every equilibrium found, with its linearization and stability (`compiled`: the
     derivation's `linearize.CompiledSystem`, when the caller has it)."""
     from lagcli.analysis.linearize import CompiledSystem
+    from lagcli.analysis.pose import pose_expressions, pose_function
+    from lagcli.analysis.singular_chart import Charts
     from lagcli.model.angles import angle_coordinates
 
     model = d.model
@@ -101,30 +105,55 @@ def equilibria(d, parameters: dict, guesses: list[dict], independent=(), compile
     unknowns = list(model.q) + list(d.multipliers)
     symbols = {p.symbol: parameters[p.symbol.name] for p in (*model.parameters, *model.inputs)}
     angles = [q for q in model.q if q.name in angle_coordinates(model)]
-    problem = rest_problem(list(balance) + holonomic, unknowns, len(model.q), symbols, angles)
+    pose = pose_expressions(model, symbols)
+    problem = rest_problem(list(balance) + holonomic, unknowns, len(model.q), symbols, angles,
+                           pose_function(model, symbols, pose))
     closed = [] if d.constraints else _symbolic(list(balance), unknowns, symbols)
     starts = [[g.get(s.name, 0.0) for s in unknowns] for g in guesses]
     found = distinct(closed + search(problem, starts), problem)
     system = compiled or CompiledSystem(d)
-    return [_rest_point(system, s, parameters, independent) for s in found]
+    charts = _Lazy(lambda: Charts(d, parameters, pose))
+    points = [_rest_point(system, charts, s, parameters, independent, problem.angles) for s in found]
+    return [p for p in points if p is not None]
 
 
-def _rest_point(system, s: Stationary, parameters: dict, independent) -> RestPoint:
-    """`s` linearized (a RestPoint); `system` is the derivation's `CompiledSystem`."""
+class _Lazy:
+    """A value made on first use (the charts of singular points are compiled only when needed)."""
+
+    def __init__(self, make):
+        self._make, self._value = make, None
+
+    def __call__(self):
+        if self._value is None:
+            self._value = self._make()
+        return self._value
+
+
+def _rest_point(system, charts, s: Stationary, parameters: dict, independent, angles) -> RestPoint | None:
+    """`s` linearized (a RestPoint); `system` is the derivation's `CompiledSystem`. Where the
+    mass matrix is singular because of the coordinates, the other descriptions of the pose
+    decide (`singular_chart.py`); None when they show it is no equilibrium."""
     from lagcli.analysis.linearize import SingularPoint, linearize
     from lagcli.analysis.operating_point import Point
+    from lagcli.analysis.singular_chart import examine
     from lagcli.analysis.stability import stability
 
     model = system.derivation.model
     n = len(model.q)
-    point = Point(0.0, np.array(s.values[:n]), np.zeros(n), dict(parameters))
-    try:
-        lm = linearize(system, point, independent)
-    except SingularPoint:
-        lm = None
     names = [q.name for q in model.q]
+    q = np.array(s.values[:n])
+    lm, singular = None, None
+    if not system.derivation.constraints and charts().singular(q):
+        singular = examine(charts(), q, frozenset(names[k] for k in angles))
+        if not singular.equilibrium:
+            return None
+    else:
+        try:
+            lm = linearize(system, Point(0.0, q, np.zeros(n), dict(parameters)), independent)
+        except SingularPoint:
+            lm = None
     return RestPoint(dict(zip(names, s.values[:n])), dict(zip(names, s.symbolic[:n])) if s.symbolic else None,
-                     lm, stability(lm) if lm is not None else None, tuple(names[k] for k in s.free))
+                     lm, stability(lm) if lm is not None else None, tuple(names[k] for k in s.free), singular)
 
 
 def _require_autonomous(d) -> None:

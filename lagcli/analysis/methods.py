@@ -98,7 +98,7 @@ def linearization(d, lm, st) -> Linearization:
     names = {n: printer.doprint(model.symbol(n)) for n in (*lm.states, *lm.inputs)}
     return Linearization(model.name, point, lm.states, lm.inputs, lm.coordinates, lm.speeds, lm.dependent,
                          lm.A, lm.B, lm.M, lm.C, lm.K, lm.B2, lm.speed_rates, st.eigenvalues, st.neutral,
-                         st.negative_stiffness, st.verdict, names)
+                         st.negative_stiffness, st.verdict, st.evidence, st.drift, st.defective, names)
 
 
 def equilibria(system, parameters=None, inputs=None, guesses=None) -> Equilibria:
@@ -109,7 +109,7 @@ def equilibria(system, parameters=None, inputs=None, guesses=None) -> Equilibria
     found = find(d, values, default_guesses(d, _guesses(d, guesses)))
     return Equilibria(d.model.name, values, tuple(
         Equilibrium(e.coordinates, e.symbolic, linearization(d, e.linear, e.stability) if e.linear else None,
-                    e.free)
+                    e.free, e.singular)
         for e in found))
 
 

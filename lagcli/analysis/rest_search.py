@@ -20,8 +20,11 @@ first guess: the family's directions are the null space of dE/dz there (each che
 a small step that stays a solution), the step is the coordinates' distance to the
 guess projected onto them (at most `STEP_LIMIT` long, halved until the solve from its
 end stays within `BEND` of it), until the step vanishes or the distance grows. The coordinates
-those directions move are reported. Repeats are merged last, angles compared modulo
-2 pi and reported in [0, 2 pi).
+those directions move are reported. Repeats are merged last: two solutions are one when
+they put the system in one pose (`pose.py`: positions and rotation matrices, so an
+angle a turn on, or Euler angles (psi + pi, -theta, phi + pi), is the same pose), or,
+for equations with no pose (Routh's), when their coordinates agree with angles compared
+modulo 2 pi. Angles are reported in [0, 2 pi).
 """
 from __future__ import annotations
 
@@ -51,12 +54,14 @@ class Stationary:
 @dataclass(frozen=True)
 class RestProblem:
     """E(z) = 0 compiled: `residual(z)`, `jacobian(z)`; the first `n` unknowns are the
-    coordinates, `angles` their indices that are angles."""
+    coordinates, `angles` their indices that are angles; `pose(q)`: the pose key of
+    coordinates q (`pose.pose_function`), or None."""
 
     residual: object
     jacobian: object
     n: int
     angles: frozenset
+    pose: object = None
 
 
 def search(problem: RestProblem, guesses: list[list[float]], vary: bool = True) -> list[Stationary]:
@@ -168,11 +173,52 @@ def _distance(problem: RestProblem, z: np.ndarray, reference: list[float]) -> fl
 
 def distinct(found: list[Stationary], problem: RestProblem) -> list[Stationary]:
     """`found` with angles in [0, 2 pi), without repeats (the first of each kept), sorted."""
-    unique: list[Stationary] = []
+    unique: list[tuple[Stationary, object]] = []
     for s in (wrapped(s, problem) for s in found):
-        if not any(_close(np.array(s.values), np.array(u.values), problem) for u in unique):
-            unique.append(s)
-    return sorted(unique, key=lambda s: s.values[:problem.n])
+        key = problem.pose(s.values[:problem.n]) if problem.pose else np.array(s.values)
+        match = next((k for k, (u, other) in enumerate(unique)
+                      if _same(key, other, problem) or _one_family(problem, u, key)), None)
+        if match is None:
+            unique.append((s, key))
+        elif s.free and not unique[match][0].free:      # a closed form keeps the family's coordinates
+            unique[match] = (replace(unique[match][0], free=s.free), unique[match][1])
+    return sorted((s for s, _ in unique), key=lambda s: s.values[:problem.n])
+
+
+def _one_family(problem: RestProblem, s: Stationary, key: np.ndarray) -> bool:
+    """Some member of the family of `s` (a straight line or plane along its family
+    directions) has the pose `key`: started from the projection of the way there and from
+    each direction turned a quarter, half and three quarters of a turn on."""
+    from scipy.optimize import least_squares
+
+    from lagcli.analysis.pose import same_pose
+
+    if not (s.free and problem.pose):
+        return False
+    z = np.array(s.values)
+    directions = family_directions(problem, z)[:problem.n]
+    if not directions.size:
+        return False
+    q = z[:problem.n]
+    miss = lambda c: problem.pose(q + directions @ c) - key   # noqa: E731 (a one-line residual)
+    for start in _family_starts(problem, directions):
+        with np.errstate(all="ignore"):
+            c = least_squares(miss, start, xtol=1e-15, ftol=1e-15, gtol=1e-15, max_nfev=100).x
+        if same_pose(problem.pose(q + directions @ c), key):
+            return True
+    return False
+
+
+def _family_starts(problem: RestProblem, directions: np.ndarray) -> list[np.ndarray]:
+    """0, and each family direction moved so that its largest angle turns by quarter turns."""
+    starts = [np.zeros(directions.shape[1])]
+    for k, column in enumerate(directions.T):
+        angle = max((abs(column[j]) for j in problem.angles), default=0.0)
+        for turn in (1, 2, 3) if angle > 1e-6 else ():
+            start = np.zeros(directions.shape[1])
+            start[k] = turn * math.pi / 2 / angle
+            starts.append(start)
+    return starts
 
 
 def wrapped(s: Stationary, problem: RestProblem) -> Stationary:
@@ -195,7 +241,10 @@ def _difference(a: float, b: float, angle: bool) -> float:
     return math.remainder(a - b, _TURN) if angle else a - b
 
 
-def _close(a: np.ndarray, b: np.ndarray, problem: RestProblem, skip: int = -1) -> bool:
-    """The coordinates of `a` and `b` (all but `skip`) agree within SAME."""
-    return all(abs(_difference(a[k], b[k], k in problem.angles)) < SAME
-               for k in range(problem.n) if k != skip)
+def _same(a: np.ndarray, b: np.ndarray, problem: RestProblem) -> bool:
+    """`a` and `b` (pose keys, or the unknowns when there is no pose) are one solution."""
+    if problem.pose:
+        from lagcli.analysis.pose import same_pose
+
+        return same_pose(a, b)
+    return all(abs(_difference(a[k], b[k], k in problem.angles)) < SAME for k in range(problem.n))

@@ -3,6 +3,8 @@ so every other report is unchanged): the laws, and per event its g, direction an
 action; an impact's G = dg/dq row, g_t and restitution; a reset's new values."""
 from __future__ import annotations
 
+from lagcli.interface import contact_force_name
+
 
 def hybrid_content(d, p) -> dict:
     """The report keys `input_laws` and `events` (absent when the spec has none); `p`
@@ -37,7 +39,7 @@ def check_lines(d) -> list[str]:
         if e.action == "impact":
             line += f"; G = [{', '.join(spec_str(x) for x in e.G)}], e = {spec_str(e.restitution)}"
             if e.hold_bias is not None:
-                line += "; held at rest after an accumulation (rest: true)"
+                line += f"; held while it pushes (rest: true), force column {contact_force_name(e.name)}"
         if e.action == "reset":
             line += "; " + ", ".join(f"{name} <- {spec_str(v)}" for name, v in e.reset)
         lines.append(line)

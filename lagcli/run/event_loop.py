@@ -1,230 +1,26 @@
-"""The Python backend's run with events and input laws: scipy's solvers, step by step.
-
-Each step of the solver (DOP853 by default) is checked for a sign change of every
-event function g between the step's ends, in the event's direction; the earliest
-root is found with `scipy.optimize.brentq` on the step's dense output (the same
-interpolant scipy's own `solve_ivp(events=...)` searches), so event times are as
-accurate as the integrator. Output rows before the event come from that dense
-output; then the action happens and a new solver starts from (t*, y+): a grid row
-never mixes the motion before and after an event (a row at exactly t* shows y+).
-
-    impact  y+ from lagcli.run.impact (positions kept), impulse P recorded
-    reset   the listed states from the state before; checked against the constraints
-    stop    the run ends at t*, its last row the state there
-
-A run never loops forever on accumulating events (a ball with e < 1 bounces
-infinitely often before a finite time). It ends, with a note, at the event where
-
-    - the same event recurs within ACCUMULATION_GAP * max(1, |t|) of its last time, or
-    - an impact leaves with a separation speed below RESTING_SPEED times the largest
-      approach speed of that event so far (the contact has come to rest), or
-    - EVENT_BUDGET events have happened;
-
-the last row is the state after that event, at its time. Right after an event, the
-event just handled is watched on 8 samples of the first step's dense output (its g
-starts at zero): a return to zero within that step is found too, and one that cannot
-be resolved there counts as an accumulation. An impact event with `rest: true` that
-accumulates does not end the run: its contact is held from there on as a constraint
-(lagcli/run/contact.py), without that event, and the run goes on to t_end with a note.
+"""The Python backend's run with events: the event loop of lagcli/runtime/event_loop_code.py
+(the one the generated Python module carries), with what only lagcli adds to it: the
+contacts of impact events with `rest: true` (lagcli/run/contact.py), held as a constraint
+where their impacts accumulate (or where the run starts resting on them) while they push,
+released where they would pull; and its failures as `SimulationError`s.
 """
 from __future__ import annotations
 
-import numpy as np
-from scipy.optimize import brentq
-
 from lagcli.errors import SimulationError
-from lagcli.interface import (ACCUMULATION_GAP, EVENT_BUDGET, FIRST_STEP_SAMPLES, RESTING_SPEED,
-                              STEP_BUDGET_TEXT)
-from lagcli.run.contact import hold_contact, hold_note
-from lagcli.run.impact import approach_speed, impact
-from lagcli.runtime.run_rules import max_step
-from lagcli.run.records import EventRecord, end_note
-
-_XTOL = 4 * np.finfo(float).eps
+from lagcli.interface import CONSTRAINT_TOLERANCE
+from lagcli.runtime import event_loop_code
 
 
-class _End(Exception):
-    """The run ends early at an event (stop, accumulation, budget): `note` says why."""
-
-    def __init__(self, note: str | None, event: int | None = None, why: str = ""):
-        self.note, self.event, self.why = note, event, why     # event: the one that accumulates
-
-
-def run_events(solver_class, fun, row, y0, s, cap, hybrid, times, sink, progress, check, residual):
-    """Integrate from t = 0 to s.t_end with `hybrid`'s events, giving rows for the output
-    `times` (an iterator, 0 first) to `sink`; returns (records, note). `check(t, y)` raises
-    on a non-finite state; `residual(t, y)` is the constraint residual (None: unconstrained).
-    The events go to `sink.events` as they happen; returns why the run ended early (or None)."""
-    records = sink.events
-    state = _State(hybrid, records)
-    t0, y, fired = 0.0, np.array(y0, dtype=float), None
-    pending = next(times, None)
-    budget = _StepBudget(s.step_budget)
-    held = None                       # the note of a contact held after its accumulation (rest: true)
-    while True:
-        try:
-            solver = solver_class(fun, t0, y, s.t_end, rtol=s.rtol, atol=s.atol, max_step=cap)
-            hit, pending = _segment(solver, state.hybrid, fired, pending, times, row, sink, progress, check,
-                                    budget)
-            if hit is None:
-                return held
-            t0, y, fired = state.act(*hit, residual)
-        except _End as end:
-            if end.event is None or held is not None or state.hybrid.events[end.event].hold_bias is None:
-                sink.add_row(row(state.t, state.y))
-                return end.note
-            name = state.hybrid.events[end.event].name
-            fun, state.hybrid, y = hold_contact(state.hybrid, end.event, fun, state.t, state.y, s.alpha, s.beta)
-            t0, fired, held = state.t, None, hold_note(name, state.t, end.why)
-            cap = max_step(s.method, s.alpha, s.beta, True)
-
-
-class _StepBudget:
-    """The run's bound on integrator steps (`--max-steps`), over all its segments."""
-
-    def __init__(self, steps: int):
-        self.steps, self.left = steps, steps
-
-    def take(self, t: float) -> None:
-        if self.left == 0:
-            raise SimulationError(f"at t = {t:.10g}: " + STEP_BUDGET_TEXT.format(steps=self.steps))
-        self.left -= 1
-
-
-def _segment(solver, hybrid, fired, pending, times, row, sink, progress, check, budget):
-    """Step until an event or t_end; rows for output times before it. Returns ((index, t*,
-    y-), next output time) or (None, ...) at t_end."""
-    events = hybrid.events
-    g_old = [e.g(solver.t, solver.y) for e in events]
-    first = True
-    while solver.status == "running":
-        t_old = solver.t
-        budget.take(t_old)
-        message = solver.step()
-        if solver.status == "failed":
-            raise SimulationError(f"at t = {solver.t:.10g}: the {type(solver).__name__} integrator failed: "
-                                  f"{message}")
-        check(solver.t, solver.y)
-        dense = solver.dense_output()
-        g_new = [e.g(solver.t, solver.y) for e in events]
-        hit = _earliest(events, g_old, g_new, t_old, solver.t, dense, fired if first else None)
-        end = hit[1] if hit else solver.t
-        while pending is not None and (pending < end or (hit is None and pending <= end)):
-            sink.add_row(row(pending, dense(pending)))
-            pending = next(times, None)
-        if hit is not None:
-            return hit, pending
-        g_old, first = g_new, False
-        if progress is not None:
-            progress(solver.t)
-    return None, pending
-
-
-def _earliest(events, g_old, g_new, t_old, t_new, dense, fired):
-    """(index, t*, y(t*)) of the earliest crossing in (t_old, t_new], or None; `fired`:
-    (index, from_zero, impact) of the event handled just before this step, or None."""
-    best = None
-    for k, e in enumerate(events):
-        if fired is not None and k == fired[0]:
-            bracket = _bracket_after_event(k, e, t_old, t_new, dense, *fired[1:])
-        else:
-            bracket = (t_old, t_new) if _crosses(e.direction, g_old[k], g_new[k]) else None
-        if bracket is None:
-            continue
-        a, b = bracket
-        root = brentq(lambda t: e.g(t, dense(t)), a, b, xtol=_XTOL * max(1.0, abs(b)), rtol=_XTOL) \
-            if a < b else b
-        if best is None or root < best[1]:
-            best = (k, root, dense(root))
-    return best
-
-
-def _crosses(direction: str, before: float, after: float) -> bool:
-    falling, rising = before > 0 >= after, before < 0 <= after
-    return falling if direction == "falling" else rising if direction == "rising" else falling or rising
-
-
-def _bracket_after_event(k, e, t_old, t_new, dense, from_zero: bool, impact: bool):
-    """The event just handled, in the first step after it: where, if anywhere, does g
-    cross again in its direction? Found on FIRST_STEP_SAMPLES samples of the step
-    (`from_zero`: g starts at exactly zero, after an impact or a reset that left g as it
-    was; only an impact must turn back: else it accumulates)."""
-    samples = np.linspace(t_old, t_new, FIRST_STEP_SAMPLES + 1)
-    values = [0.0 if from_zero and i == 0 else e.g(t, dense(t)) for i, t in enumerate(samples)]
-    for i in range(1, len(values)):
-        if _crosses(e.direction, values[i - 1], values[i]):
-            return samples[i - 1], samples[i]
-    first = next((v for v in values if v != 0.0), None)
-    wrong_side = first is not None and ((e.direction == "falling" and first < 0)
-                                        or (e.direction == "rising" and first > 0))
-    if first is None or (impact and wrong_side):
-        raise _End(end_note("unresolved", e.name, t_old, t_old), k, "it recurs faster than a step resolves")
-    return None
-
-
-class _State:
-    """The actions, the records and the accumulation rules."""
-
-    def __init__(self, hybrid, records):
-        self.hybrid, self.records = hybrid, records
-        self.last: dict[str, float] = {}
-        self.fastest: dict[str, float] = {}
-        self.t, self.y = 0.0, None
-
-    def act(self, k: int, t: float, y_minus, residual):
-        e = self.hybrid.events[k]
-        y_minus = np.asarray(y_minus, dtype=float)
-        self.t, self.y = t, y_minus
-        impulse, note, why = None, None, ""
-        if e.action == "stop":
-            self._record(t, e, y_minus, y_minus, None)
-            raise _End(None)
-        if e.action == "reset":
-            y_plus = e.reset(t, y_minus)
-            self._check_constraints(e, t, y_plus, residual)
-            from_zero = e.g(t, y_plus) == e.g(t, y_minus)     # g left at its root: it has crossed
-        else:
-            y_plus, impulse, note = self._impact(e, t, y_minus)
-            why, from_zero = "the contact has come to rest", True
-        self._record(t, e, y_minus, y_plus, impulse)
-        self.y = y_plus
-        gap = t - self.last.get(e.name, -np.inf)
-        self.last[e.name] = t
-        if note is None and gap < ACCUMULATION_GAP * max(1.0, abs(t)):
-            note = end_note("recurred", e.name, t, gap)
-            why = f"it recurred after {gap:.3g} s"
-        if note is None and len(self.records) >= EVENT_BUDGET:
-            raise _End(end_note("budget", e.name, t, EVENT_BUDGET))
-        if note is not None:
-            raise _End(note, k, why)
-        return t, y_plus, (k, from_zero, e.action == "impact")
-
-    def _impact(self, e, t, y_minus):
-        n = len(y_minus) // 2
-        q, qd = y_minus[:n], y_minus[n:]
-        G, g_t = e.G(t, y_minus), float(e.g_t(t, y_minus))
-        A, d = self.hybrid.constraint_rows(t, y_minus)
-        try:
-            qd_plus, P = impact(self.hybrid.mass_matrix(t, y_minus), A, d, G, g_t, e.restitution, qd)
-        except SimulationError as exc:
-            raise SimulationError(f"at t = {t:.10g}: event '{e.name}' (impact): {exc}") from None
-        y_plus = np.concatenate([q, qd_plus])
-        before, after = abs(approach_speed(G, g_t, qd)), abs(approach_speed(G, g_t, qd_plus))
-        self.fastest[e.name] = max(self.fastest.get(e.name, 0.0), before)
-        note = None
-        if after <= RESTING_SPEED * self.fastest[e.name]:
-            note = end_note("resting", e.name, t, after)
-        return y_plus, P, note
-
-    def _check_constraints(self, e, t, y_plus, residual) -> None:
-        from lagcli.interface import CONSTRAINT_TOLERANCE
-
-        value = residual(t, y_plus)
-        if value is not None and value > CONSTRAINT_TOLERANCE:
-            raise SimulationError(f"at t = {t:.10g}: event '{e.name}' (reset) gives a state that violates the "
-                                  f"constraints (constraint_residual = {value:.3g}); reset the dependent "
-                                  "coordinates and velocities consistently")
-
-    def _record(self, t, e, before, after, impulse) -> None:
-        self.records.append(EventRecord(float(t), e.name, e.action, tuple(map(float, before)),
-                                        tuple(map(float, after)), impulse))
+def run_events(solver_class, fun, row, y0, s, cap, hybrid, times, sink, progress, check, residual,
+               contacts=None):
+    """Integrate from t = 0 to s.t_end with `hybrid`'s events (lagcli.targets.numeric.Hybrid),
+    giving rows for the output `times` (an iterator, 0 first) to `sink`; the events go to
+    `sink.events` as they happen. `check(t, y)` raises on a non-finite state;
+    `residual(t, y)` is the constraint residual (None: unconstrained); `contacts`: the
+    `rest: true` events (lagcli.run.contact.Contacts; then `fun` is its `rhs`). Returns why
+    the run ended early (or None)."""
+    try:
+        return event_loop_code.run_events(solver_class, fun, row, y0, s, cap, hybrid, times, sink, progress,
+                                          check, residual, CONSTRAINT_TOLERANCE, contacts)
+    except event_loop_code.EventRunFailure as exc:
+        raise SimulationError(str(exc)) from None

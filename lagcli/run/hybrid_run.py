@@ -14,6 +14,7 @@ import numpy as np
 
 from lagcli.errors import SimulationError
 from lagcli.interface import RESIDUAL, RunSettings
+from lagcli.run.contact import contacts_of
 from lagcli.run.python_backend import PythonModule
 from lagcli.run.rows import RowSink
 from lagcli.run.event_loop import run_events
@@ -43,6 +44,14 @@ def integrate_hybrid(module, p, y0, s, hybrid, u_constant, progress=None, sink=N
     def row(t, y):
         return module.output_row(t, y, accelerations(t, y)[1], p)
 
+    contacts = contacts_of(hybrid, accelerations, s.alpha, s.beta)
+    if contacts is not None:                 # `rest: true`: the contact forces are the last columns
+        fun = contacts.rhs
+
+        def row(t, y):
+            lam, forces = contacts.multipliers(t, y)
+            return module.output_row(t, y, lam, p) + forces
+
     def residual(t, y):
         return module.invariants(t, y, p)[RESIDUAL] if module.MULTIPLIERS else None
 
@@ -54,7 +63,7 @@ def integrate_hybrid(module, p, y0, s, hybrid, u_constant, progress=None, sink=N
         try:
             _check_finite(0.0, np.asarray(y0, dtype=float))
             sink.end_note = run_events(SOLVERS[s.method], fun, row, y0, s, cap, hybrid, times,
-                                       sink, progress, _check_finite, residual)
+                                       sink, progress, _check_finite, residual, contacts)
         except SimulationError as exc:
             sink.failure = str(exc)
         except KeyboardInterrupt:

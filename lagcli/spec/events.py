@@ -8,7 +8,7 @@
         direction: falling                # falling (default) | rising | either
         action: impact                    # impact | reset | stop
         restitution: e                    # impact: a constant expression in [0, 1]
-        rest: true                        # impact: after an accumulation, hold g = 0 (default false)
+        rest: true                        # impact: hold g = 0 while it pushes (default false)
       - {name: step, when: theta + alpha, action: reset, reset: {theta: theta + 2*alpha}}
 
 Shapes, names and references are checked here; what the expressions may depend on
@@ -19,6 +19,7 @@ from __future__ import annotations
 
 from typing import Any
 
+from lagcli.interface import contact_force_name
 from lagcli.spec.checker import did_you_mean
 from lagcli.spec.format import ACTIONS, DIRECTIONS, EVENT
 from lagcli.spec.reader import KeyPath
@@ -67,13 +68,16 @@ def _event(checker, path: KeyPath, value: Any, names: set[str]) -> Event | None:
     restitution = _restitution(checker, path, table, action)
     reset = _reset(checker, path, table, action)
     rest = _rest(checker, path, table, action)
+    if rest and name is not None and contact_force_name(name) in checker.coordinate_names:
+        checker.fail(path + ("name",), f"a coordinate is called '{contact_force_name(name)}', the column of this "
+                     "event's contact force (rest: true)", "rename the event or the coordinate")
     if None in (name, direction, action, when, reset, rest):
         return None
     return Event(name, when, direction, action, restitution, reset, checker.raw.loc(path), rest)
 
 
 def _rest(checker, path: KeyPath, table: dict, action: str | None) -> bool | None:
-    """`rest: true`: after an accumulation, hold the impact's contact g = 0 as a constraint."""
+    """`rest: true`: hold the impact's contact g = 0 as a constraint while it pushes (lagcli/run/contact.py)."""
     value = table.get("rest", False)
     if not isinstance(value, bool):
         checker.fail(path + ("rest",), f"expected true or false; got {value!r}")

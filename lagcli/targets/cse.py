@@ -10,6 +10,7 @@ import sympy as sp
 from sympy.simplify.cse_opts import sub_post
 
 from lagcli.targets.expressions import Outputs
+from lagcli.targets.minus_sign import could_extract_minus_sign
 from lagcli.render.tidy import factored
 
 
@@ -29,10 +30,12 @@ def signs_normalised(memo: dict):
     which `xreplace` reads by key): the test and the sort were 80% of `generate` of
     the 20-link chain (bench/README.md). Its `atoms` and `xreplace` visit each distinct
     subexpression once (`sums`, `xreplaced`): a big system's trees share subtrees, which
-    sympy's walk once per occurrence (a third of `generate` of the 40-link chain)."""
+    sympy's walk once per occurrence (a third of `generate` of the 40-link chain); a
+    tie of signs is broken by the sum's leading term (`minus_sign`), not by the sort
+    keys of the whole sum."""
     def extracts(add) -> bool:
         if add not in memo:
-            memo[add] = add.could_extract_minus_sign()
+            memo[add] = could_extract_minus_sign(add)
         return memo[add]
 
     def normalise(expr):

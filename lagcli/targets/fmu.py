@@ -147,7 +147,7 @@ def fmu_context(c_context: dict, descriptions: dict, compiled: list[str], nevent
                 literal=c_context["literal"], method=method,
                 max_step=c_context["literal"](max_step(method, *i.baumgarte, layout.constrained)),
                 max_steps=STEP_BUDGET_BASE + STEP_BUDGET_PER_OUTPUT,
-                nevent=nevent,
+                nevent=nevent, constraint_tolerance=c_context["constraint_tolerance"],
                 **model_structure(variables))
 
 

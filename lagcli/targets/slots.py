@@ -83,12 +83,20 @@ class SlotPrinter:
     def __init__(self, table: dict, settings: dict | None = None):
         super().__init__({"strict": True, **(settings or {})})
         self.slots = table
+        self._printed: dict = {}       # expression -> code: the blocks share temporaries
 
     def code(self, expr) -> str:
-        try:
-            return self._print(sp.sympify(expr))
-        except PrintMethodNotImplementedError as exc:
-            raise EmitError(f"cannot generate code for {expr}: {exc}") from exc
+        """`expr` as code; each distinct expression printed once (a temporary is in the
+        mass matrix's, the system's and the invariants' bodies: printing was a sixth of
+        `generate` of the 40-link chain)."""
+        expr = sp.sympify(expr)
+        text = self._printed.get(expr)
+        if text is None:
+            try:
+                text = self._printed[expr] = self._print(expr)
+            except PrintMethodNotImplementedError as exc:
+                raise EmitError(f"cannot generate code for {expr}: {exc}") from exc
+        return text
 
     def _print_Symbol(self, expr):
         try:

@@ -28,8 +28,8 @@ Choosing what is drawn (`PlotOptions`, `lagcli simulate --columns/--phase`):
   when the caller knows which coordinates are angles (the layout's `angles`, from `lagcli.model.angles`: a
   body's rotation angle, or the argument of a sin/cos/tan in a position or energy);
 - `--columns a,b,...` draws exactly those columns, one panel per kind, in the order
-  angles, lengths, velocities, multipliers, invariants (their values; the drift panel
-  below stays);
+  angles, lengths, velocities, multipliers, contact forces, invariants (their values; the
+  drift panel below stays); a held contact's force (`rest: true`) is drawn by default too;
 - `--phase q` adds a phase portrait, q_dot against q;
 - `units` (column -> unit: the run interface's `Layout.units`, from the spec's `unit:`s) labels
   the legend and the axes: "x [m]", "t [s]" (`axis_label`).
@@ -55,7 +55,7 @@ ABSOLUTE_BELOW = 1e-12
 FIGURE_FORMATS = {".png": "png", ".svg": "svg", ".pdf": "pdf"}
 _NO_DATE = {"svg": {"metadata": {"Date": None}}, "pdf": {"metadata": {"CreationDate": None}}}
 PANELS = (("angle", "angle (rad)"), ("length", "coordinates"), ("velocity", "velocities"),
-          ("multiplier", "multipliers"), ("invariant", "invariants"))
+          ("multiplier", "multipliers"), ("contact", "contact forces"), ("invariant", "invariants"))
 
 
 @dataclass(frozen=True)
@@ -72,7 +72,7 @@ def column_kind(name: str, kinds: dict, angles) -> str | None:
     kind = kinds.get(name)
     if kind == "coordinate":
         return "angle" if name in angles else "length"
-    if kind in ("velocity", "multiplier"):
+    if kind in ("velocity", "multiplier", "contact"):
         return kind
     return "invariant" if kind in INVARIANT_KINDS else None
 
@@ -168,11 +168,12 @@ def build_figure(traj: Trajectory, coordinates, energy_conserved: bool, title: s
 def _panels(header, coordinates, options: PlotOptions) -> list[tuple[str, list[str]]]:
     """(y label, column names) per panel: the coordinates by default (one panel unless
     angles are known), else the chosen columns grouped by kind."""
-    chosen = list(coordinates) if options.columns is None else list(options.columns)
+    contacts = [n for n in header if options.kinds.get(n) == "contact"]     # drawn by default too
+    chosen = list(coordinates) + contacts if options.columns is None else list(options.columns)
     unknown = [n for n in chosen if n not in header or n == TIME]
     if unknown:
         raise UsageError(f"--columns: no column {unknown[0]!r}; columns are: {', '.join(header[1:])}")
-    if options.columns is None and not options.angles:
+    if options.columns is None and not options.angles and not contacts:
         return [("coordinates", chosen)] if chosen else []
     kinds = {name: column_kind(name, options.kinds, options.angles) for name in chosen}
     return [(label, [n for n in chosen if kinds[n] == kind]) for kind, label in PANELS

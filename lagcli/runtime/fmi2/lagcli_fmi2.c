@@ -54,6 +54,10 @@ typedef struct {
     int failed;                   /* the model function's code when they could not be computed */
 #ifdef LAGCLI_FMU_NEVENT
     double g_before[LAGCLI_FMU_NEVENT];   /* each event function at the last event or accepted step */
+    double last[LAGCLI_FMU_NEVENT];       /* each event's last time */
+    double fastest[LAGCLI_FMU_NEVENT];    /* each impact's largest approach speed */
+    long events;                          /* the events so far */
+    double *y_minus, *G, *d;              /* the state before an event; an impact's dg/dq, d */
 #endif
 } instance;
 
@@ -166,6 +170,15 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
     c->dydt = (double *)allocate(c, count_states());
     c->lambda = (double *)allocate(c, (size_t)MODEL->nlambda);
     c->inv = (double *)allocate(c, (size_t)MODEL->ninv);
+#ifdef LAGCLI_FMU_NEVENT
+    c->y_minus = (double *)allocate(c, count_states());
+    c->G = (double *)allocate(c, (size_t)MODEL->nq);
+    c->d = (double *)allocate(c, (size_t)MODEL->nlambda);
+    if (!c->y_minus || !c->G || !c->d) {
+        fmi2FreeInstance(c);
+        return NULL;
+    }
+#endif
     if (!c->y || !c->p || !c->u || !c->dydt || !c->lambda || !c->inv) {
         fmi2FreeInstance(c);
         return NULL;
@@ -186,6 +199,11 @@ void fmi2FreeInstance(fmi2Component component)
     release(c->dydt);
     release(c->lambda);
     release(c->inv);
+#ifdef LAGCLI_FMU_NEVENT
+    release(c->y_minus);
+    release(c->G);
+    release(c->d);
+#endif
     release((void *)c->name);
     release(c);
 }
@@ -211,11 +229,23 @@ fmi2Status fmi2EnterInitializationMode(fmi2Component component)
     return fmi2OK;
 }
 
+#ifdef LAGCLI_FMU_NEVENT
+static fmi2Status check_restitution(instance *c);
+#endif
+
 fmi2Status fmi2ExitInitializationMode(fmi2Component component)
 {
 #ifdef LAGCLI_FMU_NEVENT
     instance *c = (instance *)component;
-    lagcli_fmu_event_functions(c->t, c->y, c->p, c->g_before);
+    int k;
+    MODEL->events->functions(c->t, c->y, c->p, c->g_before);
+    for (k = 0; k < LAGCLI_FMU_NEVENT; ++k) {
+        c->last[k] = -HUGE_VAL;
+        c->fastest[k] = 0.0;
+    }
+    c->events = 0;
+    if (check_restitution(c) != fmi2OK)
+        return fmi2Error;
 #endif
     return compute((instance *)component);
 }
@@ -417,9 +447,16 @@ static void nothing_new(fmi2EventInfo *info)
 }
 
 #ifdef LAGCLI_FMU_NEVENT
-/* --- events (the model's event functions, lagcli_fmu_model.h) ---------------------- */
+/* --- events (the model's event functions, lagcli_fmu_model.h) ---------------------- *
+ * The rules of `lagcli simulate` (lagcli_events.h): after an impact, or a reset that
+ * leaves g as it was, the event has crossed (its g counts as 0 where the importer goes
+ * on; an impact's must turn back); a reset's new state must satisfy the constraints; the
+ * simulation terminates (terminateSimulation, with a warning saying why) where an event
+ * recurs within LAGCLI_EVENTS_GAP max(1, |t|), an impact leaves slower than
+ * LAGCLI_EVENTS_RESTING times the largest approach speed of its event, or after
+ * LAGCLI_EVENTS_BUDGET events. */
 
-#define MODEL_NQ_MAX 256              /* the largest model whose resets are done here */
+#define EVENTS (MODEL->events)
 
 static int crossed(int direction, double before, double after)
 {
@@ -431,44 +468,136 @@ static int crossed(int direction, double before, double after)
 static int crossing(instance *c, double *g)
 {
     int k;
-    lagcli_fmu_event_functions(c->t, c->y, c->p, g);
+    EVENTS->functions(c->t, c->y, c->p, g);
     for (k = 0; k < LAGCLI_FMU_NEVENT; k++)
-        if (crossed(lagcli_fmu_event_directions[k], c->g_before[k], g[k]))
+        if (crossed(EVENTS->directions[k], c->g_before[k], g[k]))
             return k;
     return -1;
 }
 
-/* Impact k: the velocities after it, in place (lagcli_events_impact: the impact law of
- * the C runtime). Nonzero: singular or not finite. */
-static int impact(instance *c, int k)
+/* dg/dt = G q' + g_t of impact k at the state before it, with the velocities qd. */
+static double approach_speed(instance *c, int k, const double *qd)
 {
+    double g_t, e, speed = 0.0;
+    int i;
+    EVENTS->impact_terms(k, c->t, c->y_minus, c->p, c->G, &g_t, &e, c->d);
+    for (i = 0; i < MODEL->nq; ++i)
+        speed += c->G[i] * qd[i];
+    return speed + g_t;
+}
+
+/* Every impact's restitution in [0, 1] with the parameters set (fmi2ExitInitializationMode). */
+static fmi2Status check_restitution(instance *c)
+{
+    int k;
+    for (k = 0; k < LAGCLI_FMU_NEVENT; ++k) {
+        double g_t, e;
+        if (EVENTS->actions[k] != LAGCLI_EVENT_IMPACT)
+            continue;
+        EVENTS->impact_terms(k, c->t, c->y, c->p, c->G, &g_t, &e, c->d);
+        if (!(e >= 0.0 && e <= 1.0)) {
+            say(c, fmi2Error, "logStatusError", "event '%s': restitution = %g with these parameter values; "
+                "it must be in [0, 1]", EVENTS->names[k], e);
+            return fmi2Error;
+        }
+    }
+    return fmi2OK;
+}
+
+/* The action of event k at c->t, the state before it in y_minus: the state after it in
+ * c->y; 1 when the contact has come to rest (an impact), 0, or -1 (failed, logged). */
+static int act(instance *c, int k)
+{
+    const int action = EVENTS->actions[k];
     double P;
-    return lagcli_events_impact(MODEL, k, c->t, c->y, c->p, c->y + MODEL->nq, &P);
+    int rc;
+    if (action == LAGCLI_EVENT_RESET) {
+        EVENTS->reset(k, c->t, c->y_minus, c->p, c->y);
+        c->stale = 1;
+        if (MODEL->residual_column >= 0 && compute(c) == fmi2OK
+            && !(c->inv[MODEL->residual_column] <= LAGCLI_FMU_CONSTRAINT_TOLERANCE)) {
+            say(c, fmi2Error, "logStatusError", "at t = %.10g: event '%s' (reset) gives a state that violates "
+                "the constraints (constraint_residual = %.3g); reset the dependent coordinates and velocities "
+                "consistently", c->t, EVENTS->names[k], c->inv[MODEL->residual_column]);
+            return -1;
+        }
+        return c->failed ? -1 : 0;
+    }
+    if (action == LAGCLI_EVENT_STOP)
+        return 0;
+    rc = lagcli_events_impact(MODEL, k, c->t, c->y_minus, c->p, c->y + MODEL->nq, &P);
+    if (rc != 0) {
+        say(c, fmi2Error, "logStatusError", rc == 1
+            ? "at t = %.10g: event '%s' (impact): the impact's direction dg/dq lies in the span of the constraint "
+              "rows (or the mass matrix is singular): no impulse can change the approach speed"
+            : "at t = %.10g: event '%s' (impact): the velocities after it are not finite (inf/nan)",
+            c->t, EVENTS->names[k]);
+        return -1;
+    }
+    say(c, fmi2OK, "logEvents", "at t = %.17g: event '%s' (impact), impulse %.17g", c->t, EVENTS->names[k], P);
+    {
+        double before = fabs(approach_speed(c, k, c->y_minus + MODEL->nq));
+        double after = fabs(approach_speed(c, k, c->y + MODEL->nq));
+        if (before > c->fastest[k])
+            c->fastest[k] = before;
+        if (after <= LAGCLI_EVENTS_RESTING * c->fastest[k]) {
+            say(c, fmi2Warning, "logEvents", "event '%s' at t = %.10g: separation speed %.3g after the impact "
+                "(below %g x the largest approach speed: the contact has come to rest); the simulation "
+                "terminates there", EVENTS->names[k], c->t, after, LAGCLI_EVENTS_RESTING);
+            return 1;
+        }
+    }
+    return 0;
+}
+
+/* Does the run end at event k, just handled (accumulation, budget)? Logged when it does. */
+static int accumulates(instance *c, int k)
+{
+    const double gap = c->t - c->last[k];
+    c->last[k] = c->t;
+    if (gap < LAGCLI_EVENTS_GAP * (fabs(c->t) > 1.0 ? fabs(c->t) : 1.0)) {
+        say(c, fmi2Warning, "logEvents", "event '%s' recurred after %.3g s at t = %.10g (accumulation: closer "
+            "than %g x max(1, t)); the simulation terminates there", EVENTS->names[k], gap, c->t,
+            LAGCLI_EVENTS_GAP);
+        return 1;
+    }
+    if (++c->events >= LAGCLI_EVENTS_BUDGET) {
+        say(c, fmi2Warning, "logEvents", "%ld events (the budget of one run) by t = %.10g; the simulation "
+            "terminates there", (long)LAGCLI_EVENTS_BUDGET, c->t);
+        return 1;
+    }
+    return 0;
 }
 
 fmi2Status fmi2NewDiscreteStates(fmi2Component component, fmi2EventInfo *info)
 {
     instance *c = (instance *)component;
-    double g[LAGCLI_FMU_NEVENT], y_new[2 * MODEL_NQ_MAX];
-    int k = crossing(c, g);
+    double g[LAGCLI_FMU_NEVENT], g_minus;
+    int k = crossing(c, g), ended;
     nothing_new(info);
-    if (k >= 0 && lagcli_fmu_event_actions[k] == 2) {
-        info->terminateSimulation = fmi2True;
-    } else if (k >= 0 && lagcli_fmu_event_actions[k] == 1 && MODEL->nq <= MODEL_NQ_MAX) {
-        lagcli_fmu_reset(k, c->t, c->y, c->p, y_new);
-        memcpy(c->y, y_new, count_states() * sizeof(double));
-        info->valuesOfContinuousStatesChanged = fmi2True;
-    } else if (k >= 0 && lagcli_fmu_event_actions[k] == 0) {
-        if (impact(c, k)) {
-            say(c, fmi2Error, "logStatusError", "at t = %.17g: event %d (impact): singular impact system", c->t, k);
-            return fmi2Error;
-        }
-        info->valuesOfContinuousStatesChanged = fmi2True;
+    if (k < 0) {
+        memcpy(c->g_before, g, sizeof g);
+        return fmi2OK;
     }
+    g_minus = g[k];
+    memcpy(c->y_minus, c->y, count_states() * sizeof(double));
+    if ((ended = act(c, k)) < 0)
+        return fmi2Error;
     c->stale = 1;
-    lagcli_fmu_event_functions(c->t, c->y, c->p, c->g_before);
-    if (k >= 0 && lagcli_fmu_event_actions[k] == 0)      /* g = 0 here: it leaves to the side before */
-        c->g_before[k] = lagcli_fmu_event_directions[k] > 0 ? -DBL_MIN : DBL_MIN;
+    if (EVENTS->actions[k] == LAGCLI_EVENT_STOP) {
+        say(c, fmi2OK, "logEvents", "at t = %.17g: event '%s' (stop)", c->t, EVENTS->names[k]);
+        info->terminateSimulation = fmi2True;
+        return fmi2OK;
+    }
+    info->valuesOfContinuousStatesChanged = fmi2True;
+    EVENTS->functions(c->t, c->y, c->p, c->g_before);
+    /* After an impact (its g = 0 here; the impact law sends it back to the side before) or a
+     * reset that left g as it was, g counts as 0: it has crossed, and a round-off sign of g
+     * at its root (where the importer's solver stops next, as g leaves 0) fires nothing. */
+    if (EVENTS->actions[k] == LAGCLI_EVENT_IMPACT || c->g_before[k] == g_minus)
+        c->g_before[k] = 0.0;
+    if (ended || accumulates(c, k))
+        info->terminateSimulation = fmi2True;
     return fmi2OK;
 }
 #else
@@ -547,7 +676,7 @@ fmi2Status fmi2GetEventIndicators(fmi2Component c, fmi2Real eventIndicators[], s
 #ifdef LAGCLI_FMU_NEVENT
     instance *self = (instance *)c;
     if (ni == LAGCLI_FMU_NEVENT) {
-        lagcli_fmu_event_functions(self->t, self->y, self->p, eventIndicators);
+        MODEL->events->functions(self->t, self->y, self->p, eventIndicators);
         return fmi2OK;
     }
 #endif

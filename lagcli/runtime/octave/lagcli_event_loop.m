@@ -6,7 +6,7 @@ function [times_out, states, records, note] = lagcli_event_loop(fun, gfun, act, 
 %   GFUN(t, y) -> [value, isterminal, direction] are the event functions (ode45's
 %   'Events'); ACT(k, t, y) -> [y_new, impulse, speeds] does event k's action (speeds:
 %   the approach speed before and after an impact). MODEL: .names, .actions (cells),
-%   .gap, .resting, .budget, .samples (the rules of lagcli/run/event_loop.py).
+%   .gap, .resting, .budget, .samples (the rules of lagcli/runtime/event_loop_code.py).
 %   RECORDS: one struct per event (t, name, action, before, after, impulse); NOTE: why
 %   the run ended early ('' when it reached the end).
 %
@@ -17,6 +17,12 @@ function [times_out, states, records, note] = lagcli_event_loop(fun, gfun, act, 
 %   before it, by the Illinois method. The output rows are made the same way (a step
 %   from the accepted step before each output time), so a row never mixes the motion
 %   before and after an event: a row at exactly t* shows the state after it.
+%
+%   After an impact, or a reset that leaves g as it was (a kick of velocities g does not
+%   use), g counts as exactly 0 where the next segment starts: the event has crossed, and
+%   a round-off sign of g at its root cannot fire it again (only an impact's g must then
+%   turn back; else its impacts accumulate). A reset's new state is checked against the
+%   constraints by ACT (the generated <name>_event_action).
 %
 %   Shipped with lagcli (lagcli/runtime/octave/); the same text runs in MATLAB.
 t_end = times(end);
@@ -40,19 +46,11 @@ while true
     end
     segment = odeset(options, 'Events', @(t, y) segment_events(gfun, t, y, t0, fired));
     [T, Y, TE, ~, IE] = ode45(fun, [t0, t_end], y, segment);
-    if isempty(IE)
+    [k, t_star, y_minus, ja, ended] = next_event(gfun, fun, T, Y, TE, IE, fired, model);
+    if k == 0               % no event (a report in the first step is never terminal): ode45 ran to
         [times_out, states] = add_rows(times_out, states, times, t0, t_end, y, T, Y, fun, true);
-        return;
+        return;             % t_end, or to the step budget, which lagcli's simulate reports
     end
-    steps = find(T < TE(1));
-    if isempty(steps)
-        steps = 1;
-    end
-    ja = steps(end);
-    if ja > 1
-        fired = 0;          % the event just handled matters only in the first step after it
-    end
-    [k, t_star, y_minus, ended] = locate(gfun, fun, IE(1), T(ja), Y(ja, :).', TE(1), T, fired, model);
     if ended
         note = sprintf(['event ''%s'' recurs at t = %.10g faster than the integrator''s step can ', ...
                         'resolve (accumulation); the run ends there'], model.names{k}, t0);
@@ -80,8 +78,44 @@ while true
     end
     t0 = t_star;
     y = y_plus;
-    fired = k * strcmp(model.actions{k}, 'impact');   % its gap starts at exactly 0
+    fired = k * from_zero(gfun, model, k, t_star, y_minus, y_plus);
 end
+end
+
+function yes = from_zero(gfun, model, k, t, y_minus, y_plus)
+% Does event k's g start the next segment at exactly 0? After an impact (its gap is 0
+% there), and after a reset that left g as it was (a kick of velocities g does not use):
+% the event has crossed, and a round-off sign of g at its root must not fire it again.
+yes = strcmp(model.actions{k}, 'impact');
+if strcmp(model.actions{k}, 'reset')
+    before = gfun(t, y_minus);
+    after = gfun(t, y_plus);
+    yes = after(k) == before(k);
+end
+end
+
+function [k, t_star, y_minus, ja, ended] = next_event(gfun, fun, T, Y, TE, IE, fired, model)
+% The first event among ode45's reports (TE, IE) after the accepted steps (T, Y), located
+% (k = 0: none; ja: the accepted step before it). FIRED: the event just handled, whose g
+% starts at 0: ode45 reports it in the first step wherever g leaves 0, but only a crossing
+% counts (the samples of `locate`), so such a report may be no event.
+k = 0;
+t_star = T(end);
+y_minus = [];
+ended = false;
+for r = 1:numel(IE)
+    steps = find(T < TE(r));
+    if isempty(steps)
+        steps = 1;
+    end
+    ja = steps(end);
+    just = fired * (ja == 1);   % the event just handled matters only in the first step after it
+    [k, t_star, y_minus, ended] = locate(gfun, fun, IE(r), T(ja), Y(ja, :).', TE(r), T, just, model);
+    if k > 0 || ended
+        return;
+    end
+end
+ja = numel(T);
 end
 
 function [value, isterminal, direction] = segment_events(gfun, t, y, t0, fired)
@@ -94,7 +128,7 @@ end
 end
 
 function note = accumulation(model, k, t, gap, speeds, fastest, total)
-% Why the run ends at this event ('' when it goes on): see lagcli/run/event_loop.py.
+% Why the run ends at this event ('' when it goes on): see lagcli/runtime/event_loop_code.py.
 note = '';
 name = model.names{k};
 if ~isempty(speeds) && abs(speeds(2)) <= model.resting * max(fastest, abs(speeds(1)))
@@ -109,9 +143,11 @@ elseif total >= model.budget
 end
 end
 
-function [k, t_star, y_star, ended] = locate(gfun, fun, k, ta, ya, t_guess, T, fired, model)
+function [k, t_star, y_star, ended] = locate(gfun, fun, reported, ta, ya, t_guess, T, fired, model)
 % The earliest zero crossing, in its event's direction, of any event after the accepted
-% step (ta, ya), where ode45 reported event k near t_guess: (event, time, state there).
+% step (ta, ya), where ode45 reported event REPORTED near t_guess: (event, time, state
+% there); k = 0 when the report is the event just handled (FIRED) leaving 0 in the first
+% step without a crossing.
 [g_ta, ~, direction] = gfun(ta, ya);
 g_ta = g_ta(:).';
 if fired > 0
@@ -141,8 +177,9 @@ while true
         end
         before = after;
     end
-    if fired == 0 || direction(fired) == 0 || second(fired) * direction(fired) < 0
-        break;                  % the first sample on the side before a crossing
+    if fired == 0 || ~strcmp(model.actions{fired}, 'impact') || direction(fired) == 0 ...
+            || second(fired) * direction(fired) < 0
+        break;                  % the first sample on the side before a crossing (a reset need not turn back)
     end
     % just after an impact, the first sample is already past a crossing of its gap: the
     % next impact came sooner; look closer, down to the accumulation gap
@@ -152,6 +189,10 @@ while true
         return;
     end
     hi = samples(2);
+end
+if reported == fired
+    k = 0;                      % ode45 saw g leave 0 where the segment starts: no crossing
+    return;
 end
 % the crossing lies beyond the estimate: widen the window
 a = hi;
@@ -167,7 +208,7 @@ for widen = 1:30
     before = after;
 end
 error('lagcli:event', 'event ''%s'': its zero crossing could not be located after t = %.10g', ...
-      model.names{k}, ta);
+      model.names{reported}, ta);
 end
 
 function [found, k, t_star, y_star] = earliest(g, step, direction, a, b, before, after)

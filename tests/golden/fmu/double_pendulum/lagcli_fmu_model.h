@@ -15,7 +15,7 @@
 #include "double_pendulum.h"
 
 #define LAGCLI_FMU_MODEL double_pendulum_model
-#define LAGCLI_FMU_GUID "{03efced5-274d-ebb8-1e39-fdfd2bb5aadf}"
+#define LAGCLI_FMU_GUID "{777e9bf3-c5d9-0da2-7ade-4c106f4e05af}"
 #define LAGCLI_FMU_NINPUT 0u
 #define LAGCLI_FMU_ALPHA 10.0        /* Baumgarte stabilisation (constrained systems) */
 #define LAGCLI_FMU_BETA 10.0
