@@ -174,7 +174,7 @@ def test_gyroscopic_verdict_shows_its_evidence_and_needs_a_steady_motion():
     assert "1 negative eigenvalue" in disc.evidence and "K of theta" in disc.evidence
     assert sorted(abs(s.imag) for s in disc.eigenvalues) == pytest.approx([0, lean, lean], abs=1e-9)
     sphere = lagcli.load(SPECS / "sphere_on_turntable.yaml").linearize(at={"x": 0.3})
-    assert sphere.verdict == "no verdict (not at rest)" and "b_dot'" in sphere.evidence
+    assert sphere.verdict == "no verdict" and "b_dot'" in sphere.evidence
 
 
 def test_every_surface_shows_the_same_verdict_evidence_and_drift():
@@ -188,3 +188,40 @@ def test_every_surface_shows_the_same_verdict_evidence_and_drift():
     assert repr(lin).endswith(f": {lin.verdict}; eigenvalues 0 + 3.50179i, 0 - 3.50179i; drift: x, xl>")
     for shown in (lin._repr_html_(), commands.linearize(path, fmt="latex"), lin._repr_latex_()):
         assert lin.verdict in shown and "Lagrange-Dirichlet" in shown and "drift" in shown
+
+
+def test_the_page_linearizes_at_the_spec_initial_state_and_names_the_point_and_command():
+    """specs/cart_pole.yaml's initial: gives x = 0, theta = 0.05; the velocities are not
+    given and are 0, as `lagcli linearize --at` takes them; the page says so and prints the
+    command whose output agrees."""
+    import shlex
+
+    from click.testing import CliRunner
+
+    from lagcli.cli import cli
+    from lagcli.report.page import _linearization_section
+
+    system = lagcli.load(SPECS / "cart_pole.yaml")
+    html = _linearization_section(system)
+    assert "The point: x = 0, theta = 0.05 from the spec's <code>initial:</code>" in html
+    assert "x_dot = 0, theta_dot = 0 as <code>lagcli linearize</code> takes" in html
+    command = html.split("The same: <code>")[1].split("</code>")[0]
+    assert command == "lagcli linearize cart_pole.yaml --at x=0.0 --at theta=0.05"
+    args = shlex.split(command)[1:]
+    args[1] = str(SPECS / args[1])
+    content = json.loads(CliRunner().invoke(cli, [*args, "--json"]).output)
+    assert content["operating_point"] == {"x": 0.0, "theta": 0.05, "x_dot": 0.0, "theta_dot": 0.0}
+    assert f"<b>{content['verdict']}</b> ({content['evidence']})".replace("'", "&#x27;") in html
+    assert content["verdict"] == "no verdict" and "theta_dot' = " in content["evidence"]
+
+
+def test_an_equilibrium_at_a_coordinate_singularity_prints_its_chart_modes():
+    """The top hanging at theta = pi (Euler angles singular there) swings at
+    sqrt(m g h / (A + m h^2)) in the chart assembled from the other descriptions."""
+    text = commands.equilibria(str(SPECS / "heavy_symmetric_top.yaml"))
+    m, h, A, g = 0.5, 0.04, 2.0e-4, 9.81
+    swing = math.sqrt(m * g * h / (A + m * h ** 2))
+    hanging = text.split("\n2. ")[1]
+    assert hanging.startswith("psi = 0, theta = 3.14159265359, phi = 0: stable")
+    assert f"small-oscillation frequencies (rad/s): {swing:.10g}" in hanging
+    assert "Lagrange-Dirichlet" in hanging

@@ -179,7 +179,7 @@ class LinearModel:
     speed_rates: np.ndarray  # u_s' at the point: 0 at an equilibrium or steady motion
     dependent: tuple[str, ...]
     energy_conserved: bool   # the Jacobi integral h = T2 - T0 + V exists (derivation)
-    coordinate_rates: np.ndarray = field(default_factory=lambda: np.zeros(0))   # q_i' at the point
+    coordinate_rates: np.ndarray = field(default_factory=lambda: np.zeros(0))   # q_i' at the point (empty: 0)
     invariant: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))    # `invariant_directions`
 
     @property

@@ -270,7 +270,7 @@ def equilibria_content(found, printer) -> dict:
             "closed_form": {k: printer(v) for k, v in e.closed_form.items()} if e.closed_form else None,
             "eigenvalues": [_pair(s) for s in e.eigenvalues] if e.linearization or e.eigenvalues.size else None,
             "frequencies": list(e.frequencies),
-            "modes": modes_content(e.linearization.modes) if e.linearization else None,
+            "modes": modes_content(e.modes),
             "drift": list(e.drift),
             "verdict": e.verdict,
             "evidence": e.evidence,

@@ -182,18 +182,34 @@ class Equilibrium:
         return "not decided" if self.singular is not None else "not linearizable here (singular mass matrix)"
 
     @property
+    def modes(self) -> tuple[Mode, ...]:
+        """The modes of its eigenvalues (of the chart's linear model at a coordinate singularity)."""
+        if self.linearization:
+            return self.linearization.modes
+        chart = self._chart_stability
+        return chart.modes if chart is not None else ()
+
+    @property
     def frequencies(self) -> tuple[float, ...]:
         """Small-oscillation frequencies (rad/s): only where the motion is small oscillations
         (pairs on the imaginary axis with their own eigenvectors; a spiral has none)."""
-        return self.linearization.frequencies if self.linearization else ()
+        return oscillation_frequencies(self.modes)
 
     @property
     def evidence(self) -> str:
-        return self.linearization.evidence if self.linearization else ""
+        """The numbers its verdict rests on (docs/analysis.md, "Stability verdict")."""
+        if self.linearization:
+            return self.linearization.evidence
+        chart = self._chart_stability
+        return chart.evidence if chart is not None else ""
 
     @property
     def drift(self) -> tuple[str, ...]:
         return self.linearization.drift if self.linearization else ()
+
+    @property
+    def _chart_stability(self):
+        return self.singular.stability if self.singular is not None else None
 
     def __repr__(self) -> str:
         where = ", ".join(f"{k} = {number(v, 6)}" for k, v in zip(self.point, shown_point(self.point)))

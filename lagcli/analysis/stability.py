@@ -15,7 +15,7 @@ whole model grow linearly with time through them (x = x_dot t).
 
 The verdict is on the essential eigenvalues (Lyapunov's indirect method; tolerance
 relative to the largest eigenvalue), in this order:
-  no verdict (not at rest)    the point is no equilibrium or steady motion: the rates of
+  no verdict                  the point is no equilibrium or steady motion: the rates of
                               the essential states are not 0 there
   unstable                    some Re(s) > 0
   linearly unstable           none to the right, but one on the imaginary axis is repeated
@@ -48,7 +48,7 @@ MARGIN = 1e-9               # |Re s| <= this * max(1, max|s|) counts as on the i
 ROUNDING = 1000 * np.finfo(float).eps  # parts of s below this * rounding_scale(A) are noise: set to 0
 STEADY = 1e-9               # |rate| above this: the point is no equilibrium or steady motion
 
-NOT_AT_REST = "no verdict (not at rest)"
+NOT_AT_REST = "no verdict"
 
 
 @dataclass(frozen=True)
@@ -162,7 +162,7 @@ def _verdict(model, basis: StructureBasis, kept, values, bad, K) -> tuple[str, s
     rates = basis.rates(model, kept)
     if rates:
         return NOT_AT_REST, "not an equilibrium or steady motion: " + ", ".join(
-            f"{name}' = {value:.10g}" for name, value in rates) + "; Lyapunov's indirect method needs one"
+            f"{name} = {value:.10g}" for name, value in rates) + "; Lyapunov's indirect method needs one"
     largest = np.max(values.real, initial=-np.inf)
     axis = int(np.sum(np.abs(values.real) <= MARGIN * scale))
     if values.size and largest > MARGIN * scale:

@@ -76,12 +76,15 @@ class StructureBasis:
         neutral by structure move, at constant speeds)."""
         from lagcli.analysis.stability import STEADY
 
-        qd = model.coordinate_rates
-        rates = np.concatenate([np.linalg.solve(self.Tc, qd) if qd.size else qd,
-                                np.linalg.solve(self.Ts, model.speed_rates) if self.Ts.size else model.speed_rates])
         limit = STEADY * max(1.0, float(np.max(np.abs(model.point.qd), initial=0.0)))
-        moving = set(kept) | set(self.speeds)
-        return [(name, float(r)) for name, r in zip(self.states, rates) if name in moving and abs(r) > limit]
+        qd = model.coordinate_rates if model.coordinate_rates.size else np.zeros(len(model.coordinates))
+        moving = np.linalg.solve(self.Tc, qd) if self.Tc.size else qd
+        return ([(_rate_name(q), float(r)) for q, r in zip(self.coordinates, moving) if q in kept and abs(r) > limit]
+                + [(f"{u}'", float(r)) for u, r in zip(model.speeds, model.speed_rates) if abs(r) > limit])
+
+
+def _rate_name(coordinate: str) -> str:
+    return f"({coordinate})'" if " " in coordinate else f"{coordinate}'"
 
 
 def structure_basis(model: LinearModel) -> StructureBasis:
