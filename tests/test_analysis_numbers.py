@@ -82,8 +82,8 @@ def test_marginal_verdict_counts_the_eigenvalues_on_the_axis(tmp_path):
     assert lin.eigenvalues == pytest.approx(expected, abs=1e-12)
     assert lin.verdict == "marginally stable"
     text = commands.linearize(spec_file(tmp_path, TWO_OSCILLATORS))
-    assert ("verdict: marginally stable (2 of 4 eigenvalues on the imaginary axis, the others to its left: "
-            "the linear model does not decide)") in text
+    assert ("verdict: marginally stable (2 of 4 eigenvalues on the imaginary axis, the others to its left, "
+            "each with its own eigenvectors: the linear model does not decide)") in text
     assert "all eigenvalues on the imaginary axis" not in text
 
 

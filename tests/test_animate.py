@@ -17,7 +17,7 @@ from click.testing import CliRunner
 import lagcli
 from lagcli.cli import cli
 
-from conftest import spec_path
+from conftest import SPECS, spec_path
 
 pytest.importorskip("matplotlib")
 BLUE = np.array([31, 119, 180]) / 255          # matplotlib's tab:blue, the first point's marker
@@ -197,3 +197,29 @@ def test_a_fast_spinning_angle_gets_its_own_panel():
         spans = [float(np.ptp(line.get_ydata())) for line in ax.get_lines()]
         if len(spans) > 1 and min(spans) > 0:
             assert max(spans) <= SCALE_SPLIT * min(spans)
+
+
+def test_the_floor_of_an_impact_or_a_landing_is_drawn():
+    """An impact or stop event whose gap is a point's coordinate plus a constant is drawn as
+    that surface: the ball's floor y = 0, the Cartesian pendulum's floor y = -h (h = 0.8 in
+    its spec), a 3-D ball's floor z = 0 as a plane; a gap in an angle draws nothing."""
+    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+    def horizontal_lines(name):
+        system = lagcli.load(SPECS / "hybrid" / f"{name}.yaml")
+        drawing = system.animate(trajectory=system.simulate(t_end=0.5), frame=0.2)
+        return [line.get_ydata()[0] for line in drawing.ax.get_lines()
+                if len(line.get_ydata()) == 2 and line.get_ydata()[0] == line.get_ydata()[1]
+                and tuple(line.get_xdata()) == (0, 1)]
+
+    assert horizontal_lines("bouncing_ball") == [0.0]
+    assert horizontal_lines("cartesian_pendulum_floor") == [-0.8]
+    assert horizontal_lines("pendulum_wall") == []
+    ball = lagcli.load("coordinates: [x, y, z]\nparameters: {m: 1.0, g: 9.81}\ngravity: [0, 0, -g]\n"
+                       "particles: {P: {mass: m, position: [x, y, z]}}\n"
+                       "events: [{name: floor, when: z, action: impact, restitution: 0.5}]\n"
+                       "initial: {z: 1.0, x_dot: 0.3}\n")
+    drawing = ball.animate(trajectory=ball.simulate(t_end=1.0), frame=0.5)
+    assert len([c for c in drawing.ax.collections if isinstance(c, Poly3DCollection)]) == 1
+    ((axis, value),) = drawing.scene.surfaces
+    assert axis == 2 and float(np.ravel(value(drawing.p))[0]) == 0.0

@@ -137,3 +137,42 @@ def test_input_on_animate_and_sweep_runs_the_law_of_simulate_input(command, tmp_
     for k, name in enumerate(["x", "theta", "x_dot", "theta_dot"], start=1):
         if f"final_{name}" in final:
             assert final[f"final_{name}"] == pytest.approx(rows[-1, k], abs=1e-7)
+
+
+HYBRID = sorted((SPECS / "hybrid").glob("*.yaml"))
+
+
+@pytest.mark.parametrize("path", HYBRID, ids=[p.stem for p in HYBRID])
+def test_derive_and_check_list_each_event_with_its_action_and_an_impacts_G_row(path):
+    """Issue 20: "`derive` and `check` list the events with their action, and for an
+    impact its G row" — G against sympy's own gradient of the spec's `when`."""
+    import json
+
+    import sympy as sp
+
+    from lagcli.render.spec_printer import parse_output
+
+    spec = yaml.safe_load(path.read_text())
+    system = lagcli.load(path)
+    listed = json.loads(system.report("json")).get("events") or []
+    assert [e["name"] for e in listed] == [e.get("name", f"event_{k}") for k, e in enumerate(spec.get("events") or [], 1)]
+    check = CliRunner().invoke(cli, ["check", str(path)]).output
+    for shown, event in zip(listed, spec.get("events") or []):
+        assert shown["action"] == event["action"] and f"{shown['name']}: {event['action']} where" in check
+        if event["action"] == "impact":
+            gap = parse_output(str(event["when"]), system.model)
+            G = [sp.diff(gap, q) for q in system.model.q]
+            assert [sp.simplify(parse_output(g, system.model) - want) for g, want in zip(shown["G"], G)] == [0] * len(G)
+            assert "G = [" + ", ".join(shown["G"]) + "]" in check
+
+
+def test_the_api_linearizes_the_closed_loop_like_the_command():
+    """System.linearize(closed_loop=True): A - B K of the open loop (K the spec's gains)."""
+    system = lagcli.load(SPECS / "hybrid" / "cart_pole_lqr.yaml")
+    p = system.layout.parameter_defaults
+    open_loop, closed = system.linearize(), system.linearize(closed_loop=True)
+    K = np.array([[p["k1"], p["k2"], p["k3"], p["k4"]]])            # F = -(k1 x + k2 theta + ...)
+    np.testing.assert_allclose(closed.A, open_loop.A - open_loop.B @ K, rtol=1e-10, atol=1e-12)
+    expected = np.sort_complex(np.linalg.eigvals(open_loop.A - open_loop.B @ K))
+    np.testing.assert_allclose(np.sort_complex(np.asarray(closed.eigenvalues)), expected, rtol=1e-9)
+    assert max(e.real for e in closed.eigenvalues) < 0 < max(e.real for e in open_loop.eigenvalues)

@@ -25,7 +25,8 @@ from conftest import SPECS
 CHROMIUM = next((shutil.which(n) for n in ("chromium", "chromium-browser", "google-chrome")
                  if shutil.which(n)), None)
 needs_chromium = pytest.mark.skipif(CHROMIUM is None, reason="no chromium: pages are not rendered")
-BUNDLED = sorted(p.stem for p in SPECS.glob("*.yaml"))
+BUNDLED = sorted(p.relative_to(SPECS).with_suffix("").as_posix()          # events: hybrid/
+                 for p in [*SPECS.glob("*.yaml"), *SPECS.glob("hybrid/*.yaml")])
 WIDTH = 1000
 PROBE = """<script>
 const m = document.querySelectorAll('math'), f = document.querySelector('mfrac, mtable');
@@ -65,7 +66,7 @@ def assert_rendered(seen: dict, name: str):
 def test_every_bundled_page_renders_in_a_browser(tmp_path, name):
     """The equations part of every bundled spec's page (pictures are slow: the next test)."""
     system = lagcli.load(SPECS / f"{name}.yaml")
-    assert_rendered(browse(system.page(pictures=False), tmp_path, name), name)
+    assert_rendered(browse(system.page(pictures=False), tmp_path, name.replace("/", "_")), name)
 
 
 @needs_chromium

@@ -33,7 +33,7 @@ its skew (gyroscopic) and symmetric parts.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 import sympy as sp
@@ -41,6 +41,9 @@ import sympy as sp
 from lagcli.analysis.jacobians import CompiledJacobians
 from lagcli.analysis.operating_point import Partition, Point, choose_partition, describe, on_manifold
 from lagcli.errors import UsageError
+
+
+_SYMMETRY_TOL = 1e-10     # relative size below which a Jacobian's action on a direction is 0
 
 
 class SingularPoint(UsageError):
@@ -98,6 +101,18 @@ class CompiledSystem:
     def bias(self, point: Point) -> np.ndarray:
         """d(q, t) of the velocity constraints A q' + d = 0."""
         return self._constraints(self._values(point))["d"].reshape(-1)
+
+    def generic_q_jacobian(self, point: Point) -> np.ndarray | None:
+        """d[R; S; A q' + d; phi]/dq at a generic state (deterministic numbers in (0.2, 0.8)
+        for t, q, q', q'', lambda; the point's parameters), None where not finite there."""
+        model = self.derivation.model
+        count = 1 + 3 * self.n + self.m
+        generic = 0.2 + 0.6 * np.modf(np.arange(1, count + 1) * 0.6180339887498949)[0]
+        values = [*generic, *(point.parameters[p.symbol.name] for p in (*model.parameters, *model.inputs))]
+        with np.errstate(all="ignore"):
+            core, constraints = self._core(values), self._constraints(values)
+        stacked = np.vstack([core["G_q"], core.get("V_q", np.zeros((0, self.n))), constraints["phi_q"]])
+        return stacked if np.all(np.isfinite(stacked)) else None
 
     def accelerations(self, point: Point) -> tuple[np.ndarray, np.ndarray, dict]:
         """(q'', lambda) at the point, and the Jacobians evaluated there."""
@@ -164,6 +179,8 @@ class LinearModel:
     speed_rates: np.ndarray  # u_s' at the point: 0 at an equilibrium or steady motion
     dependent: tuple[str, ...]
     energy_conserved: bool   # the Jacobi integral h = T2 - T0 + V exists (derivation)
+    coordinate_rates: np.ndarray = field(default_factory=lambda: np.zeros(0))   # q_i' at the point (empty: 0)
+    invariant: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))    # `invariant_directions`
 
     @property
     def states(self) -> tuple[str, ...]:
@@ -213,7 +230,33 @@ def linearize(system: CompiledSystem, point: Point, independent=()) -> LinearMod
         dependent=tuple([names[0][k] for k in partition.dependent_coordinates]
                         + [names[1][k] for k in partition.dependent_speeds]),
         energy_conserved=_jacobi_conserved_at(d, point),
+        coordinate_rates=point.qd[ci],
+        invariant=invariant_directions(system, point, P, A_lin[:, :len(ci)]),
     )
+
+
+def invariant_directions(system: CompiledSystem, point: Point, P: np.ndarray, columns: np.ndarray) -> np.ndarray:
+    """Directions v of the independent coordinates (columns, orthonormal) along which
+    nothing in the equations changes: A's coordinate `columns` ignore v at the point, and
+    the q-Jacobians of M, F, A, b, the velocity rows and phi annihilate P v at a generic
+    point too (a symmetry of the model, not a coincidence of this point: the crane's
+    trolley and load moving together)."""
+    from scipy.linalg import null_space
+
+    if not columns.shape[1]:
+        return np.zeros((0, 0))
+    scale = max(1.0, float(np.max(np.abs(columns), initial=0.0)))
+    candidates = null_space(columns / scale, rcond=_SYMMETRY_TOL)
+    if not candidates.shape[1]:
+        return candidates
+    jacobian = system.generic_q_jacobian(point)
+    if jacobian is None:
+        return np.zeros((columns.shape[1], 0))
+    image = jacobian @ (P @ candidates)
+    size = max(1.0, float(np.max(np.abs(jacobian), initial=0.0)))
+    if np.max(np.abs(image), initial=0.0) <= _SYMMETRY_TOL * size:
+        return candidates
+    return candidates @ null_space(image / size, rcond=_SYMMETRY_TOL)
 
 
 def _jacobi_conserved_at(d, point: Point) -> bool:

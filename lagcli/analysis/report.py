@@ -12,7 +12,7 @@ import json
 import numpy as np
 import sympy as sp
 
-from lagcli.analysis.stability import on_imaginary_axis
+from lagcli.render.escape import latex_text
 from lagcli.report.notation import analysis_letters, linear_equations
 
 
@@ -80,14 +80,31 @@ def linear_content(lin) -> dict:
                          "gyroscopic": _matrix(lin.gyroscopic), "damping": _matrix(lin.damping)},
         "speed_rates": [float(x) for x in lin.speed_rates],
         "eigenvalues": [_pair(s) for s in lin.eigenvalues],
-        "modes": [{"eigenvalue": _pair(m.eigenvalue), "natural_frequency": m.natural_frequency,
-                   "damping_ratio": m.damping_ratio} for m in lin.modes],
+        "modes": modes_content(lin.modes),
         "neutral_states": list(lin.neutral),
+        "drift": list(lin.drift),
+        "defective": [_pair(s) for s in lin.defective],
         "negative_stiffness": lin.negative_stiffness,
         "verdict": lin.verdict,
+        "evidence": lin.evidence,
         "round_off": {"relative": ROUND_OFF, "rule": ROUND_OFF_RULE},
         "notation": lin.letters,
     }
+
+
+SETTLED = ("asymptotically stable", "stable", "gyroscopically stabilized", "marginally stable")  # nothing grows
+
+
+def modes_content(modes) -> list[dict]:
+    return [{"eigenvalue": _pair(m.eigenvalue), "natural_frequency": m.natural_frequency,
+             "damping_ratio": m.damping_ratio, "kind": m.kind} for m in modes]
+
+
+def drift_sentence(drift) -> str:
+    """What the drift of a linear model is, in words (every surface says it so)."""
+    verb = "grows" if len(drift) == 1 else "grow"
+    return (f"{', '.join(drift)} {verb} linearly with time (s = 0 repeated with fewer eigenvectors: "
+            "a neutral mode moving at constant speed); the verdict is on the other modes")
 
 
 def sweep_content(result) -> dict:
@@ -164,22 +181,38 @@ def first_order_line(n: dict, states, inputs) -> str:
 def _modes_text(c: dict) -> list[str]:
     lines = ["eigenvalues" + (f" (neutral modes by structure, left out: {', '.join(c['neutral_states'])})"
                               if c["neutral_states"] else "") + ":"]
-    lines.append(f"  {'eigenvalue':>34}  {'frequency (rad/s)':>18}  {'damping ratio':>14}")
+    lines.append(f"  {'eigenvalue':>34}  {'frequency (rad/s)':>18}  {'damping ratio':>14}  mode")
     for m in c["modes"]:
         zeta = "-" if m["damping_ratio"] is None else number(m["damping_ratio"], 6)
-        lines.append(f"  {complex_text(complex(*m['eigenvalue'])):>34}  {number(m['natural_frequency']):>18}  {zeta:>14}")
-    verdict = c["verdict"]
-    if verdict == "gyroscopically stabilized":
-        verdict += " (the stiffness K alone has a negative eigenvalue; the linear model is marginally stable)"
-    elif verdict == "stable":
-        verdict += " (at rest on a strict minimum of the conserved h = T2 - T0 + V: Lagrange-Dirichlet)"
-    elif verdict == "marginally stable":
-        values = np.array([complex(*e) for e in c["eigenvalues"]], dtype=complex)
-        axis = on_imaginary_axis(values)
-        where = ("all eigenvalues on the imaginary axis" if axis == len(values)
-                 else f"{axis} of {len(values)} eigenvalues on the imaginary axis, the others to its left")
-        verdict += f" ({where}: the linear model does not decide)"
-    lines.append(f"verdict: {verdict}")
+        lines.append(f"  {complex_text(complex(*m['eigenvalue'])):>34}  {number(m['natural_frequency']):>18}"
+                     f"  {zeta:>14}  {m['kind']}")
+    if c["drift"]:
+        lines.append(f"drift: {drift_sentence(c['drift'])}")
+    lines.append(f"verdict: {c['verdict']} ({c['evidence']})")
+    return lines
+
+
+def motion_lines(modes: list[dict], verdict: str) -> list[str]:
+    """What the modes of an equilibrium do, beyond their eigenvalues: the frequencies of the
+    oscillations (small oscillations where nothing grows) and each spiral or defective
+    pair in words."""
+    lines = []
+    frequencies = sorted({round(m["natural_frequency"], 12) for m in modes
+                          if m["kind"] == "oscillation" and m["eigenvalue"][1] > 0})
+    if frequencies:
+        label = "small-oscillation frequencies" if verdict in SETTLED else "frequencies of the modes that oscillate"
+        lines.append(f"{label} (rad/s): " + ", ".join(number(w) for w in frequencies))
+    for m in modes:
+        re, im = m["eigenvalue"]
+        if im <= 0 or m["kind"] == "oscillation":
+            continue
+        if m["kind"].endswith("spiral"):
+            change = "grows" if re > 0 else "decays"
+            lines.append(f"{m['kind']} {number(re, 8)} +- {number(im, 8)}i: the amplitude {change} as "
+                         f"exp({number(re, 8)} t) while turning at {number(im, 8)} rad/s")
+        elif m["kind"] == "growing oscillation":
+            lines.append(f"growing oscillation +- {number(im, 8)}i: repeated with fewer eigenvectors, the "
+                         "amplitude grows like t")
     return lines
 
 
@@ -223,8 +256,9 @@ def linear_latex(c: dict, printer) -> str:
            + (rf", & {n['F']} &= {bmatrix(np.array(s['B']))}" if inputs else ""),
            r"\end{align*}",
            "Eigenvalues: $" + ", ".join(complex_text(complex(*e), 6).replace("i", r"\,i")
-                                         for e in c["eigenvalues"]) + "$; verdict: "
-           + c["verdict"] + ".", ""]
+                                         for e in c["eigenvalues"]) + "$; "
+           + (latex_text("drift: " + drift_sentence(c["drift"])) + "; " if c["drift"] else "")
+           + "verdict: " + latex_text(f"{c['verdict']} ({c['evidence']})") + ".", ""]
     return "\n".join(out)
 
 
@@ -236,16 +270,21 @@ def equilibria_content(found, printer) -> dict:
             "closed_form": {k: printer(v) for k, v in e.closed_form.items()} if e.closed_form else None,
             "eigenvalues": [_pair(s) for s in e.eigenvalues] if e.linearization or e.eigenvalues.size else None,
             "frequencies": list(e.frequencies),
+            "modes": modes_content(e.modes),
+            "drift": list(e.drift),
             "verdict": e.verdict,
+            "evidence": e.evidence,
             "free": list(e.free),
             "coordinate_singularity": list(e.singular.notes) if e.singular is not None else [],
         }
 
-    return {"name": found.name, "equilibria": [one(e) for e in found],
+    return {"name": found.name, "equilibria": [one(e) for e in found], "proved_none": found.proved_none,
             "round_off": {"relative": POINT_ROUND_OFF, "rule": POINT_ROUND_OFF_RULE}}
 
 
 def equilibria_text(c: dict) -> str:
+    if c["proved_none"]:
+        return f"{c['name']}: there is no equilibrium: the equations at rest have no solution (solved in closed form)\n"
     if not c["equilibria"]:
         return f"{c['name']}: no equilibrium found\n  hint: give a starting point with --guess NAME=VALUE,...\n"
     lines = [f"equilibria of {c['name']} (q' = 0):"]
@@ -257,11 +296,14 @@ def equilibria_text(c: dict) -> str:
         lines += [f"   {note}" for note in e["coordinate_singularity"]]
         if e["closed_form"]:
             lines.append("   closed form: " + ", ".join(f"{q} = {v}" for q, v in e["closed_form"].items()))
+        if e["evidence"]:
+            lines.append(f"   because: {e['evidence']}")
         if e["eigenvalues"] is not None:
             values = ", ".join(complex_text(complex(*s), 8) for s in e["eigenvalues"])
             lines.append(f"   eigenvalues: {values or '(none)'}")
-        if e["frequencies"]:
-            lines.append("   small-oscillation frequencies (rad/s): " + ", ".join(number(w) for w in e["frequencies"]))
+            lines += [f"   {line}" for line in motion_lines(e["modes"], e["verdict"])]
+        if e["drift"]:
+            lines.append(f"   drift: {drift_sentence(e['drift'])}")
     return "\n".join(lines) + "\n"
 
 

@@ -17,8 +17,9 @@ from html import escape
 
 import numpy as np
 
-from lagcli.analysis.report import bmatrix, complex_text, number, shown, shown_point
-from lagcli.analysis.stability import Mode, modes_of
+from lagcli.analysis.report import bmatrix, complex_text, drift_sentence, number, shown, shown_point
+from lagcli.analysis.stability import Mode, modes_of, oscillation_frequencies
+from lagcli.render.escape import latex_text
 
 _HTML_DIGITS = 6
 
@@ -46,7 +47,8 @@ class Linearization:
     M v' + C v + K q = F u over v = `speeds` and q = `coordinates`, F = `B_second`.
     Displays write these letters as `letters` gives them (none a spec name).
     `eigenvalues` are A's without the zero modes there by structure (`neutral` names
-    their states); `verdict` as docs/analysis.md, "Stability verdict"."""
+    their states, `drift` the states that grow linearly through them); `verdict` and its
+    `evidence` as docs/analysis.md, "Stability verdict"."""
 
     name: str
     point: OperatingPoint
@@ -66,6 +68,9 @@ class Linearization:
     neutral: tuple[str, ...]
     negative_stiffness: bool
     verdict: str
+    evidence: str = ""                  # the numbers the verdict rests on (one sentence)
+    drift: tuple[str, ...] = ()         # states growing linearly with time (a defective s = 0)
+    defective: tuple[complex, ...] = () # eigenvalues on the axis with fewer eigenvectors than repeats
     latex_names: dict = field(default_factory=dict, repr=False)   # state/input name -> LaTeX
 
     @property
@@ -91,12 +96,19 @@ class Linearization:
 
     @property
     def modes(self) -> tuple[Mode, ...]:
-        return modes_of(self.eigenvalues)
+        return modes_of(self.eigenvalues, self.defective)
+
+    @property
+    def frequencies(self) -> tuple[float, ...]:
+        """Small-oscillation frequencies (rad/s): only of pairs on the imaginary axis with their
+        own eigenvectors (`stability.oscillation_frequencies`)."""
+        return oscillation_frequencies(self.modes)
 
     def __repr__(self) -> str:
         where = ", ".join(f"{k} = {number(v, 6)}" for k, v in self.point.state.items())
         values = ", ".join(complex_text(s, 6) for s in self.eigenvalues) or "none"
-        return f"<Linearization of {self.name} about {where}: {self.verdict}; eigenvalues {values}>"
+        drift = f"; drift: {', '.join(self.drift)}" if self.drift else ""
+        return f"<Linearization of {self.name} about {where}: {self.verdict}; eigenvalues {values}{drift}>"
 
     def _repr_latex_(self) -> str:
         from lagcli.report.notation import linear_equations, linear_latex_letters
@@ -116,7 +128,9 @@ class Linearization:
                 + (rf", \quad {n['F']} = {bmatrix(self.B_second)}" if inputs else ""),
                 r"\text{eigenvalues} &: " + (", ".join(complex_text(s, 6).replace("i", r"\,i")
                                                        for s in self.eigenvalues) or r"\text{none}"),
-                rf"\text{{verdict}} &: \text{{{self.verdict}}}"]
+                rf"\text{{verdict}} &: \text{{{latex_text(self.verdict)} ({latex_text(self.evidence)})}}"]
+        if self.drift:
+            rows.insert(-1, rf"\text{{drift}} &: \text{{{latex_text(drift_sentence(self.drift))}}}")
         return r"$$\begin{aligned}" + r" \\ ".join(rows) + r"\end{aligned}$$"
 
     def _repr_html_(self) -> str:
@@ -135,8 +149,9 @@ class Linearization:
                   _html_matrix(n["K"], self.K, self.speeds, self.coordinates)]
         if self.inputs:
             parts.append(_html_matrix(n["F"], self.B_second, self.speeds, self.inputs))
+        drift = f"<br/>drift: {escape(drift_sentence(self.drift))}" if self.drift else ""
         parts.append(f"<p>eigenvalues: {escape(', '.join(complex_text(s, _HTML_DIGITS) for s in self.eigenvalues))}"
-                     f"<br/>verdict: <b>{escape(self.verdict)}</b></p>")
+                     f"{drift}<br/>verdict: <b>{escape(self.verdict)}</b> ({escape(self.evidence)})</p>")
         return "<div>" + "".join(parts) + "</div>"
 
 
@@ -153,30 +168,48 @@ class Equilibrium:
     linearization: Linearization | None
     free: tuple[str, ...] = ()
     singular: object = None     # where M is singular because of the coordinates: what lagcli can say
-                                # (`singular_chart.CoordinateSingularity`: `notes`, and eigenvalues in a
-                                # regular chart assembled there when it can decide)
+                                # (`singular_chart.CoordinateSingularity`: `notes`); the linearization
+                                # is then in a regular chart assembled there (states w1, ..), if any
 
     @property
     def eigenvalues(self) -> np.ndarray:
-        if self.linearization:
-            return self.linearization.eigenvalues
-        if self.singular is not None and self.singular.stability is not None:
-            return self.singular.stability.eigenvalues
-        return np.zeros(0, dtype=complex)
+        return self.linearization.eigenvalues if self.linearization else np.zeros(0, dtype=complex)
 
     @property
     def verdict(self) -> str:
         if self.linearization:
             return self.linearization.verdict
-        if self.singular is not None:
-            return self.singular.stability.verdict if self.singular.stability is not None else "not decided"
-        return "not linearizable here (singular mass matrix)"
+        return "not decided" if self.singular is not None else "not linearizable here (singular mass matrix)"
+
+    @property
+    def modes(self) -> tuple[Mode, ...]:
+        """The modes of its eigenvalues (of the chart's linear model at a coordinate singularity)."""
+        if self.linearization:
+            return self.linearization.modes
+        chart = self._chart_stability
+        return chart.modes if chart is not None else ()
 
     @property
     def frequencies(self) -> tuple[float, ...]:
-        """Small-oscillation frequencies (rad/s): |s| of each eigenvalue pair on the imaginary axis side."""
-        return tuple(sorted({round(m.natural_frequency, 12) for m in modes_of(self.eigenvalues)
-                             if m.eigenvalue.imag > 0}))
+        """Small-oscillation frequencies (rad/s): only where the motion is small oscillations
+        (pairs on the imaginary axis with their own eigenvectors; a spiral has none)."""
+        return oscillation_frequencies(self.modes)
+
+    @property
+    def evidence(self) -> str:
+        """The numbers its verdict rests on (docs/analysis.md, "Stability verdict")."""
+        if self.linearization:
+            return self.linearization.evidence
+        chart = self._chart_stability
+        return chart.evidence if chart is not None else ""
+
+    @property
+    def drift(self) -> tuple[str, ...]:
+        return self.linearization.drift if self.linearization else ()
+
+    @property
+    def _chart_stability(self):
+        return self.singular.stability if self.singular is not None else None
 
     def __repr__(self) -> str:
         where = ", ".join(f"{k} = {number(v, 6)}" for k, v in zip(self.point, shown_point(self.point)))
@@ -190,6 +223,7 @@ class Equilibria:
     name: str
     parameters: dict[str, float]        # the parameter and input values they are for
     found: tuple[Equilibrium, ...]
+    proved_none: bool = False           # none found, and the closed forms show there is none
 
     def __len__(self) -> int:
         return len(self.found)
@@ -201,7 +235,7 @@ class Equilibria:
         return self.found[k]
 
     def __repr__(self) -> str:
-        return (f"<Equilibria of {self.name}: {len(self)} found" + "".join(
+        return (f"<Equilibria of {self.name}: " + ("none exists" if self.proved_none else f"{len(self)} found") + "".join(
             f"; {', '.join(f'{k} = {number(v, 6)}' for k, v in zip(e.point, shown_point(e.point)))} {e.verdict}"
             for e in self) + ">")
 
@@ -213,7 +247,8 @@ class Equilibria:
             + f"<td>{escape(e.verdict)}{_notes_html(e)}</td>"
             + f"<td>{escape(', '.join(complex_text(s, _HTML_DIGITS) for s in e.eigenvalues))}</td></tr>"
             for k, e in enumerate(self, 1))
-        caption = f"equilibria of {self.name} (q' = 0): {len(self)} found"
+        caption = f"equilibria of {self.name} (q' = 0): " + ("none exists (the equations at rest have no solution)"
+                                                          if self.proved_none else f"{len(self)} found")
         return f"<table><caption>{escape(caption)}</caption><tr>{head}</tr>{rows}</table>"
 
 

@@ -114,13 +114,13 @@ class SteadyMotion:
     coordinates: dict                 # reduced coordinate -> value
     cyclic_rates: dict                # cyclic velocity name -> value
     eigenvalues: np.ndarray           # of the reduced linearization
-    frequencies: tuple[float, ...]    # small-oscillation frequencies (rad/s)
+    frequencies: tuple[float, ...]    # small-oscillation frequencies (rad/s): of oscillations only, no spiral
 
 
 def steady_motions(d, routh: Routhian, momenta: dict, parameters: dict, guesses) -> list[SteadyMotion]:
     """Stationary points of V_eff at the given momenta, each with its small oscillations."""
     from lagcli.analysis.equilibria import solve_stationary
-    from lagcli.analysis.stability import sorted_eigenvalues
+    from lagcli.analysis.stability import modes_of, sorted_eigenvalues
 
     model = d.model
     if d.constraints:
@@ -142,7 +142,8 @@ def steady_motions(d, routh: Routhian, momenta: dict, parameters: dict, guesses)
         rates = {model.qd[model.q.index(c)].name: _number(e, here, model, q_r) for c, e in
                  zip(routh.cyclic, routh.cyclic_velocities)}
         out.append(SteadyMotion(dict(zip((q.name for q in q_r), found.values)), rates, eig,
-                                tuple(sorted({float(abs(s)) for s in eig if s.imag > 0}))))
+                                tuple(sorted({float(abs(m.eigenvalue)) for m in modes_of(eig)
+                                              if m.kind == "oscillation" and m.eigenvalue.imag > 0}))))
     return out
 
 

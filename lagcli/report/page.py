@@ -128,16 +128,39 @@ def _equations_section(d, r: dict) -> str:
 
 
 def _linearization_section(system) -> str:
-    if not system.model.initial:
+    """The linear model about the spec's `initial:` state, the point and the command that
+    gives it named: what `initial:` gives, the rest as `lagcli linearize` takes it (0, or
+    solved from the constraints), so the page and `lagcli linearize --at ...` agree."""
+    given = dict(system.model.initial)
+    if not given:
         return ""
     from lagcli.errors import LagcliError
 
     try:
-        result = system.linearize()
+        result = system.linearize(at=given)
     except LagcliError as exc:
         return f"<h2>Linearization</h2>\n<p class=\"note\">{html_text(str(exc).splitlines()[0])}</p>"
-    return (f"<h2>Linearization at the initial state</h2>\n<div class=\"wide\">"
-            f"{result._repr_html_()}</div>")
+    return (f"<h2>Linearization at the initial state</h2>\n{_linearization_point(system, given, result)}"
+            f"<div class=\"wide\">{result._repr_html_()}</div>")
+
+
+def _linearization_point(system, given: dict, result) -> str:
+    """Which values of the point come from the spec's `initial:`, which not, and the command."""
+    state = result.point.state
+    rest = [name for name in state if name not in given]
+
+    def values(names) -> str:
+        return ", ".join(f"{name} = {state[name] + 0.0:.10g}" for name in names)
+
+    command = " ".join(["lagcli linearize", os.path.basename(system.model.source),
+                        *(f"--at {name}={float(value) + 0.0!r}" for name, value in given.items())])
+    parts = [f"The point: {html_text(values([n for n in state if n in given]))} from the spec's "
+             "<code>initial:</code>"]
+    if rest:
+        parts.append(f"; {html_text(values(rest))} as <code>lagcli linearize</code> takes what "
+                     "<code>--at</code> does not give (0, or solved from the constraints)")
+    notes = "".join(f"<br/>{html_text(note)}" for note in result.point.notes)
+    return f"<p>{''.join(parts)}.{notes}<br/>The same: <code>{html_text(command)}</code></p>\n"
 
 
 def _pictures_section(system) -> str:

@@ -15,6 +15,9 @@ trajectory (the CSV of `lagcli simulate`, or a run made on the spot).
                         radius sqrt(2 I_a / m)), is also drawn as its rim, a circle about that axis
     spring              a line between its ends; damper: a dashed line
     plane               the plane a `rolling:` element rolls on, translucent (3-D)
+    surface             where an impact or stop event's gap is a point's coordinate plus a
+                        constant (`when: y`, `when: y + h`: a floor, a wall), the gap's zero
+                        set: a line across the view (planar), a translucent plane (3-D)
     --link A:B          a line between two points (particle or body names, or `origin`):
                         the massless rods of a pendulum, which the model does not hold
     --trace P           the path of a point so far (by default, each disc's centre's)
@@ -57,6 +60,7 @@ class Scene:
     dampers: tuple = ()   # (f_a, f_b) per damper
     discs: dict = None    # body name -> (axis index 0..2, radius f(p)) of the bodies drawn as discs
     planes: tuple = ()    # (unit normal f(p) -> (3,), height f(p)) of each rolling element's plane
+    surfaces: tuple = ()  # (axis index 0..2, value f(p)) of each event surface r_axis = value
 
     def position(self, name: str, t: float, y, p) -> np.ndarray:
         if name == ORIGIN:
@@ -101,7 +105,25 @@ def scene_of(model) -> Scene:
     constant = lambda expr: sp.lambdify([list(model.parameter_symbols)], sp.Matrix([expr]), "numpy")
     discs = {name: (axis, constant(radius)) for name, (axis, radius) in _discs(model).items()}
     planes = tuple((constant(sp.Matrix(r.normal).T), constant(r.height)) for r in model.rolling)
-    return Scene(model.dimension, points, bodies, springs, dampers, discs, planes)
+    surfaces = tuple((axis, constant(value)) for axis, value in _event_surfaces(model))
+    return Scene(model.dimension, points, bodies, springs, dampers, discs, planes, surfaces)
+
+
+def _event_surfaces(model) -> list:
+    """(axis, value) of each impact or stop event whose gap g is +-(a point's coordinate
+    r_axis) plus a constant: the event happens on the surface r_axis = value (a floor where
+    a ball bounces, where a projectile lands). Other gaps (an angle, a distance) are not drawn."""
+    moving = set(model.q) | {model.t}
+    found = []
+    for event in (e for e in model.events if e.action in ("impact", "stop")):
+        for _, position in model.mass_points:
+            for axis in range(model.dimension):
+                r = position[axis]
+                rest = [(sign, event.when - sign * r) for sign in (1, -1) if r.free_symbols & moving]
+                match = next(((sign, c) for sign, c in rest if not c.free_symbols & moving), None)
+                if match and (axis, -match[1] / match[0]) not in found:
+                    found.append((axis, -match[1] / match[0]))
+    return found
 
 
 def _discs(model) -> dict:
@@ -193,6 +215,7 @@ class Drawing:
         colours = {name: PALETTE[k % len(PALETTE)] for k, name in enumerate(scene.points)}
         if three:
             self._planes()
+        self._surfaces(three)
         self.links = [plot(*self._xyz([]), "-", color="0.35", lw=2)[0] for _ in request.links]
         self.springs = [plot(*self._xyz([]), "-", color="tab:green", lw=1.5)[0] for _ in scene.springs]
         self.dampers = [plot(*self._xyz([]), "--", color="0.2", lw=1.5)[0] for _ in scene.dampers]
@@ -226,6 +249,21 @@ class Drawing:
             self.ax.add_collection3d(Poly3DCollection([corners], alpha=0.15, facecolor="tab:gray",
                                                       edgecolor="0.6"))
 
+    def _surfaces(self, three: bool) -> None:
+        """Each event surface: a dark line across the view (planar), a plane (3-D)."""
+        from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+        for axis, value_of in self.scene.surfaces:
+            value = float(np.asarray(value_of(self.p), dtype=float).reshape(-1)[0])
+            if not three:
+                (self.ax.axhline if axis == 1 else self.ax.axvline)(value, color="0.25", lw=2.5)
+                continue
+            low, high = (np.array([getattr(self.ax, f"get_{a}lim")()[k] for a in "xyz"]) for k in (0, 1))
+            u, v = ((low[i], high[i]) for i in range(3) if i != axis)
+            corners = [np.insert(np.array(c, dtype=float), axis, value) for c in
+                       ((u[0], v[0]), (u[1], v[0]), (u[1], v[1]), (u[0], v[1]))]
+            self.ax.add_collection3d(Poly3DCollection([corners], alpha=0.2, facecolor="0.4", edgecolor="0.3"))
+
     def _xyz(self, points):
         data = np.array(points, dtype=float).reshape(-1, 3)
         return [data[:, 0], data[:, 1], data[:, 2]] if self.scene.dimension == 3 else [data[:, 0], data[:, 1]]
@@ -246,6 +284,8 @@ class Drawing:
                                                                                  self.p) for end in seg]
             every += [point for b in (self.scene.discs or {}) for point in
                       self.scene.rim(b, self.times[k], self.states[k], self.p)[::12]]
+        for axis, value_of in self.scene.surfaces:          # the surface is in view
+            every.append(np.insert(np.zeros(2), axis, float(np.asarray(value_of(self.p), dtype=float).reshape(-1)[0])))
         box = np.array(every)
         centre, half = (box.max(0) + box.min(0)) / 2, max(float((box.max(0) - box.min(0)).max()) / 2, 1e-9) * 1.1
         for k, axis in enumerate("xyz"[:3 if three else 2]):
