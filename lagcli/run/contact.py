@@ -30,6 +30,7 @@ import dataclasses
 
 import numpy as np
 
+from lagcli.errors import SimulationError
 from lagcli.interface import CONSTRAINT_TOLERANCE
 from lagcli.runtime.event_loop_code import approach_speed, impact
 
@@ -73,7 +74,10 @@ class Contacts:
         A, _ = self.free.constraint_rows(t, y)
         w = approach_speed(G, float(e.g_t(t, y)), y[n:])
         target = float(e.hold_bias(t, y)) - 2.0 * self.alpha * w - self.beta ** 2 * float(e.g(t, y))
-        qdd, mu = impact(M, A, -(A @ free), G, -target, 0.0, free)
+        try:
+            qdd, mu = impact(M, A, -(A @ free), G, -target, 0.0, free)
+        except SimulationError as exc:
+            raise SimulationError(f"at t = {t:.10g}: event '{e.name}' (its contact held): {exc}") from None
         nu = np.linalg.lstsq(A.T, M @ (qdd - free) - G * mu, rcond=None)[0] if len(lam0) else lam0
         return qdd, np.asarray(lam0, dtype=float) + nu, mu
 
