@@ -310,3 +310,18 @@ def test_the_plot_draws_the_contact_force_with_its_unit():
     figure = lagcli.load(LIFT_OFF).simulate(t_end=1.0).plot()
     labels = [ax.get_ylabel() for ax in figure.axes]
     assert labels == ["y [m]", "force_floor [N]"]
+
+
+def test_a_held_contact_that_cannot_be_solved_names_its_event_and_time():
+    import dataclasses
+
+    from lagcli.run.contact import Contacts
+    from lagcli.runtime.event_loop_code import EventRunFailure
+
+    hybrid = lagcli.load(SPEC).hybrid({})
+    flat = dataclasses.replace(hybrid.events[0], G=lambda t, y: np.zeros(1))     # no direction to push along
+    contacts = Contacts(dataclasses.replace(hybrid, events=(flat,)),
+                        lambda t, y: (np.array([-9.81]), np.zeros(0)), 10.0, 10.0)
+    contacts.held = 0
+    with pytest.raises(EventRunFailure, match=r"^at t = 0.5: event 'floor' \(its contact held\): "):
+        contacts.rhs(0.5, np.array([0.0, 0.0]))

@@ -30,11 +30,9 @@ import dataclasses
 
 import numpy as np
 
-from lagcli.errors import SimulationError
 from lagcli.interface import CONSTRAINT_TOLERANCE
-from lagcli.runtime.event_loop_code import approach_speed, impact
-
-from lagcli.runtime.run_limits import RELEASE, REST  # noqa: F401  (the actions of a hold and a release)
+from lagcli.runtime.event_loop_code import EventRunFailure, approach_speed, impact
+from lagcli.runtime.run_limits import RELEASE
 
 
 class Contacts:
@@ -76,8 +74,8 @@ class Contacts:
         target = float(e.hold_bias(t, y)) - 2.0 * self.alpha * w - self.beta ** 2 * float(e.g(t, y))
         try:
             qdd, mu = impact(M, A, -(A @ free), G, -target, 0.0, free)
-        except SimulationError as exc:
-            raise SimulationError(f"at t = {t:.10g}: event '{e.name}' (its contact held): {exc}") from None
+        except EventRunFailure as exc:
+            raise EventRunFailure(f"at t = {t:.10g}: event '{e.name}' (its contact held): {exc}") from None
         nu = np.linalg.lstsq(A.T, M @ (qdd - free) - G * mu, rcond=None)[0] if len(lam0) else lam0
         return qdd, np.asarray(lam0, dtype=float) + nu, mu
 
