@@ -249,11 +249,18 @@ class Equilibria:
         head = "".join(f"<th>{escape(n)}</th>" for n in ["", *names, "verdict", "eigenvalues"])
         rows = "".join(
             f"<tr><td>{k}</td>" + "".join(f"<td>{number(v, _HTML_DIGITS)}</td>" for v in shown_point(e.point))
-            + f"<td>{escape(e.verdict)}{_notes_html(e)}</td>"
+            + f"<td>{escape(e.verdict)}{_because_html(e)}{_notes_html(e)}</td>"
             + f"<td>{escape(', '.join(complex_text(s, _HTML_DIGITS) for s in e.eigenvalues))}</td></tr>"
             for k, e in enumerate(self, 1))
         caption = f"equilibria of {self.name} (q' = 0): {len(self)} found"
         return f"<table><caption>{escape(caption)}</caption><tr>{head}</tr>{rows}</table>"
+
+
+def _because_html(e: Equilibrium) -> str:
+    """The verdict's evidence and the drift, as the text report words them."""
+    lines = [f"because: {e.evidence}"] if e.evidence else []
+    lines += [f"drift: {drift_sentence(e.drift)}"] if e.drift else []
+    return "".join(f"<br/><small>{escape(line)}</small>" for line in lines)
 
 
 def _notes_html(e: Equilibrium) -> str:
