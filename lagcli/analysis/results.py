@@ -17,7 +17,8 @@ from html import escape
 
 import numpy as np
 
-from lagcli.analysis.report import bmatrix, complex_text, drift_sentence, number, shown, shown_point
+from lagcli.analysis.report import bmatrix, shown, shown_point
+from lagcli.analysis.wording import complex_text, drift_sentence, number
 from lagcli.analysis.stability import Mode, modes_of, oscillation_frequencies
 from lagcli.render.escape import latex_text
 
