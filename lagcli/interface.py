@@ -44,6 +44,9 @@ import math
 from dataclasses import asdict, dataclass, field, fields
 from pathlib import PurePath
 
+from lagcli.runtime.run_limits import (ACCUMULATION_GAP, EVENT_BUDGET, FIRST_STEP_SAMPLES,  # noqa: F401
+                                       RESTING_SPEED, STEP_BUDGET_BASE, STEP_BUDGET_PER_OUTPUT, STEP_BUDGET_TEXT,
+                                       default_max_steps)
 from lagcli.runtime.run_rules import EXPLICIT_METHODS
 
 # --- the numbers every stage shares ---------------------------------------------------
@@ -56,22 +59,11 @@ METHODS = ("RK45", "DOP853", "Radau", "BDF", "LSODA", VARIATIONAL)   # scipy's i
 C_METHODS = (*EXPLICIT_METHODS, VARIATIONAL)                         # the ones the compiled driver implements
 DEFAULT_BAUMGARTE = (10.0, 10.0)                         # (alpha, beta) of the constraint stabilisation
 CONSTRAINT_TOLERANCE = 1e-8                              # largest |constraint| of a consistent initial state
-STEP_BUDGET_BASE = 20_000         # a run takes at most this many integrator steps, plus
-STEP_BUDGET_PER_OUTPUT = 1_000    # this many per output interval, unless --max-steps says otherwise
-STEP_BUDGET_TEXT = ("the integration reached its bound of {steps} steps before t_end (a stiff or "
-                    "blowing-up solution?); raise the bound with --max-steps N")
-# When a run with events ends at an accumulation (docs/simulate.md, "Events and input laws"):
-# lagcli/run/event_loop.py and the event loops of generated code (MATLAB/Octave) alike.
-ACCUMULATION_GAP = 1e-9           # the same event again within this x max(1, |t|)
-RESTING_SPEED = 1e-9              # separation speed below this x the largest approach speed
-EVENT_BUDGET = 100_000            # events of one run
-FIRST_STEP_SAMPLES = 8            # samples of the first step after an impact (its gap starts at 0)
-
-
-def default_max_steps(t_end: float, dt: float) -> int:
-    """The step budget of a run (`--max-steps` default): deterministic, from the output grid
-    (the C driver's `step_budget` is the same rule)."""
-    return STEP_BUDGET_BASE + STEP_BUDGET_PER_OUTPUT * math.ceil(t_end / dt - 1e-9)
+# The step budget of a run and the rules that end a run with accumulating events
+# (docs/simulate.md, "Events and input laws") are code the generated Python module carries
+# too: lagcli/runtime/run_limits.py (STEP_BUDGET_BASE, STEP_BUDGET_PER_OUTPUT,
+# STEP_BUDGET_TEXT, default_max_steps, ACCUMULATION_GAP, RESTING_SPEED, EVENT_BUDGET,
+# FIRST_STEP_SAMPLES), imported here for every stage.
 
 # --- naming rules ---------------------------------------------------------------------
 

@@ -47,7 +47,7 @@ ABOVE = ("lagcli.system", "lagcli.commands", "lagcli.cli", "lagcli.sweep", "lagc
 NOT_BETWEEN = {"lagcli.run": ("lagcli.targets", "lagcli.analysis", "lagcli.report", "lagcli.derive"),
                "lagcli.targets": ("lagcli.run",),
                "lagcli.runtime": ("lagcli.run", "lagcli.targets"),
-               "lagcli.interface": ()}     # data only: nothing of lagcli but errors and the version
+               "lagcli.interface": ()}     # data only: nothing of lagcli but errors, the version, run rules and limits
 
 
 def module_name(path: Path) -> str:
@@ -85,6 +85,7 @@ def test_the_run_layer_and_the_targets_import_only_down():
             across = any(in_room(target, r) for r in NOT_BETWEEN[room])
             if room == "lagcli.interface":
                 across = not (in_room(target, "lagcli.errors") or in_room(target, "lagcli.runtime.run_rules")
+                              or in_room(target, "lagcli.runtime.run_limits")
                               or target in ("lagcli", "lagcli.__version__", "lagcli.version",
                                              "lagcli.version.__version__"))
             if up or across:

@@ -85,12 +85,17 @@ def test_count_ops_is_sympys_count_ops():
                 assert count_ops(node) == sp.count_ops(node), node
 
 
-def test_weighted_display_form_is_display_form():
+def test_weighted_display_form_is_display_form(monkeypatch):
     """The shortcut for m_1 X + ... + m_n X gives display_form's result whenever it answers,
     on monomials X of every shape (signs, fractions, powers, one or two calls, calls whose
-    arguments have a common factor) and on sums too big for display_form to touch."""
+    arguments have a common factor), also on sums too big for display_form's size budget:
+    there it gives what display_form would give without the budget (the shortcut costs
+    what X costs, so a 100-link chain's mass matrix is shown grouped at any size)."""
+    from lagcli.render import tidy
     from lagcli.render.tidy import display_form
     from lagcli.render.weighted import weighted_display_form
+
+    monkeypatch.setattr(tidy, "small", lambda expr, budget=None: True)    # display_form without its budget
 
     rng = random.Random(8)
     masses = sp.symbols("m1:60", real=True)
@@ -105,3 +110,19 @@ def test_weighted_display_form_is_display_form():
             answered += 1
             assert found == display_form(sp.Add(*(w * shared for w in weights))), (weights, shared)
     assert answered >= 60
+
+
+def test_leading_term_is_the_first_ordered_term():
+    """`tidy.leading_term` (which sign a tied sum shows, for pull_signs) is sympy's
+    `as_ordered_terms()[0]` on sums of numbers times symbols (names that sort as strings:
+    q1, q10, q2) and on anything else it falls back to."""
+    from lagcli.render.tidy import leading_term
+
+    rng = random.Random(24)
+    symbols = [*sp.symbols("q1:13", real=True), x, y, z, sp.Symbol("th10"), sp.Symbol("th2"), sp.Dummy("d")]
+    numbers = [1, -1, 2, -3, sp.Rational(1, 2), -sp.Rational(5, 3), sp.Float(0.5)]
+    for _ in range(500):
+        add = sp.Add(*(rng.choice(numbers) * s for s in rng.sample(symbols, rng.randint(2, 5))))
+        add += rng.choice([0, 0, 1, x * y, sp.cos(x)])
+        if add.is_Add:
+            assert leading_term(add) == add.as_ordered_terms()[0], add

@@ -178,7 +178,7 @@ def test_bouncing_ball_fmu_in_fmpy_agrees_with_simulate(ball, tmp_path):
     assert np.allclose(merged, [r.t for r in expected.events], rtol=1e-9, atol=0)
 
 
-@pytest.mark.parametrize("lang", ["rust", "python", "casadi", "jax"])
+@pytest.mark.parametrize("lang", ["rust", "casadi", "jax"])
 def test_code_targets_refuse_events_clearly(lang, tmp_path):
     result = run("generate", HYBRID / "bouncing_ball.yaml", "--lang", lang, "-o", tmp_path / "out")
     assert result.exit_code == 2

@@ -1,7 +1,7 @@
 """Event functions from the model: g(t, q, q'), and for an impact G = dg/dq and g_t.
 
 An impact at g(t, q) = 0 changes the velocities by an impulse P along G^T while every
-constraint row (A, d of lagcli/derive/result.py) keeps holding (lagcli/run/impact.py):
+constraint row (A, d of lagcli/derive/result.py) keeps holding (`impact` in lagcli/runtime/event_loop_code.py):
 
     M (q'+ - q'-) = G^T P + A^T Lambda
     G q'+ + g_t = -e (G q'- + g_t)

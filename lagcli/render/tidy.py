@@ -511,7 +511,7 @@ def pull_signs(expr, memo: dict | None = None) -> sp.Expr:
     memo = {} if memo is None else memo
     found = memo.get(expr)
     if found is not None:
-        return found
+        return expr if found is _UNCHANGED else found
     args = [pull_signs(a, memo) for a in expr.args]
     flips = [i for i, a in enumerate(args) if a.is_Add and _mostly_negative(a)] if expr.is_Mul else []
     for i in flips:
@@ -523,12 +523,28 @@ def pull_signs(expr, memo: dict | None = None) -> sp.Expr:
         result = expr        # nothing changed: no need to rebuild (and re-sort) the node
     else:
         result = expr.func(*args)
-    memo[expr] = result
+    # an unchanged node is remembered as such: an equal node met later (not the same object)
+    # is then returned itself, and its parents are not rebuilt around an equal copy
+    memo[expr] = _UNCHANGED if result is expr else result
     return result
+
+
+_UNCHANGED = object()
 
 
 def _mostly_negative(add) -> bool:
     """More negative terms than positive ones, or as many and the leading one negative."""
     signs = [term.could_extract_minus_sign() for term in add.args]
     negative, positive = sum(signs), len(signs) - sum(signs)
-    return negative > positive or (negative == positive and add.as_ordered_terms()[0].could_extract_minus_sign())
+    return negative > positive or (negative == positive and leading_term(add).could_extract_minus_sign())
+
+
+def leading_term(add) -> sp.Expr:
+    """`add.as_ordered_terms()[0]`, the term printed first, found directly for a sum of
+    numbers times distinct symbols (q1 - q2, an angle difference: the one with the first
+    symbol in sympy's sort order leads); as_ordered_terms builds a polynomial view of the
+    sum for that (a third of a big chain's report went into angle differences)."""
+    symbols = [term.as_coeff_Mul()[1] for term in add.args]
+    if all(s.is_Symbol for s in symbols) and len(set(symbols)) == len(symbols):
+        return min(zip(symbols, add.args), key=lambda pair: sp.default_sort_key(pair[0]))[1]
+    return add.as_ordered_terms()[0]

@@ -32,8 +32,6 @@ def weighted_display_form(weights, shared) -> sp.Expr | None:
         return None
     number, powers, calls = split
     first = weights[0] * shared                                    # every term counts as this one
-    if 1 + len(weights) * _nodes(first) > DISPLAY_MAX_NODES:
-        return None                                                # display_form leaves a big sum alone
     grouped = _keep_coeff(number, sp.Mul(*powers) * sp.Add(*weights), clear=True, sign=True) * sp.Mul(*calls)
     result = pull_signs(common_factor(grouped))
     negative = number.is_negative

@@ -77,7 +77,10 @@ class Display:
         upper = {(i, j): self.tidy(d.mass_matrix[i, j]) for i in range(n) for j in range(i, n)}
         self.M = [[upper[min(i, j), max(i, j)] for j in range(n)] for i in range(n)]
         self._free = {key: entry.free_symbols for key, entry in upper.items()}
+        self._velocity_index = {v: k for k, v in enumerate(self.qd)}
         self._derivatives: dict = {}
+        self._mentions: dict = {}               # (i, j), i <= j -> indices of the coordinates M_ij mentions
+        self._mentioning: list | None = None    # k -> the entries (i, j) that mention q_k
         self.a = [self.tidy(e) for e in d.t1_coefficients]
         self.T0 = self.tidy(d.T0)
         self.V = self.tidy(d.V)
@@ -193,20 +196,37 @@ class Display:
         return self._derivatives[key]
 
     def velocity_buckets(self, i: int) -> dict:
-        """c_i grouped by monomial: {q'_j q'_l: C_ijl} (see the module docstring)."""
-        q, qd, n, zero = self.q, self.qd, self.n, sp.S.Zero
+        """c_i grouped by monomial: {q'_j q'_l: C_ijl} (see the module docstring), over
+        the pairs (j, l) where a derivative in C_ijl can be nonzero (`_velocity_pairs`)."""
+        q, qd, zero = self.q, self.qd, sp.S.Zero
         out = {}
-        for j in range(n):
-            for l in range(j, n):
-                if j == l:
-                    parts = (self._dM(i, j, q[j]), -self._dM(j, j, q[i]) / 2)
-                else:
-                    parts = (self._dM(i, j, q[l]), self._dM(i, l, q[j]), -self._dM(j, l, q[i]))
-                if any(part is not zero for part in parts):     # most are: M_jl is free of most q
-                    coefficient = sp.Add(*parts)
-                    if coefficient != 0:
-                        out[qd[j] * qd[l]] = coefficient
+        for j, l in self._velocity_pairs(i):
+            if j == l:
+                parts = (self._dM(i, j, q[j]), -self._dM(j, j, q[i]) / 2)
+            else:
+                parts = (self._dM(i, j, q[l]), self._dM(i, l, q[j]), -self._dM(j, l, q[i]))
+            if any(part is not zero for part in parts):
+                coefficient = sp.Add(*parts)
+                if coefficient != 0:
+                    out[qd[j] * qd[l]] = coefficient
         return out
+
+    def _velocity_pairs(self, i: int) -> list[tuple[int, int]]:
+        """The pairs j <= l, in order, for which d_l M_ij, d_j M_il or d_i M_jl may be nonzero
+        (the entry mentions that coordinate): ~n pairs per equation of a chain, whose
+        entries mention two coordinates each, instead of all n^2 / 2."""
+        if self._mentioning is None:
+            index = {qk: k for k, qk in enumerate(self.q)}
+            self._mentions = {key: [index[s] for s in free if s in index] for key, free in self._free.items()}
+            self._mentioning = [[] for _ in range(self.n)]
+            for key, ks in self._mentions.items():
+                for k in ks:
+                    self._mentioning[k].append(key)
+        pairs = set(self._mentioning[i])                            # d_i M_jl
+        for other in range(self.n):                                 # d_l M_ij and d_j M_il
+            for k in self._mentions[min(i, other), max(i, other)]:
+                pairs.add((min(other, k), max(other, k)))
+        return sorted(pairs)
 
     def parts(self, i: int) -> dict[str, dict]:
         if i not in self._parts:
@@ -249,13 +269,13 @@ class Display:
 
     def _ordered(self, buckets: dict, sign: int) -> Terms:
         """Terms of degree 2 in q', then 1, then others depending on q', then free of q'."""
-        qd = self.qd
+        qd, index = self.qd, self._velocity_index
 
         def key(monomial):
             powers = monomial.as_powers_dict()
-            if all(base in qd and e.is_Integer for base, e in powers.items()) or monomial == 1:
-                degree = sum(int(e) for base, e in powers.items() if base in qd)
-                indices = tuple(sorted(qd.index(b) for b, e in powers.items() if b in qd for _ in range(int(e))))
+            if all(base in index and e.is_Integer for base, e in powers.items()) or monomial == 1:
+                degree = sum(int(e) for base, e in powers.items() if base in index)
+                indices = tuple(sorted(index[b] for b, e in powers.items() if b in index for _ in range(int(e))))
                 return (0, -degree, indices, "")
             return (1, 0, (), sp.default_sort_key(monomial))   # not a monomial in q': after them
 

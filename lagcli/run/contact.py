@@ -4,7 +4,7 @@ push, released where they would pull.
 A contact is held where the impacts of its event accumulate (the rules of
 lagcli/run/event_loop.py, which otherwise end the run there), or from t = 0 when the run
 starts on it at rest (|g| and |G q' + g_t| at most CONSTRAINT_TOLERANCE) pressed into it.
-A plastic impact (e = 0, the law of lagcli/run/impact.py: G q' + g_t = 0 while every spec
+A plastic impact (e = 0, the law of lagcli/runtime/event_loop_code.py: G q' + g_t = 0 while every spec
 constraint keeps holding) removes the approach speed; then each right-hand side adds the
 contact to the spec's accelerations q''0 (those of the generated module, with its own
 constraint rows A and multipliers lambda0):
@@ -31,9 +31,9 @@ import dataclasses
 import numpy as np
 
 from lagcli.interface import CONSTRAINT_TOLERANCE
-from lagcli.run.impact import approach_speed, impact
+from lagcli.runtime.event_loop_code import approach_speed, impact
 
-REST, RELEASE = "rest", "release"          # the actions of the records of a hold and a release
+from lagcli.runtime.run_limits import RELEASE, REST  # noqa: F401  (the actions of a hold and a release)
 
 
 class Contacts:

@@ -76,7 +76,7 @@ def module_of(model_name: str, source: str) -> types.ModuleType:
     name = f"lagcli_generated_{model_name}"
     module = types.ModuleType(name)
     module.__file__ = f"<{name}>"
-    exec(compile(source, module.__file__, "exec"), module.__dict__)
+    exec(compile(source, module.__file__, "exec", dont_inherit=True), module.__dict__)   # not this file's __future__
     return module
 
 

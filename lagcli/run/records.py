@@ -1,43 +1,18 @@
-"""What happened during a run: one `EventRecord` per event, the `--events` CSV, the
-stderr summary ("12 events: floor x12, first at t = 0.4515 s") and the note saying why a
-run ended early: for both backends (lagcli/run/event_loop.py; the C driver's log,
-lagcli/runtime/c/lagcli_events.h, read by `read_event_log`).
+"""What happened during a run, for lagcli's commands: the stderr summary ("12 events:
+floor x12, first at t = 0.4515 s") and the C driver's event log read back
+(`read_event_log`, lagcli/runtime/c/lagcli_events.h), so both backends give the same
+`EventRecord`s, `--events` CSV and end notes.
 
-The rules that end a run early are the same on both backends (lagcli/interface.py's
-ACCUMULATION_GAP, RESTING_SPEED, EVENT_BUDGET, FIRST_STEP_SAMPLES; the C side's in
+The records, the CSV and the notes themselves are lagcli/runtime/run_limits.py's (the
+generated Python module carries that code too), and so are the rules that end a run
+early (ACCUMULATION_GAP, RESTING_SPEED, EVENT_BUDGET, FIRST_STEP_SAMPLES; the C side's in
 lagcli_events.h, checked equal by tests/test_c_events.py)."""
 from __future__ import annotations
 
 from collections import Counter
-from dataclasses import dataclass
 
-from lagcli.interface import ACCUMULATION_GAP, EVENT_BUDGET, RESTING_SPEED
-
-
-@dataclass(frozen=True)
-class EventRecord:
-    t: float
-    name: str
-    action: str                      # "impact" | "reset" | "stop"; "rest" | "release" (a held contact)
-    before: tuple[float, ...]        # the state y- (layout order)
-    after: tuple[float, ...]         # the state y+
-    impulse: float | None = None     # impact: P
-
-
-def events_header(state_names) -> list[str]:
-    """t, event, action, <state>- for each state, <state>+ for each state, impulse."""
-    return (["t", "event", "action"] + [f"{s}-" for s in state_names] + [f"{s}+" for s in state_names]
-            + ["impulse"])
-
-
-def events_csv(records, state_names) -> str:
-    """The `--events` file: one row per event; `impulse` is empty but for impacts."""
-    lines = [",".join(events_header(state_names))]
-    for r in records:
-        values = [format(r.t, ".17g"), r.name, r.action, *(format(v, ".17g") for v in (*r.before, *r.after)),
-                  "" if r.impulse is None else format(r.impulse, ".17g")]
-        lines.append(",".join(values))
-    return "".join(line + "\n" for line in lines)
+from lagcli.runtime.run_limits import (RELEASE, REST, EventRecord, end_note, events_csv,  # noqa: F401
+                                       events_header)                                     # (the records' home)
 
 
 def summary(records) -> str:
@@ -45,29 +20,12 @@ def summary(records) -> str:
     "floor rest"), and when the first happened."""
     if not records:
         return "0 events"
-    keys = [r.name if r.action not in ("rest", "release") else f"{r.name} {r.action}" for r in records]
+    keys = [r.name if r.action not in (REST, RELEASE) else f"{r.name} {r.action}" for r in records]
     counts = Counter(keys)
     names = sorted(counts, key=keys.index)
     each = ", ".join(f"{name} \u00d7{counts[name]}" for name in names)
     plural = "" if len(records) == 1 else "s"
     return f"{len(records)} event{plural}: {each}, first at t = {records[0].t:.10g} s"
-
-
-def end_note(kind: str, name: str, t: float, value: float) -> str:
-    """Why a run ended at event `name` at time t: `kind` "recurred" (value: the gap since its
-    last time), "resting" (the separation speed after the impact), "unresolved" (it returns
-    within the first step after it) or "budget" (EVENT_BUDGET events)."""
-    if kind == "recurred":
-        return (f"event '{name}' recurred after {value:.3g} s at t = {t:.10g} "
-                f"(accumulation: closer than {ACCUMULATION_GAP:g} x max(1, t)); the run ends there")
-    if kind == "resting":
-        return (f"event '{name}' at t = {t:.10g}: separation speed {value:.3g} after the impact "
-                f"(below {RESTING_SPEED:g} x the largest approach speed: the contact has come to rest); "
-                "the run ends there")
-    if kind == "unresolved":
-        return (f"event '{name}' recurs at t = {t:.10g} faster than the integrator's step can "
-                "resolve (accumulation); the run ends there")
-    return f"{EVENT_BUDGET} events (the budget of one run) by t = {t:.10g}; the run ends there"
 
 
 def read_event_log(text: str, nstate: int) -> tuple[list[EventRecord], str | None]:

@@ -11,7 +11,10 @@ headers, unchanged, under the licence in fmi2/LICENSE.txt (the Modelica Associat
 
 Python: `run_rules.py` is a module lagcli itself runs (the run layer and
 the code targets import it) whose code the generated Python module carries verbatim (`python_run_rules`), so
-that module stays one self-contained file. `package_data.py` finds the other shipped
+that module stays one self-contained file; so are `variational.py` (the variational
+integrator), and for a spec with events `run_limits.py` (the budgets, the event records
+and notes) and `event_loop_code.py` (the event loop and the impact law, which lagcli's
+Python backend runs too). `package_data.py` finds the other shipped
 folders (templates/, specs/) for the spec reader and the Jinja environment."""
 from __future__ import annotations
 
@@ -65,15 +68,28 @@ def python_variational() -> str:
     return _python_code("variational.py")
 
 
+def python_run_limits() -> str:
+    """The code of `run_limits.py` (the step budget, the accumulation rules, the event
+    records and notes): what the generated module of a spec with events pastes after the
+    run rules."""
+    return _python_code("run_limits.py")
+
+
+def python_event_loop() -> str:
+    """The code of `event_loop_code.py` (the event loop and the impact law) from its
+    `# --- ` line on, without lagcli's import of the run limits (pasted above it): what
+    the generated module of a spec with events pastes after the run limits."""
+    return _python_code("event_loop_code.py")
+
+
 @functools.lru_cache(maxsize=None)
 def _python_code(name: str) -> str:
+    """The file's code from the comment line `# --- ` that opens it, after the docstring
+    (and after lagcli's own imports of what the generated module has above it)."""
     text = resources.files(__name__).joinpath(name).read_text(encoding="utf-8")
-    first_statement = ast.parse(text).body[1].lineno      # body[0] is the docstring
     lines = text.splitlines(keepends=True)
-    start = first_statement - 1
-    while start > 0 and lines[start - 1].startswith("#"):  # keep the comment above it
-        start -= 1
-    return "".join(lines[start:])
+    docstring_end = ast.parse(text).body[0].end_lineno
+    return "".join(lines[next(i for i in range(docstring_end, len(lines)) if lines[i].startswith("# --- ")):])
 
 
 def rust_runtime_files() -> dict[str, str]:

@@ -1,7 +1,8 @@
 """Output languages of `lagcli generate`: a Derivation in, {file name: text} out.
 
     python   lagcli/targets/python.py   templates/python/module.py.jinja      one module, carrying
-                                     lagcli/runtime/run_rules.py verbatim
+                                     lagcli/runtime/run_rules.py verbatim (and, with events,
+                                     python_events.py: lagcli's event loop, verbatim)
     c        lagcli/targets/c.py        templates/c/model.{h,c}.jinja, main.c  the model and its driver,
                                      plus lagcli/runtime/c/ copied as it is
     latex    lagcli/report/latex.py    templates/latex/document.tex.jinja     one document
@@ -154,7 +155,8 @@ def _refuse_hybrid(derivation, lang: str) -> None:
     drop them (lagcli simulate runs them: events and expression laws on both backends, a
     held contact on the Python backend)."""
     model = derivation.model
-    events = model.events if lang not in ("c", "fmu", "octave") else ()   # those have them (event_code.py, octave_hybrid.py)
+    # c, fmu, octave and python carry events (event_code.py, octave_hybrid.py, python_events.py)
+    events = model.events if lang not in ("c", "fmu", "octave", "python") else ()
     laws = model.laws if lang not in ("python", "octave", "fmu", "casadi", "jax", *LAWS_SUBSTITUTED) else ()
     rest = any(e.rest for e in model.events)      # held contacts: lagcli simulate (Python backend) only
     keys = [key for key, used in (("events:", events), ("an event's rest: true", rest),

@@ -8,6 +8,10 @@ driver runs (lagcli/runtime/c/lagcli_events.c) and the FMU's event indicators an
 `fmi2NewDiscreteStates` use (templates/fmu/lagcli_fmu_model.h.jinja names them).
 Expressions are printed by the C target's printer with the model table's slots:
 y = [q..., q'...], p = the parameters then the inputs (the table's order).
+
+`printed_events` is the part every target shares: each event's expressions printed by the
+target's own printer (the C model here; the generated Python module's event functions,
+lagcli/targets/python_events.py).
 """
 from __future__ import annotations
 
@@ -34,12 +38,21 @@ def event_context(d, printer_class) -> dict:
         check_slots([expr], table)
         return printer.code(expr)
 
-    names = [s.name for s in (*model.q, *model.qd)]
-    events = tuple(dict(index=k, name=e.name, action=ACTION_CODES[e.action], direction=DIRECTION_CODES[e.direction],
-                        g=code(e.g),
-                        G=[code(x) for x in e.G] if e.action == "impact" else [],
-                        g_t=code(e.g_t) if e.action == "impact" else "0.0",
-                        e=code(e.restitution) if e.action == "impact" else "0.0",
-                        reset=[(names.index(name), code(v)) for name, v in e.reset])
-                   for k, e in enumerate(d.events))
+    events = tuple(dict(e, action=ACTION_CODES[e["action"]], direction=DIRECTION_CODES[e["direction"]])
+                   for e in printed_events(d, code))
     return dict(events=events, bias=tuple(code(row.d) for row in d.constraints))
+
+
+def printed_events(d, code) -> tuple[dict, ...]:
+    """One dict per event of `d`, its expressions printed by `code` (a target's printer
+    with the state and parameter slots): index, name, action and direction (the spec's
+    words), g, and for an impact G (per coordinate), g_t, e (the restitution); for a reset
+    the (0-based state index, code) of each new value."""
+    model = d.model
+    names = [s.name for s in (*model.q, *model.qd)]
+    return tuple(dict(index=k, name=e.name, action=e.action, direction=e.direction, g=code(e.g),
+                      G=[code(x) for x in e.G] if e.action == "impact" else [],
+                      g_t=code(e.g_t) if e.action == "impact" else "0.0",
+                      e=code(e.restitution) if e.action == "impact" else "0.0",
+                      reset=[(names.index(name), code(v)) for name, v in e.reset])
+                 for k, e in enumerate(d.events))

@@ -7,7 +7,7 @@
 
 Each file exists only when the spec has laws or events, so every other spec's files are
 unchanged. Expressions are printed by the Octave printer with the model's slots (y(i),
-p(j)); the impact solves the augmented system of lagcli/run/impact.py with `\\`.
+p(j)); the impact solves the augmented system of lagcli/runtime/event_loop_code.py with `\\`.
 """
 from __future__ import annotations
 

@@ -4,8 +4,9 @@ The module's interface is docs/design.md ("Generated Python module"). Scalar cod
 uses `math` on Python floats (fast for small systems); numpy is used for the
 arrays it returns and `numpy.linalg.solve`; scipy only inside `simulate`. The
 module never imports sympy. Its output times and step cap are the code of
-`lagcli/runtime/run_rules.py`, inserted verbatim (the rules lagcli itself runs). Everything but the printer is shared with the C
-output (`codegen.generated_context`).
+`lagcli/runtime/run_rules.py`, inserted verbatim (the rules lagcli itself runs); a spec
+with events gets lagcli's event loop the same way (lagcli/targets/python_events.py).
+Everything but the printer is shared with the C output (`codegen.generated_context`).
 """
 from __future__ import annotations
 
@@ -58,6 +59,7 @@ def python_module(d: Derivation, layout: Layout, initial=None, initial_notes=(),
     `discrete_code.variational_context` (None: for a small system only)."""
     from lagcli.targets.discrete_code import merged_imports, variational_context
     from lagcli.targets.laws import printed_laws, state_printer
+    from lagcli.targets.python_events import events_context
 
     context = codegen.generated_context(d, PythonPrinter, layout, initial, initial_notes)
     discrete = variational_context(d, PythonPrinter, variational)    # the variational integrator's functions
@@ -65,7 +67,8 @@ def python_module(d: Derivation, layout: Layout, initial=None, initial_notes=(),
         context["imports"] = merged_imports(context["imports"], discrete["variational"].imports)
     code = state_printer(d, PythonPrinter)
     laws = printed_laws(d, PythonPrinter, code)       # the spec's input laws: simulate's default u
+    events = events_context(d, code)                  # the spec's events and the event loop
     context["imports"] = merged_imports(context["imports"], code.printer.imports())
-    return render("python/module.py.jinja", **context, **discrete, laws=laws,
+    return render("python/module.py.jinja", **context, **discrete, **events, laws=laws,
                   run_rules=python_run_rules(),               # lagcli's own run rules, pasted verbatim
                   variational_runtime=python_variational())   # and its variational integrator

@@ -6,7 +6,7 @@ function [times_out, states, records, note] = lagcli_event_loop(fun, gfun, act, 
 %   GFUN(t, y) -> [value, isterminal, direction] are the event functions (ode45's
 %   'Events'); ACT(k, t, y) -> [y_new, impulse, speeds] does event k's action (speeds:
 %   the approach speed before and after an impact). MODEL: .names, .actions (cells),
-%   .gap, .resting, .budget, .samples (the rules of lagcli/run/event_loop.py).
+%   .gap, .resting, .budget, .samples (the rules of lagcli/runtime/event_loop_code.py).
 %   RECORDS: one struct per event (t, name, action, before, after, impulse); NOTE: why
 %   the run ended early ('' when it reached the end).
 %
@@ -128,7 +128,7 @@ end
 end
 
 function note = accumulation(model, k, t, gap, speeds, fastest, total)
-% Why the run ends at this event ('' when it goes on): see lagcli/run/event_loop.py.
+% Why the run ends at this event ('' when it goes on): see lagcli/runtime/event_loop_code.py.
 note = '';
 name = model.names{k};
 if ~isempty(speeds) && abs(speeds(2)) <= model.resting * max(fastest, abs(speeds(1)))
