@@ -172,3 +172,75 @@ def test_coin_at_rest_on_an_incline_is_one_member_of_its_family():
         assert min(abs(e.point["psi"]), abs(e.point["psi"] - math.pi)) < 1e-9
         assert e.point["y"] == pytest.approx(0, abs=1e-9) and e.point["z"] == pytest.approx(0.3, abs=1e-9)
         assert e.point["z"] - e.point["y"] * math.tan(0.2) == pytest.approx(0.3, abs=1e-9)
+
+
+# -- closed forms for several unknowns (lagcli/analysis/closed_forms.py) ------------------
+
+def test_double_pendulum_closed_forms_are_each_link_hanging_or_upright(derived):
+    """sin(theta1) = 0 and sin(theta2) = 0 (the stationary points of V), each solved in
+    closed form: all four combinations of 0 and pi, and nothing else."""
+    import sympy as sp
+
+    found = find(derived("double_pendulum"))
+    assert {tuple(e.symbolic.values()) for e in found} == {(a, b) for a in (0, sp.pi) for b in (0, sp.pi)}
+    for e in found:
+        assert [e.coordinates[k] for k in ("theta1", "theta2")] == pytest.approx(
+            [float(v) for v in e.symbolic.values()], abs=1e-12)
+
+
+def test_cartesian_pendulum_closed_forms_with_the_rod_multiplier(derived):
+    """x = 0, y = -+l solve 2 lambda x = 0, x^2 + y^2 = l^2 and the y equation: by elimination,
+    with the branch lambda = 0 ending in m g = 0 (no solution)."""
+    import sympy as sp
+
+    d = derived("cartesian_pendulum")
+    l = sp.Symbol("l", real=True)
+    found = find(d)
+    forms = [(e.symbolic["x"], e.symbolic["y"]) for e in found]
+    assert len(forms) == 2 and all(x == 0 for x, _ in forms)
+    assert {sp.simplify(y / l) for _, y in forms} == {-1, 1}
+
+
+@pytest.mark.parametrize("spec", ["atwood", "disc_on_incline", "ex19_wedge"])
+def test_no_equilibrium_is_proved_when_the_elimination_ends_in_a_contradiction(spec):
+    """Atwood with m1 != m2, a disc rolling down an incline, a block on a wedge: the
+    equations at rest reduce to a nonzero number (a net force), so there is none."""
+    found = lagcli.load(spec_path(spec)).equilibria()
+    assert len(found) == 0 and found.proved_none
+    text = CliRunner().invoke(cli, ["equilibria", str(spec_path(spec))]).output
+    assert "there is no equilibrium" in text
+
+
+def test_equal_atwood_masses_rest_anywhere_along_the_rope():
+    found = lagcli.load(spec_path("atwood")).equilibria(parameters={"m2": 1.05})
+    assert not found.proved_none and len(found) == 1
+    (e,) = found
+    assert set(e.free) == {"y1", "y2"} and e.point["y1"] + e.point["y2"] == pytest.approx(10.0)
+
+
+def test_bead_off_axis_pair_in_closed_form_each_once(derived):
+    """Above Omega^2 = g/R the pair theta = +-acos(g/(R Omega^2)), each listed once, both in
+    closed form with cos(theta) = g/(R Omega^2)."""
+    import sympy as sp
+
+    d = derived("bead_on_spinning_hoop")
+    g, R, Omega = (sp.Symbol(n, real=True) for n in ("g", "R", "Omega"))
+    off = [e for e in find(d) if e.coordinates["theta"] not in (0.0, pytest.approx(math.pi))]
+    assert len(off) == 2
+    for e in off:
+        assert sp.simplify(sp.cos(e.symbolic["theta"]) - g / (R * Omega**2)) == 0
+
+
+def test_coupled_equations_beyond_the_budget_end_in_bounded_work(derived):
+    """Ex. 20's coupled equations: no factor splits them, so the elimination gives up at
+    once (incomplete) and the numeric search finds the points."""
+    from lagcli.analysis.closed_forms import BRANCHES, SOLVES, eliminate
+    import sympy as sp
+
+    d = derived("ex20_spinning_disk_double_pendulum")
+    model = d.model
+    rest = {v: 0 for v in model.qd} | {model.t: 0}
+    numbers = {p.symbol: sp.Float(p.value, 30) for p in model.parameters}
+    result = eliminate([e.xreplace(rest) for e in d.forcing], list(model.q), numbers)
+    assert not result.complete and result.solves >= 0 and result.branches >= -1
+    assert SOLVES - result.solves <= SOLVES and BRANCHES - result.branches <= BRANCHES + 1

@@ -9,12 +9,14 @@ add the multipliers: F(q, 0) + A^T lambda = 0 with phi(q) = 0. Steady motions
 at given momenta of ignorable coordinates are the Routhian's business
 (`routh.py`, its effective potential).
 
-Closed forms come from sympy's solve, for the parameters as symbols, when the
-equation is small (`SYMBOLIC_BUDGET` operations, one unknown, no constraints: solve
-has no work budget of its own, and on the two coupled equations of the notes' Ex. 20
-it ran for minutes); the numeric search of `rest_search` (every angle's full turn, families
-brought to one member, repeats merged) runs in every case, from each guess (`--guess`,
-else the spec's initial state and the origin), and adds what the closed forms missed.
+Closed forms, for the parameters as symbols, come from an elimination in bounded work
+(`closed_forms.py`: one factor, one unknown at a time, counted budgets; multipliers
+and holonomic rows included); when it finishes every branch without a solution, there
+is no point of rest, and the result says so. The numeric search of `rest_search`
+(every angle's full turn, families brought to one member, repeats merged by pose) runs
+in every case, from each guess (`--guess`, else the spec's initial state and the
+origin), and adds what the closed forms missed. Where the mass matrix is singular
+because of the coordinates, `singular_chart.py` decides.
 """
 from __future__ import annotations
 
@@ -25,25 +27,16 @@ import sympy as sp
 
 from lagcli.analysis.rest_search import RestProblem, Stationary, distinct, search
 
-SYMBOLIC_BUDGET = 80        # count_ops of the equations sympy's solve is given
-SYMBOLIC_UNKNOWNS = 1
+def _symbolic(equations, unknowns, parameters) -> tuple[list[Stationary], bool]:
+    """The real closed-form solutions (`closed_forms.eliminate`), and whether the elimination
+    was complete and found no point of rest at all (then there is none)."""
+    from lagcli.analysis.closed_forms import eliminate
 
-
-def _symbolic(equations, unknowns, parameters) -> list[Stationary]:
-    """The real closed-form solutions (none when the equations are too large for solve)."""
-    equations = [sp.factor_terms(e) for e in equations if e != 0]
-    if len(unknowns) > SYMBOLIC_UNKNOWNS or sum(sp.count_ops(e) for e in equations) > SYMBOLIC_BUDGET:
-        return []
-    if not equations:
-        return [Stationary(tuple(0.0 for _ in unknowns), tuple(sp.S.Zero for _ in unknowns))]
-    try:
-        solutions = sp.solve(equations, list(unknowns), dict=True)
-    except (NotImplementedError, ValueError):
-        return []
     numbers = {s: sp.Float(v, 30) for s, v in parameters.items()}
+    elimination = eliminate([e for e in equations if e != 0], unknowns, numbers)
     found = []
-    for solution in solutions:
-        exprs = tuple(solution.get(u, sp.S.Zero) for u in unknowns)
+    for solution in elimination.solutions:
+        exprs = tuple(solution.get(u, u) for u in unknowns)
         if any(e.free_symbols - set(parameters) for e in exprs):
             continue                                     # a family: left to the numeric search
         values = [complex(e.xreplace(numbers).evalf(30)) for e in exprs]
@@ -51,14 +44,14 @@ def _symbolic(equations, unknowns, parameters) -> list[Stationary]:
             # a real value written with I (a casus irreducibilis root) is kept as a number only
             closed = None if any(e.has(sp.I) for e in exprs) else exprs
             found.append(Stationary(tuple(v.real for v in values), closed))
-    return found
+    return found, elimination.complete and not elimination.solutions
 
 
 def solve_stationary(equations, unknowns, parameters: dict, guesses) -> list[Stationary]:
     """Real solutions of `equations` = 0 for `unknowns` (`parameters` symbol -> value): the
     closed forms, else those reached from each guess itself (Routh's steady motions)."""
     problem = rest_problem(equations, unknowns, len(unknowns), parameters, ())
-    return distinct(_symbolic(equations, unknowns, parameters) or search(problem, guesses, vary=False), problem)
+    return distinct(_symbolic(equations, unknowns, parameters)[0] or search(problem, guesses, vary=False), problem)
 
 
 def rest_problem(equations, unknowns, n: int, parameters: dict, angles, pose=None) -> RestProblem:
@@ -86,7 +79,7 @@ class RestPoint:
     singular: object = None             # singular_chart.CoordinateSingularity where M is singular
 
 
-def equilibria(d, parameters: dict, guesses: list[dict], independent=(), compiled=None) -> list[RestPoint]:
+def equilibria(d, parameters: dict, guesses: list[dict], independent=(), compiled=None) -> "RestPoints":
     """Every equilibrium found, with its linearization and stability (`compiled`: the
     derivation's `linearize.CompiledSystem`, when the caller has it)."""
     from lagcli.analysis.linearize import CompiledSystem
@@ -108,13 +101,23 @@ def equilibria(d, parameters: dict, guesses: list[dict], independent=(), compile
     pose = pose_expressions(model, symbols)
     problem = rest_problem(list(balance) + holonomic, unknowns, len(model.q), symbols, angles,
                            pose_function(model, symbols, pose))
-    closed = [] if d.constraints else _symbolic(list(balance), unknowns, symbols)
+    closed, none = _symbolic(list(balance) + holonomic, unknowns, symbols)
     starts = [[g.get(s.name, 0.0) for s in unknowns] for g in guesses]
     found = distinct(closed + search(problem, starts), problem)
     system = compiled or CompiledSystem(d)
     charts = _Lazy(lambda: Charts(d, parameters, pose))
     points = [_rest_point(system, charts, s, parameters, independent, problem.angles) for s in found]
-    return [p for p in points if p is not None]
+    return RestPoints(p for p in points if p is not None).proved(none)
+
+
+class RestPoints(list):
+    """The RestPoints found; `proved_none`: the closed forms show there is no point of rest."""
+
+    proved_none = False
+
+    def proved(self, none: bool) -> "RestPoints":
+        self.proved_none = none and not self
+        return self
 
 
 class _Lazy:
@@ -147,6 +150,7 @@ def _rest_point(system, charts, s: Stationary, parameters: dict, independent, an
         singular = examine(charts(), q, frozenset(names[k] for k in angles))
         if not singular.equilibrium:
             return None
+        lm = singular.linear
     else:
         try:
             lm = linearize(system, Point(0.0, q, np.zeros(n), dict(parameters)), independent)

@@ -95,10 +95,21 @@ def linearization(d, lm, st) -> Linearization:
                            {x.symbol.name: p.parameters[x.symbol.name] for x in model.parameters},
                            {u.symbol.name: p.parameters[u.symbol.name] for u in model.inputs}, tuple(p.notes))
     printer = LatexPrinter(model)
-    names = {n: printer.doprint(model.symbol(n)) for n in (*lm.states, *lm.inputs)}
+    spec_names = {s.name for s in (*model.q, *model.qd, *model.parameter_symbols, *model.input_symbols)}
+    names = {n: printer.doprint(model.symbol(n)) if n in spec_names else _chart_latex(printer, model, n)
+             for n in (*lm.states, *lm.inputs)}
     return Linearization(model.name, point, lm.states, lm.inputs, lm.coordinates, lm.speeds, lm.dependent,
                          lm.A, lm.B, lm.M, lm.C, lm.K, lm.B2, lm.speed_rates, st.eigenvalues, st.neutral,
                          st.negative_stiffness, st.verdict, st.evidence, st.drift, st.defective, names)
+
+
+def _chart_latex(printer, model, name: str) -> str:
+    """`theta'` -> theta's LaTeX primed, `theta'_dot` -> dotted: a coordinate of the chart
+    lagcli assembled at a coordinate singularity (singular_chart.py)."""
+    base = name.removesuffix("_dot")
+    primes = len(base) - len(base.rstrip("'"))
+    letter = printer.doprint(model.symbol(base.rstrip("'")))
+    return (rf"\dot{{{letter}}}" if name != base else letter) + "'" * primes
 
 
 def equilibria(system, parameters=None, inputs=None, guesses=None) -> Equilibria:
@@ -110,7 +121,7 @@ def equilibria(system, parameters=None, inputs=None, guesses=None) -> Equilibria
     return Equilibria(d.model.name, values, tuple(
         Equilibrium(e.coordinates, e.symbolic, linearization(d, e.linear, e.stability) if e.linear else None,
                     e.free, e.singular)
-        for e in found))
+        for e in found), found.proved_none)
 
 
 def _constants(system, parameters, inputs) -> dict[str, float]:

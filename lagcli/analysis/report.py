@@ -211,11 +211,13 @@ def equilibria_content(found, printer) -> dict:
             "coordinate_singularity": list(e.singular.notes) if e.singular is not None else [],
         }
 
-    return {"name": found.name, "equilibria": [one(e) for e in found],
+    return {"name": found.name, "equilibria": [one(e) for e in found], "proved_none": found.proved_none,
             "round_off": {"relative": POINT_ROUND_OFF, "rule": POINT_ROUND_OFF_RULE}}
 
 
 def equilibria_text(c: dict) -> str:
+    if c["proved_none"]:
+        return f"{c['name']}: there is no equilibrium: the equations at rest have no solution (solved in closed form)\n"
     if not c["equilibria"]:
         return f"{c['name']}: no equilibrium found\n  hint: give a starting point with --guess NAME=VALUE,...\n"
     lines = [f"equilibria of {c['name']} (q' = 0):"]

@@ -169,24 +169,18 @@ class Equilibrium:
     linearization: Linearization | None
     free: tuple[str, ...] = ()
     singular: object = None     # where M is singular because of the coordinates: what lagcli can say
-                                # (`singular_chart.CoordinateSingularity`: `notes`, and eigenvalues in a
-                                # regular chart assembled there when it can decide)
+                                # (`singular_chart.CoordinateSingularity`: `notes`); the linearization
+                                # is then in a regular chart assembled there (states w1, ..), if any
 
     @property
     def eigenvalues(self) -> np.ndarray:
-        if self.linearization:
-            return self.linearization.eigenvalues
-        if self.singular is not None and self.singular.stability is not None:
-            return self.singular.stability.eigenvalues
-        return np.zeros(0, dtype=complex)
+        return self.linearization.eigenvalues if self.linearization else np.zeros(0, dtype=complex)
 
     @property
     def verdict(self) -> str:
         if self.linearization:
             return self.linearization.verdict
-        if self.singular is not None:
-            return self.singular.stability.verdict if self.singular.stability is not None else "not decided"
-        return "not linearizable here (singular mass matrix)"
+        return "not decided" if self.singular is not None else "not linearizable here (singular mass matrix)"
 
     @property
     def modes(self) -> tuple[Mode, ...]:
@@ -230,6 +224,7 @@ class Equilibria:
     name: str
     parameters: dict[str, float]        # the parameter and input values they are for
     found: tuple[Equilibrium, ...]
+    proved_none: bool = False           # none found, and the closed forms show there is none
 
     def __len__(self) -> int:
         return len(self.found)
@@ -241,7 +236,7 @@ class Equilibria:
         return self.found[k]
 
     def __repr__(self) -> str:
-        return (f"<Equilibria of {self.name}: {len(self)} found" + "".join(
+        return (f"<Equilibria of {self.name}: " + ("none exists" if self.proved_none else f"{len(self)} found") + "".join(
             f"; {', '.join(f'{k} = {number(v, 6)}' for k, v in zip(e.point, shown_point(e.point)))} {e.verdict}"
             for e in self) + ">")
 
@@ -253,7 +248,8 @@ class Equilibria:
             + f"<td>{escape(e.verdict)}{_because_html(e)}{_notes_html(e)}</td>"
             + f"<td>{escape(', '.join(complex_text(s, _HTML_DIGITS) for s in e.eigenvalues))}</td></tr>"
             for k, e in enumerate(self, 1))
-        caption = f"equilibria of {self.name} (q' = 0): {len(self)} found"
+        caption = f"equilibria of {self.name} (q' = 0): " + ("none exists (the equations at rest have no solution)"
+                                                          if self.proved_none else f"{len(self)} found")
         return f"<table><caption>{escape(caption)}</caption><tr>{head}</tr>{rows}</table>"
 
 

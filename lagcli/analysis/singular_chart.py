@@ -13,10 +13,12 @@ cannot:
    coordinates only; such a point is no equilibrium.
 2. Its stability, from a regular chart assembled from the descriptions: the pose key's
    Jacobian J_j at each maps that chart's velocities to pose velocities; their span is
-   the tangent space of the configuration (basis U; it must have n dimensions), with
-   coordinates w = U^T (pose - pose0). In w each chart's matrices at rest are
-   C_j^T X C_j (C_j = U^T J_j): M, and the Jacobians of the forcing in q and q', since
-   the forcing vanishes at an equilibrium. Least squares over the charts gives X; the
+   the tangent space of the configuration (it must have n dimensions). Its basis is the
+   coordinates' own directions here, then those the other descriptions add (a primed
+   name: theta' is theta in another description), so the chart's coordinates w read
+   like the spec's. In w each chart's matrices at rest are C_j^T X C_j (J_j = B C_j, B
+   the basis): M, and the Jacobians of the forcing in q and q', since the forcing
+   vanishes at an equilibrium. Least squares over the charts gives X; the
    linear model in w gives the eigenvalues and the verdict (`stability.py`). A
    constrained system, or descriptions that do not reach every direction, are left
    undecided, and the note says so.
@@ -93,7 +95,7 @@ def examine(charts: Charts, q0: np.ndarray, angles: frozenset) -> CoordinateSing
     descriptions = [q0]
     for v in still_vectors.T:
         v = v / np.max(np.abs(v))
-        for k in range(1, DESCRIPTIONS):
+        for k in sorted(range(1, DESCRIPTIONS), key=lambda k: (k % 2, k)):   # quarter turns first
             q = q0 + 2 * math.pi * k / DESCRIPTIONS * v
             if same_pose(charts.key(q)[0], key0):
                 descriptions.append(q)
@@ -102,13 +104,14 @@ def examine(charts: Charts, q0: np.ndarray, angles: frozenset) -> CoordinateSing
     if any(np.max(np.abs(m["F"]), initial=0.0) > AT_REST for m in at_rest):
         return CoordinateSingularity(still, False, (f"stationary in these coordinates only ({what})",))
     notes = [what + ": the coordinates are singular, not the physics"]
-    linear = _assembled(charts, q0, descriptions, at_rest)
+    linear, where = _assembled(charts, q0, descriptions, at_rest)
     if linear is None:
         notes.append("the other descriptions of this pose do not reach every direction: "
                      "lagcli cannot decide the stability here")
     else:
         notes.append(f"stability at rest in a regular chart assembled from {len(descriptions)} "
-                     "descriptions of this pose")
+                     f"descriptions of this pose, coordinates {', '.join(linear.coordinates)} "
+                     f"({where}, the same pose)")
     if len(still) > 1 and all(s in angles for s in still):
         notes.append("a steady spin about that axis (the sleeping top) is not decided here: "
                      "see docs/analysis.md, \"Coordinate singularities\"")
@@ -127,26 +130,54 @@ def _what(still, angles) -> str:
 
 
 def _assembled(charts: Charts, q0: np.ndarray, descriptions: list, at_rest: list):
-    """The linear model in the chart assembled from the descriptions, or None."""
+    """(the linear model in the chart assembled from the descriptions, a note naming its
+    coordinates), or (None, "") when they do not reach every direction or misfit."""
     from lagcli.analysis.linearize import LinearModel, _jacobi_conserved_at
     from lagcli.analysis.operating_point import Point
 
     jacobians = [charts.key(q)[1] for q in descriptions]
-    U, s, _ = np.linalg.svd(np.hstack(jacobians), full_matrices=False)
-    r = int(np.sum(s > 1e-9 * s[0]))
-    if r != charts.n:
-        return None
-    C = [U[:, :r].T @ J for J in jacobians]
+    basis, names, where = _directions(charts, descriptions, jacobians)
+    if len(names) != charts.n:
+        return None, ""
+    C = [np.linalg.lstsq(basis, J, rcond=None)[0] for J in jacobians]
     fitted = [_fit(C, [m[name] for m in at_rest]) for name in ("M", "F_q", "F_qd")]
     if any(X is None for X in fitted):
-        return None
+        return None, ""
     M, F_q, F_qd = fitted
     M = (M + M.T) / 2
+    r = charts.n
     A = np.block([[np.zeros((r, r)), np.eye(r)], [np.linalg.solve(M, F_q), np.linalg.solve(M, F_qd)]])
-    w = tuple(f"w{k}" for k in range(1, r + 1))
-    point = Point(0.0, q0, np.zeros(charts.n), dict(charts.parameters))
-    return LinearModel(point, w, tuple(f"{x}_dot" for x in w), (), A, np.zeros((2 * r, 0)), M, -F_qd, -F_q,
-                       np.zeros((r, 0)), np.zeros(r), (), _jacobi_conserved_at(charts.derivation, point))
+    point = Point(0.0, q0, np.zeros(r), dict(charts.parameters))
+    linear = LinearModel(point, tuple(names), tuple(f"{x}_dot" for x in names), (), A, np.zeros((2 * r, 0)), M,
+                         -F_qd, -F_q, np.zeros((r, 0)), np.zeros(r), (), _jacobi_conserved_at(charts.derivation, point))
+    return linear, where
+
+
+def _directions(charts: Charts, descriptions: list, jacobians: list):
+    """Pose directions of the coordinates, here first, then in the other descriptions, each
+    kept when it is new: (basis, names: a coordinate, primed when from another description,
+    a note saying where the primed ones are)."""
+    model_names = [s.name for s in charts.derivation.model.q]
+    columns, names, where = [], [], []
+    scale = max(float(np.max(np.linalg.norm(J, axis=0), initial=0.0)) for J in jacobians)
+    for q, J in zip(descriptions, jacobians):
+        for k, name in enumerate(model_names):
+            column = J[:, k]
+            if columns:
+                basis = np.column_stack(columns)
+                column_left = column - basis @ np.linalg.lstsq(basis, column, rcond=None)[0]
+            else:
+                column_left = column
+            if np.linalg.norm(column_left) <= 1e-6 * scale:        # moves nothing, or nothing new
+                continue
+            primes = sum(1 for n in names if n.rstrip("'") == name)
+            names.append(name + "'" * primes)
+            columns.append(column)
+            if primes:
+                at = ", ".join(f"{n} = {v:.6g}" for n, v in zip(model_names, q))
+                where.append(f"{names[-1]} is {name} at {at}")
+    basis = np.column_stack(columns) if columns else np.zeros((jacobians[0].shape[0], 0))
+    return basis, names, "; ".join(where)
 
 
 def _fit(C: list, matrices: list) -> np.ndarray | None:
