@@ -184,11 +184,8 @@ class Equilibrium:
 
     @property
     def modes(self) -> tuple[Mode, ...]:
-        """The modes of its eigenvalues (of the chart's linear model at a coordinate singularity)."""
-        if self.linearization:
-            return self.linearization.modes
-        chart = self._chart_stability
-        return chart.modes if chart is not None else ()
+        """The modes of its eigenvalues (`Mode`: frequency, damping ratio, kind)."""
+        return self.linearization.modes if self.linearization else ()
 
     @property
     def frequencies(self) -> tuple[float, ...]:
@@ -199,18 +196,11 @@ class Equilibrium:
     @property
     def evidence(self) -> str:
         """The numbers its verdict rests on (docs/analysis.md, "Stability verdict")."""
-        if self.linearization:
-            return self.linearization.evidence
-        chart = self._chart_stability
-        return chart.evidence if chart is not None else ""
+        return self.linearization.evidence if self.linearization else ""
 
     @property
     def drift(self) -> tuple[str, ...]:
         return self.linearization.drift if self.linearization else ()
-
-    @property
-    def _chart_stability(self):
-        return self.singular.stability if self.singular is not None else None
 
     def __repr__(self) -> str:
         where = ", ".join(f"{k} = {number(v, 6)}" for k, v in zip(self.point, shown_point(self.point)))
