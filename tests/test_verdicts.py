@@ -225,3 +225,30 @@ def test_an_equilibrium_at_a_coordinate_singularity_prints_its_chart_modes():
     assert hanging.startswith("psi = 0, theta = 3.14159265359, phi = 0: stable")
     assert f"small-oscillation frequencies (rad/s): {swing:.10g}" in hanging
     assert "Lagrange-Dirichlet" in hanging
+
+
+FOLLOWER = """name: follower
+description: two equal oscillators, the second pushing the first (a circulatory force)
+coordinates: [x, y]
+parameters: {m: 1.0, k: 4.0, c: C}
+particles:
+  P: {mass: m, position: [x, y]}
+generalized_forces: {x: -k*x + c*y, y: -k*y}
+"""
+
+
+@pytest.mark.parametrize("c", [0.5, 0.0])
+def test_a_repeated_frequency_with_one_mode_is_linearly_unstable(c):
+    """x'' = -k x + c y, y'' = -k y: s = +-2i twice; with c != 0 one eigenvector each (sympy's
+    Jordan form), x = (c t / 4) sin 2t grows; with c = 0 two, bounded."""
+    lin = lagcli.load(FOLLOWER.replace("C}", f"{c}}}")).linearize()
+    exact = sp.Matrix([[0, 0, 1, 0], [0, 0, 0, 1], [-4, sp.nsimplify(c), 0, 0], [0, -4, 0, 0]])
+    np.testing.assert_allclose(lin.A, np.array(exact.evalf(), dtype=float), atol=1e-12)
+    blocks = jordan_blocks(exact)
+    if c:
+        assert blocks[2j] == [2] and lin.verdict == "linearly unstable"
+        assert [m.kind for m in lin.modes] == ["growing oscillation"] * 4 and lin.frequencies == ()
+        assert "+-2i" in lin.evidence
+    else:
+        assert blocks[2j] == [1, 1] and lin.verdict == "marginally stable"
+        assert lin.frequencies == pytest.approx((2.0,))

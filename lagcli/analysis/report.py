@@ -12,6 +12,8 @@ import json
 import numpy as np
 import sympy as sp
 
+from lagcli.analysis.wording import (complex_text, drift_sentence, modes_content, modes_text,
+                                     motion_lines, number, pair)
 from lagcli.render.escape import latex_text
 from lagcli.report.notation import analysis_letters, linear_equations
 
@@ -41,24 +43,8 @@ def shown_point(point: dict) -> np.ndarray:
     return np.where(np.abs(values) <= POINT_ROUND_OFF * scale, 0.0, values)
 
 
-def number(x: float, digits: int = 10) -> str:
-    x = float(x)
-    return "0" if x == 0 else f"{x:.{digits}g}"
-
-
-def complex_text(s: complex, digits: int = 10) -> str:
-    if s.imag == 0:
-        return number(s.real, digits)
-    sign = "-" if s.imag < 0 else "+"
-    return f"{number(s.real, digits)} {sign} {number(abs(s.imag), digits)}i"
-
-
 def _matrix(a: np.ndarray) -> list[list[float]]:
     return [[float(x) for x in row] for row in np.asarray(a)]
-
-
-def _pair(s: complex) -> list[float]:
-    return [float(s.real), float(s.imag)]
 
 
 # -- content ------------------------------------------------------------------
@@ -79,11 +65,11 @@ def linear_content(lin) -> dict:
                          "M": _matrix(lin.M), "C": _matrix(lin.C), "K": _matrix(lin.K), "B": _matrix(lin.B_second),
                          "gyroscopic": _matrix(lin.gyroscopic), "damping": _matrix(lin.damping)},
         "speed_rates": [float(x) for x in lin.speed_rates],
-        "eigenvalues": [_pair(s) for s in lin.eigenvalues],
+        "eigenvalues": [pair(s) for s in lin.eigenvalues],
         "modes": modes_content(lin.modes),
         "neutral_states": list(lin.neutral),
         "drift": list(lin.drift),
-        "defective": [_pair(s) for s in lin.defective],
+        "defective": [pair(s) for s in lin.defective],
         "negative_stiffness": lin.negative_stiffness,
         "verdict": lin.verdict,
         "evidence": lin.evidence,
@@ -92,27 +78,12 @@ def linear_content(lin) -> dict:
     }
 
 
-SETTLED = ("asymptotically stable", "stable", "gyroscopically stabilized", "marginally stable")  # nothing grows
-
-
-def modes_content(modes) -> list[dict]:
-    return [{"eigenvalue": _pair(m.eigenvalue), "natural_frequency": m.natural_frequency,
-             "damping_ratio": m.damping_ratio, "kind": m.kind} for m in modes]
-
-
-def drift_sentence(drift) -> str:
-    """What the drift of a linear model is, in words (every surface says it so)."""
-    verb = "grows" if len(drift) == 1 else "grow"
-    return (f"{', '.join(drift)} {verb} linearly with time (s = 0 repeated with fewer eigenvectors: "
-            "a neutral mode moving at constant speed); the verdict is on the other modes")
-
-
 def sweep_content(result) -> dict:
     """The JSON of a `sweep.LinearizationSweep`."""
     return {
         "variable": result.variable,
         "points": [{"value": p.value, "verdict": p.stability.verdict,
-                    "eigenvalues": [_pair(s) for s in p.stability.eigenvalues]} for p in result.points],
+                    "eigenvalues": [pair(s) for s in p.stability.eigenvalues]} for p in result.points],
         "critical": [{"value": c.value, "unstable_below": c.unstable_below,
                       "unstable_above": c.unstable_above} for c in result.critical],
     }
@@ -168,7 +139,7 @@ def linear_text(c: dict) -> str:
     if c["inputs"]:
         lines += _matrix_text(n["F"], s["speeds"], c["inputs"], np.array(s["B"]))
     lines.append("")
-    lines += _modes_text(c)
+    lines += modes_text(c)
     return "\n".join(lines) + "\n"
 
 
@@ -176,44 +147,6 @@ def first_order_line(n: dict, states, inputs) -> str:
     """`x' = A x + B u,  x = (...), u = (...)` in the output's letters `n` (`linear_letters`)."""
     return (linear_equations(n, bool(inputs))[0] + f",  {n['x']} = (" + ", ".join(states) + ")"
             + (f", {n['u']} = (" + ", ".join(inputs) + ")" if inputs else ""))
-
-
-def _modes_text(c: dict) -> list[str]:
-    lines = ["eigenvalues" + (f" (neutral modes by structure, left out: {', '.join(c['neutral_states'])})"
-                              if c["neutral_states"] else "") + ":"]
-    lines.append(f"  {'eigenvalue':>34}  {'frequency (rad/s)':>18}  {'damping ratio':>14}  mode")
-    for m in c["modes"]:
-        zeta = "-" if m["damping_ratio"] is None else number(m["damping_ratio"], 6)
-        lines.append(f"  {complex_text(complex(*m['eigenvalue'])):>34}  {number(m['natural_frequency']):>18}"
-                     f"  {zeta:>14}  {m['kind']}")
-    if c["drift"]:
-        lines.append(f"drift: {drift_sentence(c['drift'])}")
-    lines.append(f"verdict: {c['verdict']} ({c['evidence']})")
-    return lines
-
-
-def motion_lines(modes: list[dict], verdict: str) -> list[str]:
-    """What the modes of an equilibrium do, beyond their eigenvalues: the frequencies of the
-    oscillations (small oscillations where nothing grows) and each spiral or defective
-    pair in words."""
-    lines = []
-    frequencies = sorted({round(m["natural_frequency"], 12) for m in modes
-                          if m["kind"] == "oscillation" and m["eigenvalue"][1] > 0})
-    if frequencies:
-        label = "small-oscillation frequencies" if verdict in SETTLED else "frequencies of the modes that oscillate"
-        lines.append(f"{label} (rad/s): " + ", ".join(number(w) for w in frequencies))
-    for m in modes:
-        re, im = m["eigenvalue"]
-        if im <= 0 or m["kind"] == "oscillation":
-            continue
-        if m["kind"].endswith("spiral"):
-            change = "grows" if re > 0 else "decays"
-            lines.append(f"{m['kind']} {number(re, 8)} +- {number(im, 8)}i: the amplitude {change} as "
-                         f"exp({number(re, 8)} t) while turning at {number(im, 8)} rad/s")
-        elif m["kind"] == "growing oscillation":
-            lines.append(f"growing oscillation +- {number(im, 8)}i: repeated with fewer eigenvectors, the "
-                         "amplitude grows like t")
-    return lines
 
 
 def sweep_text(c: dict) -> str:
@@ -268,7 +201,7 @@ def equilibria_content(found, printer) -> dict:
         return {
             "coordinates": e.point,
             "closed_form": {k: printer(v) for k, v in e.closed_form.items()} if e.closed_form else None,
-            "eigenvalues": [_pair(s) for s in e.eigenvalues] if e.linearization or e.eigenvalues.size else None,
+            "eigenvalues": [pair(s) for s in e.eigenvalues] if e.linearization or e.eigenvalues.size else None,
             "frequencies": list(e.frequencies),
             "modes": modes_content(e.modes),
             "drift": list(e.drift),
@@ -318,7 +251,7 @@ def routh_content(r, printer) -> dict:
         "cyclic_velocities": {name: printer(e) for name, e in r.cyclic_velocities.items()},
         "reduced_equations": [printer(e) for e in r.reduced_equations],
         "steady_motions": [{"coordinates": m.coordinates, "cyclic_rates": m.cyclic_rates,
-                            "eigenvalues": [_pair(s) for s in m.eigenvalues],
+                            "eigenvalues": [pair(s) for s in m.eigenvalues],
                             "frequencies": list(m.frequencies)} for m in r.steady_motions],
         "notation": analysis_letters(r.derivation)["text"],
     }

@@ -17,7 +17,8 @@ from html import escape
 
 import numpy as np
 
-from lagcli.analysis.report import bmatrix, complex_text, drift_sentence, number, shown, shown_point
+from lagcli.analysis.report import bmatrix, shown, shown_point
+from lagcli.analysis.wording import complex_text, drift_sentence, number
 from lagcli.analysis.stability import Mode, modes_of, oscillation_frequencies
 from lagcli.render.escape import latex_text
 
@@ -183,11 +184,8 @@ class Equilibrium:
 
     @property
     def modes(self) -> tuple[Mode, ...]:
-        """The modes of its eigenvalues (of the chart's linear model at a coordinate singularity)."""
-        if self.linearization:
-            return self.linearization.modes
-        chart = self._chart_stability
-        return chart.modes if chart is not None else ()
+        """The modes of its eigenvalues (`Mode`: frequency, damping ratio, kind)."""
+        return self.linearization.modes if self.linearization else ()
 
     @property
     def frequencies(self) -> tuple[float, ...]:
@@ -198,18 +196,11 @@ class Equilibrium:
     @property
     def evidence(self) -> str:
         """The numbers its verdict rests on (docs/analysis.md, "Stability verdict")."""
-        if self.linearization:
-            return self.linearization.evidence
-        chart = self._chart_stability
-        return chart.evidence if chart is not None else ""
+        return self.linearization.evidence if self.linearization else ""
 
     @property
     def drift(self) -> tuple[str, ...]:
         return self.linearization.drift if self.linearization else ()
-
-    @property
-    def _chart_stability(self):
-        return self.singular.stability if self.singular is not None else None
 
     def __repr__(self) -> str:
         where = ", ".join(f"{k} = {number(v, 6)}" for k, v in zip(self.point, shown_point(self.point)))
@@ -244,12 +235,19 @@ class Equilibria:
         head = "".join(f"<th>{escape(n)}</th>" for n in ["", *names, "verdict", "eigenvalues"])
         rows = "".join(
             f"<tr><td>{k}</td>" + "".join(f"<td>{number(v, _HTML_DIGITS)}</td>" for v in shown_point(e.point))
-            + f"<td>{escape(e.verdict)}{_notes_html(e)}</td>"
+            + f"<td>{escape(e.verdict)}{_because_html(e)}{_notes_html(e)}</td>"
             + f"<td>{escape(', '.join(complex_text(s, _HTML_DIGITS) for s in e.eigenvalues))}</td></tr>"
             for k, e in enumerate(self, 1))
         caption = f"equilibria of {self.name} (q' = 0): " + ("none exists (the equations at rest have no solution)"
                                                           if self.proved_none else f"{len(self)} found")
         return f"<table><caption>{escape(caption)}</caption><tr>{head}</tr>{rows}</table>"
+
+
+def _because_html(e: Equilibrium) -> str:
+    """The verdict's evidence and the drift, as the text report words them."""
+    lines = [f"because: {e.evidence}"] if e.evidence else []
+    lines += [f"drift: {drift_sentence(e.drift)}"] if e.drift else []
+    return "".join(f"<br/><small>{escape(line)}</small>" for line in lines)
 
 
 def _notes_html(e: Equilibrium) -> str:

@@ -123,14 +123,18 @@ def essential(A: np.ndarray, states) -> tuple[np.ndarray, list[str], list[str]]:
 
 def sorted_eigenvalues(A: np.ndarray) -> np.ndarray:
     values = np.linalg.eigvals(A).astype(complex) if A.size else np.zeros(0, dtype=complex)
-    scale = max(1.0, np.max(np.abs(values), initial=0.0))
     noise = ROUNDING * rounding_scale(A)   # so the same model prints the same eigenvalues everywhere
     values = np.where(np.abs(values.real) <= noise, 0.0, values.real) \
         + 1j * np.where(np.abs(values.imag) <= noise, 0.0, values.imag)
-    # round away the last bits so conjugate pairs and ties sort the same on every machine
+    return in_order(values)
+
+
+def in_order(values: np.ndarray) -> np.ndarray:
+    """Re descending, then Im descending; the last bits rounded away first so conjugate
+    pairs and ties sort the same on every machine."""
+    scale = max(1.0, np.max(np.abs(values), initial=0.0))
     real = np.round(values.real / (MARGIN * scale)) * MARGIN * scale
-    order = np.lexsort((-values.imag, -real))
-    return values[order]
+    return values[np.lexsort((-values.imag, -real))]
 
 
 def rounding_scale(A: np.ndarray) -> float:
@@ -141,7 +145,7 @@ def rounding_scale(A: np.ndarray) -> float:
 def stability(model: LinearModel) -> Stability:
     basis = structure_basis(model)
     reduced, kept, dropped = essential(basis.A, basis.states)
-    values = sorted_eigenvalues_of(clustered(reduced, sorted_eigenvalues(reduced)))
+    values = in_order(clustered(reduced, sorted_eigenvalues(reduced)))
     scale = max(1.0, np.max(np.abs(values), initial=0.0))
     bad = defective(reduced, values, lambda s: abs(s.real) <= MARGIN * scale)
     K = basis.stiffness(kept)
@@ -149,12 +153,6 @@ def stability(model: LinearModel) -> Stability:
     verdict, evidence = _verdict(model, basis, kept, values, bad, K)
     drift = drifting_states(model.A, model.states, sorted_eigenvalues(model.A))
     return Stability(values, tuple(kept), tuple(dropped), verdict, negative, evidence, drift, bad)
-
-
-def sorted_eigenvalues_of(values: np.ndarray) -> np.ndarray:
-    scale = max(1.0, np.max(np.abs(values), initial=0.0))
-    real = np.round(values.real / (MARGIN * scale)) * MARGIN * scale
-    return values[np.lexsort((-values.imag, -real))]
 
 
 def _verdict(model, basis: StructureBasis, kept, values, bad, K) -> tuple[str, str]:
@@ -215,12 +213,6 @@ def _undamped(model: LinearModel) -> bool:
     """No damping: C's symmetric part is 0."""
     scale = max(np.max(np.abs(model.C), initial=0.0), np.max(np.abs(model.K), initial=0.0), 1e-300)
     return bool(np.allclose(model.damping, 0, atol=MARGIN * scale))
-
-
-def on_imaginary_axis(values: np.ndarray) -> int:
-    """How many of `values` lie on the imaginary axis (|Re s| within the verdict's margin)."""
-    scale = max(1.0, np.max(np.abs(values), initial=0.0))
-    return int(np.sum(np.abs(values.real) <= MARGIN * scale))
 
 
 def unstable_count(values: np.ndarray) -> int:

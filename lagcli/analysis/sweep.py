@@ -78,7 +78,7 @@ class LinearizationSweep:
     def _repr_html_(self) -> str:
         from html import escape
 
-        from lagcli.analysis.report import complex_text, number
+        from lagcli.analysis.wording import complex_text, number
 
         rows = "".join(f"<tr><td>{number(p.value)}</td><td>{escape(p.stability.verdict)}</td><td>"
                        + escape(", ".join(complex_text(s, 8) for s in p.stability.eigenvalues)) + "</td></tr>"
