@@ -94,6 +94,8 @@ def test_closed_loop_eigenvalues_are_those_of_a_minus_b_k():
                  *[a for g in gains for a in ("--at", g)])
     assert result.exit_code == 0, result.stderr
     content = json.loads(result.stdout)
+    assert content["notes"] == ["closed loop: the input laws substituted "
+                                "(F = -k1*x - k2*theta - k3*x_dot - k4*theta_dot)"]    # said so
     found = [complex(*e) for e in content["eigenvalues"]]        # [re, im] pairs
     expected = sorted(np.linalg.eigvals(A - B @ K[None, :]), key=lambda z: (z.real, z.imag))
     found = sorted(found, key=lambda z: (z.real, z.imag))
