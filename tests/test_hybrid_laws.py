@@ -94,6 +94,8 @@ def test_closed_loop_eigenvalues_are_those_of_a_minus_b_k():
                  *[a for g in gains for a in ("--at", g)])
     assert result.exit_code == 0, result.stderr
     content = json.loads(result.stdout)
+    assert content["notes"] == ["closed loop: the input laws substituted "
+                                "(F = -k1*x - k2*theta - k3*x_dot - k4*theta_dot)"]    # said so
     found = [complex(*e) for e in content["eigenvalues"]]        # [re, im] pairs
     expected = sorted(np.linalg.eigvals(A - B @ K[None, :]), key=lambda z: (z.real, z.imag))
     found = sorted(found, key=lambda z: (z.real, z.imag))
@@ -200,3 +202,19 @@ def test_generated_module_runs_the_spec_law_by_default_and_u_overrides_it(tmp_pa
     K = cart_pole_lqr()[2]
     _, balanced = module.simulate(u=lambda t, y: [-K @ np.asarray(y)])
     assert np.allclose(balanced[:, 1:5], rows[:, 1:5], atol=1e-6)      # the spec's gain is this K to 8 digits
+
+
+FORCED = OSCILLATOR.replace("parameters: {m: 2.0, k: 8.0}", "parameters: {m: 2.0, k: 8.0, w: 3.0}\n"
+                            "known: {f: sin(w*t)}\ndefinitions: {stiffness: k}").replace(
+    "inputs: {F: -k*x}", "inputs: {F: -stiffness*x + f}")        # a known function and a definition
+
+
+@pytest.mark.parametrize("backend", ["python", "c"])
+def test_a_law_of_a_known_function_and_a_definition_against_the_forced_oscillator(backend):
+    """m x'' = -k x + sin(w t) from x = 1 at rest: x = cos(2t) + (w/2) B sin(2t) - B sin(w t)
+    with B = 1/(m (w^2 - 4)) = 0.1 (w0 = 2)."""
+    if backend == "c" and shutil.which("cc") is None:
+        pytest.skip("no C compiler (cc)")
+    traj = lagcli.load(FORCED).simulate(backend=backend)
+    t, B = traj.t, 1 / (2.0 * (9.0 - 4.0))
+    assert np.allclose(traj["x"], np.cos(2 * t) + 1.5 * B * np.sin(2 * t) - B * np.sin(3 * t), rtol=0, atol=1e-8)

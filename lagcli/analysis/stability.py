@@ -41,12 +41,11 @@ import numpy as np
 
 from lagcli.analysis.jordan import clustered, defective, drifting_states
 from lagcli.analysis.linearize import LinearModel
-from lagcli.analysis.structure import StructureBasis, structure_basis
+from lagcli.analysis.structure import STEADY, StructureBasis, structure_basis
 
 STRUCTURAL_ZERO = 1e-12     # |entry| <= this * max|A| counts as a structural zero
 MARGIN = 1e-9               # |Re s| <= this * max(1, max|s|) counts as on the imaginary axis
 ROUNDING = 1000 * np.finfo(float).eps  # parts of s below this * rounding_scale(A) are noise: set to 0
-STEADY = 1e-9               # |rate| above this: the point is no equilibrium or steady motion
 
 NOT_AT_REST = "no verdict"
 

@@ -23,6 +23,8 @@ import numpy as np
 
 from lagcli.analysis.linearize import LinearModel, gyroscopic_part
 
+STEADY = 1e-9               # |rate| above this: the point is no equilibrium or steady motion
+
 _CLEAN = 1e-9       # entries of a direction below this (of its largest) are 0
 
 
@@ -74,8 +76,6 @@ class StructureBasis:
         """(state, rate) of each speed that changes and each kept coordinate that moves at
         the point: none at an equilibrium or a steady motion (where only coordinates
         neutral by structure move, at constant speeds)."""
-        from lagcli.analysis.stability import STEADY
-
         limit = STEADY * max(1.0, float(np.max(np.abs(model.point.qd), initial=0.0)))
         qd = model.coordinate_rates if model.coordinate_rates.size else np.zeros(len(model.coordinates))
         moving = np.linalg.solve(self.Tc, qd) if self.Tc.size else qd
