@@ -154,3 +154,48 @@ def test_no_untidy_form_in_the_json_report_expressions(path):
     report = system.report("dict")
     found = [(key, r) for key, expr in json_expressions(report, system.model) for r in residues(expr)]
     assert not found, f"{path.stem}: {found[:5]}"
+
+
+UNCONSTRAINED_SMALL = [p for p in BUNDLED if p.stem not in SLOW and "constraints" not in p.read_text()
+                       and "rolling" not in p.read_text()]
+
+
+@pytest.mark.parametrize("path", UNCONSTRAINED_SMALL, ids=[p.stem for p in UNCONSTRAINED_SMALL])
+def test_no_untidy_form_in_hamiltons_equations(path):
+    """`lagcli hamiltonian` (text and the notebook's LaTeX) of every bundled unconstrained
+    spec: the momenta, H and Hamilton's equations carry none of the untidy forms (the
+    double pendulum's used to be sums of l2 p1 cos^2(theta2) + l2 p1 sin^2(theta2)), and
+    they are still Hamilton's equations: at seeded random states q' from them equals the
+    solution of M q' = p - a with the derivation's M and a (numpy), and H equals
+    T2 - T0 + V there."""
+    import numpy as np
+
+    from lagcli.analysis.report import hamilton_content, hamilton_text
+    from lagcli.render.spec_printer import spec_str
+
+    system = lagcli.load(path)
+    h = system.hamiltonian()
+    if h.H is None:
+        pytest.skip("M is full and larger than 2 x 2: the solved form")
+    text = hamilton_text(hamilton_content(h, spec_str))
+    found = untidy_in([text], TEXT) + untidy_in([h._repr_latex_()], LATEX)
+    exprs = [h.H, *h.momenta.values(), *h.equations.values()]
+    found += [r for e in exprs for r in residues(sp.sympify(e))]
+    assert not found, f"{path.stem}:\n" + "\n".join(map(str, found[:5]))
+
+    d, model = system.derivation, system.model
+    values = {p.symbol: sp.Float(p.value) for p in (*model.parameters, *model.inputs)}
+    rng = np.random.default_rng(3)
+    momenta = [sp.Symbol(f"p_{q.name}", real=True) for q in model.q]
+    for _ in range(3):
+        state = {s: sp.Float(rng.uniform(-1.0, 1.0)) for s in (*model.q, *model.qd)} | {model.t: sp.Float(0.3)}
+        at = lambda e: complex(sp.sympify(e).xreplace(values).xreplace(state)).real
+        M = np.array([[at(e) for e in row] for row in sp.Matrix(d.mass_matrix).tolist()])
+        a = np.array([at(e) for e in d.t1_coefficients])
+        qd = np.array([float(state[v]) for v in model.qd])
+        p = M @ qd + a
+        state |= {s: sp.Float(v) for s, v in zip(momenta, p)}
+        assert [at(h.momenta[name]) for name in h.momenta] == pytest.approx(list(p), rel=1e-9, abs=1e-12)
+        solved = [at(h.equations[f"{q.name}_dot"]) for q in model.q]
+        assert solved == pytest.approx(list(np.linalg.solve(M, p - a)), rel=1e-9, abs=1e-12)
+        assert at(h.H) == pytest.approx(at(d.T2 - d.T0 + d.V), rel=1e-9, abs=1e-12)

@@ -88,6 +88,9 @@ class CompiledSystem:
         return [point.t, *point.q, *point.qd, *qdd, *lam,
                 *(point.parameters[p.symbol.name] for p in (*model.parameters, *model.inputs))]
 
+    def mass_matrix(self, point: Point) -> np.ndarray:
+        return self._core(self._values(point))["M"].reshape(self.n, self.n)
+
     # constraint pieces (for the operating point and the partition)
     def phi(self, point: Point) -> np.ndarray:
         return self._constraints(self._values(point))["phi"].reshape(-1)
