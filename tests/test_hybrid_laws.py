@@ -82,9 +82,15 @@ def test_bad_laws_on_the_command_line_are_exit_2(tmp_path, law, message):
     assert result.exit_code == 2 and message in result.stderr, result.stderr
 
 
-def test_a_callable_that_returns_no_number_is_a_clear_error():
-    with pytest.raises(LagcliError, match="the callable returned"):
-        lagcli.load(OSCILLATOR).simulate(inputs={"F": lambda t, y: "push"})
+@pytest.mark.parametrize("value, message", [
+    (lambda t, y: "push", "the callable returned 'push', not a number"),
+    (lambda t: 1.0, "the callable must take (t, y)"),        # not a bare TypeError from inside the run
+    ([1.0, 2.0], "[1.0, 2.0] is not a number, an expression string or a callable u(t, y)"),
+])
+def test_an_input_that_is_no_law_is_a_clear_error(value, message):
+    with pytest.raises(LagcliError) as caught:
+        lagcli.load(OSCILLATOR).simulate(inputs={"F": value})
+    assert str(caught.value).startswith("inputs={'F': ...}: ") and message in str(caught.value)
 
 
 def test_closed_loop_eigenvalues_are_those_of_a_minus_b_k():
