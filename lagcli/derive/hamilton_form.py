@@ -45,20 +45,21 @@ def hamilton_form(d) -> HamiltonForm:
     momentum = (M * qd + a).applyfunc(display_form)        # p = M q' + a, tidied as the reports do
     if not (M.is_diagonal() or M.rows <= SYMBOLIC_SIZE):
         return HamiltonForm(tuple(p), tuple(momentum), None, None, None)
-    velocity = M.LUsolve(p - a).applyfunc(_tidy)                 # q' = dH/dp = M^-1 (p - a)
+    velocity = M.LUsolve(p - a).applyfunc(tidy_fraction)               # q' = dH/dp = M^-1 (p - a)
     # written as a textbook does: the kinetic part over its one denominator, then - T0 + V
     # (one fraction of both would hide V inside the kinetic part's denominator)
-    H = _tidy(((p - a).T * velocity)[0] / 2) + _tidy(display_form(d.V - d.T0))
+    H = tidy_fraction(((p - a).T * velocity)[0] / 2) + tidy_fraction(display_form(d.V - d.T0))
     Q = sp.Matrix(d.nonconservative_forces).xreplace(dict(zip(model.qd, velocity)))
-    pdot = tuple(_tidy(-H.diff(q) + Q[k]) for k, q in enumerate(model.q))
+    pdot = tuple(tidy_fraction(-H.diff(q) + Q[k]) for k, q in enumerate(model.q))
     return HamiltonForm(tuple(p), tuple(momentum), H, tuple(velocity), pdot)
 
 
 TRIGSIMP_BUDGET = 150    # count_ops up to which sympy's trigsimp is also tried
 
 
-def _tidy(expr):
-    """The shorter of: trigsimp of the cancelled form (small expressions), and the
+def tidy_fraction(expr):
+    """One solved expression as the reports would print it (Hamilton's form here, the
+    Routhian in lagcli/analysis/routh.py). The shorter of: trigsimp of the cancelled form (small expressions), and the
     cancelled fraction with numerator and denominator in the reports' `display_form`."""
     cancelled = sp.cancel(sp.together(expr))
     numerator, denominator = sp.fraction(cancelled)
