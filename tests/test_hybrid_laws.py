@@ -189,6 +189,12 @@ def test_generated_c_runs_the_spec_law_like_the_python_backend(tmp_path):
     for name in c.dtype.names:
         assert np.allclose(c[name], python[name], rtol=0, atol=1e-9), name
     assert abs(c["theta"][-1]) < 1e-3 < abs(c["theta"][0])     # balanced: the law acted
+    held = subprocess.run([str(out / "driver"), "--set", "F=0.3", "--t-end", "1"], capture_output=True, text=True,
+                          timeout=120)                     # --set replaces the law, as lagcli simulate's
+    rows = np.loadtxt(held.stdout.splitlines()[1:], delimiter=",")
+    expected = lagcli.load(spec).simulate(t_end=1.0, inputs={"F": 0.3}, backend="python")
+    assert held.returncode == 0 and np.allclose(rows[:, 1:5], expected.states, rtol=0, atol=1e-9)
+    assert rows[-1, 2] > 1.0                                   # no law: the pole falls
 
 
 @pytest.mark.skipif(shutil.which("cc") is None, reason="no C compiler (cc)")

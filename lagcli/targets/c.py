@@ -115,6 +115,7 @@ def c_context(d: Derivation, layout: Layout, initial=None, initial_notes=(),
     settings = layout.settings
     residual = context["i"].residual_index
     return dict(context, prefix=name, PREFIX=name.upper(), nsys=context["n"] + context["m"], laws=laws,
+                law_inputs=tuple(u for u, code, _ in laws if code is not None),
                 settings=settings,
                 driver_method=settings.method if settings.method in EXPLICIT_METHODS else EXPLICIT_METHODS[-1],
                 table_method=settings.method if settings.method in C_METHODS else EXPLICIT_METHODS[-1],
