@@ -33,7 +33,7 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
-from lagcli.derive.hamilton_form import tidy_fraction
+from lagcli.derive.hamilton_form import tidy_fraction, tidy_split
 from lagcli.errors import UsageError
 from lagcli.render.tidy import display_form, pull_signs
 
@@ -120,7 +120,7 @@ def _reduced_equations(model, R, r, Q) -> tuple[tuple[sp.Expr, ...], ...]:
     moving = {model.t, *model.q, *model.qd}
 
     def tidy(expr):
-        return _tidy_coefficient(expr, moving)
+        return tidy_split(expr, moving)
 
     out = []
     for k in r:
@@ -146,18 +146,6 @@ def _velocity_coefficients(expr, qd) -> dict:
             curvature = slope.diff(w).xreplace(rest)
             buckets[v * w] = curvature / 2 if w == v else curvature
     return buckets
-
-
-def _tidy_coefficient(expr, moving: set) -> sp.Expr:
-    """A coefficient as a textbook writes it: the terms whose denominator is free of the
-    `moving` symbols (coordinates, velocities, t) (m g L sin(theta), a multiplier) tidied as the reports do
-    (`display_form`), the others as one fraction (`tidy_fraction`), so m g L sin(theta)
-    does not disappear inside the momenta's fraction."""
-    polynomial, fractional = [], []
-    for term in sp.Add.make_args(sp.sympify(expr)):
-        denominator = sp.fraction(sp.together(term))[1]
-        (fractional if denominator.free_symbols & moving else polynomial).append(term)
-    return display_form(sp.Add(*polynomial)) + (tidy_fraction(sp.Add(*fractional)) if fractional else 0)
 
 
 @dataclass(frozen=True)
