@@ -103,11 +103,16 @@ def oscillation_frequencies(modes) -> tuple[float, ...]:
                          if m.kind == "oscillation" and m.eigenvalue.imag > 0}))
 
 
-def essential(A: np.ndarray, states) -> tuple[np.ndarray, list[str], list[str]]:
-    """A without its structurally zero rows and columns (repeatedly), and the states kept/dropped."""
+def essential(A: np.ndarray, states, generic: np.ndarray | None = None) -> tuple[np.ndarray, list[str], list[str]]:
+    """A without its structurally zero rows and columns (repeatedly), and the states kept/dropped.
+    An entry is a structural zero when it is zero in A and, given, in `generic` (A with the
+    parameters scaled: `linearize.generic_state_matrix`), so a zero that only a coincidence
+    of the parameters' values makes (a stiffness vanishing at a bifurcation) stays."""
     keep = list(range(A.shape[0]))
     scale = np.max(np.abs(A), initial=0.0)
     small = np.abs(A) <= STRUCTURAL_ZERO * scale
+    if generic is not None and generic.shape == A.shape:
+        small &= np.abs(generic) <= STRUCTURAL_ZERO * max(scale, np.max(np.abs(generic), initial=0.0))
     changed = True
     while changed:
         changed = False
@@ -143,7 +148,7 @@ def rounding_scale(A: np.ndarray) -> float:
 
 def stability(model: LinearModel) -> Stability:
     basis = structure_basis(model)
-    reduced, kept, dropped = essential(basis.A, basis.states)
+    reduced, kept, dropped = essential(basis.A, basis.states, basis.generic_A)
     values = in_order(clustered(reduced, sorted_eigenvalues(reduced)))
     scale = max(1.0, np.max(np.abs(values), initial=0.0))
     bad = defective(reduced, values, lambda s: abs(s.real) <= MARGIN * scale)
