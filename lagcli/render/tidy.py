@@ -12,6 +12,7 @@ import math
 import sympy as sp
 from sympy.core.mul import _keep_coeff
 
+from lagcli.model.angle_calls import trig_call
 from lagcli.render.operations import count_ops
 
 TIDY_MAX_OPS = 80             # rewrite trigonometry only in expressions this small (bench/codegen.py)
@@ -354,7 +355,7 @@ def fold_angle_sums(expr) -> sp.Expr:
             while a and b:
                 for ratio, function, sign in rules:
                     if b[0] == ratio * a[0]:
-                        out.append(a[0] * rest * function(x + sign * y))
+                        out.append(a[0] * rest * trig_call(function, x + sign * y))
                         a.pop(0), b.pop(0)
                         folded = True
                         break

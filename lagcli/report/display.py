@@ -122,7 +122,8 @@ class Display:
             found = weighted_display_form(weighted[0], self.tidy(weighted[1], sized=True))
             if found is not None:
                 return found
-        rebuilt = expr.func(*(self.tidy(a, sized=True) for a in expr.args))
+        args = [self.tidy(a, sized=True) for a in expr.args]
+        rebuilt = expr if all(new is old for new, old in zip(args, expr.args)) else expr.func(*args)
         return display_form(rebuilt) if rebuilt.is_Add else rebuilt
 
     # -- energies and integrals ---------------------------------------------------------
