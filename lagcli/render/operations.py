@@ -85,6 +85,8 @@ def _plain_product(mul) -> bool:
     number, factors = _coefficient_and_factors(mul)
     if not (number.is_Integer or number.is_Float):
         return False
+    if number == -1 and len(factors) == 1:
+        return False       # -(x + y) unevaluated: sympy counts its NEG and not the sum's ADD
     for factor in factors:
         if factor.is_Pow:
             if not (factor.exp.is_Integer and factor.exp > 0):

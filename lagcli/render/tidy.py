@@ -348,8 +348,6 @@ def common_factor(expr) -> sp.Expr:
     content = sp.Rational(numerator, denominator if all(n.q != 1 for n, _ in split) else 1)
     if all(number.is_negative for number, _ in split):
         content = -content
-    if content == 1 and not any(common.values()):
-        return expr          # nothing to pull out: the sum as it is
     primitive = sp.Add(*(product(number / content, product(*(_power(b, e - common.get(b, 0)) for b, e in powers.items())))
                          for number, powers in split))
     return _keep_coeff(content, product(product(*(_power(b, e) for b, e in common.items())), primitive),
