@@ -224,7 +224,8 @@ def generate(ctx, spec, lang, output, form, variational):
 @click.argument("spec", type=SPEC)
 @settings_options(METHODS, "scipy's integrator name, or variational")
 @click.option("--set", "sets", multiple=True, metavar="NAME=VALUE",
-              help="Override a parameter (repeatable); VALUE may be a constant expression.")
+              help="Override a parameter, or hold an input constant (replacing its law); repeatable; "
+                   "VALUE may be a constant expression.")
 @click.option("--init", "inits", multiple=True, metavar="NAME=VALUE",
               help="Initial value of a coordinate or <q>_dot (repeatable); overrides `initial:`.")
 @click.option("--input", "inputs", multiple=True, metavar="NAME=EXPR",
@@ -284,7 +285,7 @@ def simulate(ctx, spec, t_end, dt, method, rtol, atol, sets, inits, inputs, back
 @click.option("--count", type=int, help="Number of runs of --sample.")
 @click.option("--seed", type=int, help="Seed of --sample's random generator (default 0).")
 @click.option("--runs", metavar="TABLE.csv", help="One run per row; the header names the columns.")
-@click.option("--set", "sets", multiple=True, metavar="NAME=VALUE", help="A parameter for every run (repeatable).")
+@click.option("--set", "sets", multiple=True, metavar="NAME=VALUE", help="A parameter, or an input held constant, for every run (repeatable).")
 @click.option("--init", "inits", multiple=True, metavar="NAME=VALUE",
               help="An initial value for every run (repeatable).")
 @click.option("--input", "inputs", multiple=True, metavar="NAME=EXPR",
@@ -327,7 +328,8 @@ def sweep(ctx, spec, grids, samples, count, seed, runs, sets, inits, inputs, exc
 @click.option("--t-end", type=float, help="Without --csv: end time (default: the spec's).")
 @click.option("--dt", type=float, help="Without --csv: output interval (default: the spec's).")
 @click.option("--set", "sets", multiple=True, metavar="NAME=VALUE",
-              help="A parameter (repeatable; with --csv, the values the CSV was made with).")
+              help="A parameter, or an input held constant (repeatable; with --csv, the values the CSV "
+                   "was made with).")
 @click.option("--init", "inits", multiple=True, metavar="NAME=VALUE", help="Without --csv: an initial value.")
 @click.option("--input", "inputs", multiple=True, metavar="NAME=EXPR",
               help="Without --csv: a law for an input, as for simulate (repeatable).")

@@ -476,6 +476,7 @@ class System:
     def _inputs(self, inputs: dict | None) -> tuple[dict[str, float], dict]:
         """The constant inputs {name: value} and the laws {name: sympy law or callable}."""
         from lagcli.model.hybrid_model import parse_law
+        from lagcli.targets.numeric import input_number, law_callable
 
         given = dict(inputs or {})
         self._known("inputs", given, self.layout.input_names, "input")
@@ -484,9 +485,9 @@ class System:
             if isinstance(value, str):
                 laws[name] = parse_law(self.model, name, value, f"inputs={{{name!r}: ...}}").expr
             elif callable(value):
-                laws[name] = value
+                laws[name] = law_callable(name, value)
             else:
-                constants[name] = float(value)
+                constants[name] = input_number(name, value)
         return constants, laws
 
     def _known(self, argument: str, given: dict, allowed, what: str) -> None:

@@ -23,11 +23,15 @@ import numpy as np
 import pytest
 import sympy as sp
 
-# The signal tests send SIGHUP and expect lagcli to end a run like Ctrl-C. A suite started
-# under `nohup` inherits SIGHUP ignored, and lagcli rightly leaves an ignored signal alone,
-# so those tests would hang: the suite restores the default for itself and its children.
+# The signal tests send SIGHUP and SIGINT and expect lagcli to end a run like Ctrl-C. A
+# suite started under `nohup` inherits SIGHUP ignored, one started as a background job of
+# a script (`cmd &` in a non-interactive shell) inherits SIGINT ignored, and lagcli rightly
+# leaves an ignored signal alone, so those tests would hang: the suite restores the
+# defaults for itself and its children (a handled signal is reset to the default at exec).
 if signal.getsignal(signal.SIGHUP) == signal.SIG_IGN:
     signal.signal(signal.SIGHUP, signal.SIG_DFL)
+if signal.getsignal(signal.SIGINT) == signal.SIG_IGN:
+    signal.signal(signal.SIGINT, signal.default_int_handler)
 
 ROOT = Path(__file__).resolve().parent.parent
 SPECS = ROOT / "specs"

@@ -223,3 +223,21 @@ def test_the_floor_of_an_impact_or_a_landing_is_drawn():
     assert len([c for c in drawing.ax.collections if isinstance(c, Poly3DCollection)]) == 1
     ((axis, value),) = drawing.scene.surfaces
     assert axis == 2 and float(np.ravel(value(drawing.p))[0]) == 0.0
+
+
+@pytest.mark.parametrize("x_unit, l_unit, label", [(None, None, "x"), ("m", "m", "x [m]"), ("mm", "mm", "x [mm]"),
+                                                   ("m", "mm", "x")])
+def test_the_views_axes_carry_the_length_unit_when_the_spec_gives_units(tmp_path, x_unit, l_unit, label):
+    """Units on every axis (issue 21): the view's axes carry the unit the spec gives its
+    lengths (a coordinate x and a pendulum length l); none without units, and none when
+    the spec mixes units of length (lagcli does not rescale, so no one unit is right)."""
+    spec = tmp_path / "units.yaml"
+    unit = lambda u, extra="": f", unit: {u}{extra}" if u else ""
+    spec.write_text(f"coordinates: [{{name: x{unit(x_unit)}}}, theta]\n"
+                    f"parameters: {{m: {{value: 1.0{unit(x_unit and 'kg')}}}, l: {{value: 0.5{unit(l_unit)}}},"
+                    f" g: {{value: 9.81{unit(x_unit and (x_unit + '/s^2'))}}}}}\n"
+                    "gravity: [0, -g]\nparticles: {C: {mass: m, position: [x, 0]},"
+                    " P: {mass: m, position: [x + l*sin(theta), -l*cos(theta)]}}\ninitial: {theta: 0.3}\n")
+    system = lagcli.load(spec)
+    drawing = system.animate(trajectory=system.simulate(t_end=0.2), frame=0.1)
+    assert drawing.ax.get_xlabel() == label and drawing.ax.get_ylabel() == label.replace("x", "y", 1)

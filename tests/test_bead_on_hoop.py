@@ -52,3 +52,30 @@ def test_rheonomic_with_jacobi_integral(derived, assert_zero):
     assert_zero(sp.diff(d.jacobi_integral - h, th), "dh/dtheta")
     assert_zero(sp.diff(d.jacobi_integral - h, thd), "dh/dtheta_dot")
     assert_zero(d.jacobi_integral - (d.T2 - d.T0 + d.V), "h = T2 - T0 + V")
+
+
+def test_at_the_bifurcation_the_bottom_is_linearly_unstable_not_neutral():
+    """At Omega^2 = g/R exactly the bottom's linear model is theta'' = (Omega^2 - g/R) theta
+    = 0: A = [[0, 1], [0, 0]], a Jordan block of s = 0 (sympy's jordan_form of the closed
+    form), so the linear solutions grow like t and the verdict is "linearly unstable" (the
+    nonlinear terms decide; here they hold the bead: V' ~ m g R theta^4 / 8). The zero
+    stiffness is a coincidence of the parameters' values, not structure: theta is not
+    left out as neutral (it was: "neutral, every mode is neutral by structure"). On both
+    sides the verdict follows the sign of Omega^2 - g/R."""
+    import math
+
+    import lagcli
+    from conftest import spec_path
+
+    g, R, Omega, th = sp.symbols("g R Omega theta", positive=True)
+    stiffness = sp.diff((Omega**2 * cos(th) - g / R) * sin(th), th).subs(th, 0)
+    A = sp.Matrix([[0, 1], [stiffness, 0]]).subs(Omega, sp.sqrt(g / R))
+    _, J = A.jordan_form()
+    assert J == sp.Matrix([[0, 1], [0, 0]])
+
+    system = lagcli.load(spec_path(SPEC))
+    critical = math.sqrt(9.81 / 0.5)
+    lin = system.linearize(parameters={"Omega": critical})
+    assert lin.verdict == "linearly unstable" and "theta" not in lin.neutral
+    assert system.linearize(parameters={"Omega": 0.99 * critical}).verdict == "stable"
+    assert system.linearize(parameters={"Omega": 1.01 * critical}).verdict == "unstable"

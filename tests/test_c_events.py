@@ -196,3 +196,22 @@ int main(void)
     assert float(out[1]) == pytest.approx(0.9 * 3.0, rel=1e-15)    # y_dot+ = -e y_dot-
     assert float(out[2]) == pytest.approx(1.0 * 1.9 * 3.0, rel=1e-15)   # P = m (1 + e) |y_dot-|
     assert out[3:] == ["floor", "0"]
+
+
+def test_the_generated_driver_alone_says_why_its_run_ended_early(tmp_path):
+    """The driver of `generate --lang c` run by hand (no --events log for lagcli to read)
+    prints the note of `lagcli simulate` on stderr where the bounces accumulate, at the
+    closed-form time t1 (1 + e)/(1 - e); with --events the log carries it instead."""
+    from test_codegen_c import RUNTIME_SOURCES, compile_c
+
+    assert run("generate", HYBRID / "bouncing_ball.yaml", "--lang", "c", "-o", tmp_path).exit_code == 0
+    compile_c(["bouncing_ball.c", "bouncing_ball_main.c", *RUNTIME_SOURCES, "-o", "driver"], tmp_path)
+    alone = subprocess.run(["./driver"], cwd=tmp_path, capture_output=True, text=True, timeout=120)
+    expected = lagcli.load(HYBRID / "bouncing_ball.yaml").simulate(backend="python").end_note
+    assert alone.returncode == 0 and alone.stderr == f"note: {expected}\n"
+    t_last = float(alone.stdout.splitlines()[-1].split(",")[0])
+    assert t_last == pytest.approx((2 / 9.81) ** 0.5 * 1.9 / 0.1, abs=1e-6)     # as test_hybrid_events
+    logged = subprocess.run(["./driver", "--events", "log.txt"], cwd=tmp_path, capture_output=True, text=True,
+                            timeout=120)
+    assert logged.returncode == 0 and logged.stderr == ""
+    assert (tmp_path / "log.txt").read_text().splitlines()[-1].startswith("end,recurred,floor,")

@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 from click.testing import CliRunner
 
@@ -157,13 +158,18 @@ initial: {z: 0.3, theta: 0.1}
 """
 
 
-def test_coin_at_rest_on_an_incline_is_one_member_of_its_family():
+@pytest.fixture(scope="module")
+def coin_at_rest():
+    return lagcli.load(COIN_ON_INCLINE).equilibria()
+
+
+def test_coin_at_rest_on_an_incline_is_one_member_of_its_family(coin_at_rest):
     """A coin rests on the incline z = y tan(alpha) anywhere along the slope (y and z
     together), at any x and spin angle: each equilibrium is listed once, at the member
     nearest the initial state. Upright ones (theta = 0 or pi) roll along the level line
     (psi = 0 or pi) with the centre straight above the contact: z = r + y tan(alpha),
     here y = 0, z = r. (Each start of the search used to give its own member: 67 entries.)"""
-    found = lagcli.load(COIN_ON_INCLINE).equilibria()
+    found = coin_at_rest
     assert len(found) <= 8
     upright = [e for e in found if min(abs(e.point["theta"]), abs(e.point["theta"] - math.pi)) < 1e-9]
     assert upright
@@ -172,6 +178,31 @@ def test_coin_at_rest_on_an_incline_is_one_member_of_its_family():
         assert min(abs(e.point["psi"]), abs(e.point["psi"] - math.pi)) < 1e-9
         assert e.point["y"] == pytest.approx(0, abs=1e-9) and e.point["z"] == pytest.approx(0.3, abs=1e-9)
         assert e.point["z"] - e.point["y"] * math.tan(0.2) == pytest.approx(0.3, abs=1e-9)
+
+
+def test_every_coin_listed_at_rest_balances_gravity_with_its_contact_force(coin_at_rest):
+    """A rigid coin at rest carries its weight by the contact force alone, so the contact
+    point lies straight below the centre (the torque (c - centre) x m g e_z is 0), checked
+    with the rotation of scipy, not lagcli's model: the contact c = centre - r u, u the
+    unit vector of the coin's plane nearest the incline's normal n. A horizontal coin
+    touching the incline with its rim (theta = pi/2: z-x-y angles in gimbal lock, psi and
+    phi turn about one axis) is stationary in these coordinates only, which cannot tilt it
+    the way the torque turns it: it is no equilibrium, and is not listed (it was, with
+    "no verdict" and rates of 1e17)."""
+    from scipy.spatial.transform import Rotation
+
+    alpha, r = 0.2, 0.3
+    n = np.array([0.0, -math.sin(alpha), math.cos(alpha)])
+    assert coin_at_rest
+    for e in coin_at_rest:
+        p = e.point
+        R = Rotation.from_euler("ZXY", [p["psi"], p["theta"], p["phi"]]).as_matrix()
+        axis = R[:, 1]
+        u = n - (n @ axis) * axis
+        contact = np.array([p["x"], p["y"], p["z"]]) - r * u / np.linalg.norm(u)
+        arm = contact - np.array([p["x"], p["y"], p["z"]])
+        assert np.linalg.norm(np.cross(arm, [0.0, 0.0, 1.0])) < 1e-8, (p, arm)
+        assert e.verdict != "no verdict"
 
 
 # -- closed forms for several unknowns (lagcli/analysis/closed_forms.py) ------------------

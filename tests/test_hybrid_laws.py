@@ -82,9 +82,15 @@ def test_bad_laws_on_the_command_line_are_exit_2(tmp_path, law, message):
     assert result.exit_code == 2 and message in result.stderr, result.stderr
 
 
-def test_a_callable_that_returns_no_number_is_a_clear_error():
-    with pytest.raises(LagcliError, match="the callable returned"):
-        lagcli.load(OSCILLATOR).simulate(inputs={"F": lambda t, y: "push"})
+@pytest.mark.parametrize("value, message", [
+    (lambda t, y: "push", "the callable returned 'push', not a number"),
+    (lambda t: 1.0, "the callable must take (t, y)"),        # not a bare TypeError from inside the run
+    ([1.0, 2.0], "[1.0, 2.0] is not a number, an expression string or a callable u(t, y)"),
+])
+def test_an_input_that_is_no_law_is_a_clear_error(value, message):
+    with pytest.raises(LagcliError) as caught:
+        lagcli.load(OSCILLATOR).simulate(inputs={"F": value})
+    assert str(caught.value).startswith("inputs={'F': ...}: ") and message in str(caught.value)
 
 
 def test_closed_loop_eigenvalues_are_those_of_a_minus_b_k():
@@ -94,6 +100,8 @@ def test_closed_loop_eigenvalues_are_those_of_a_minus_b_k():
                  *[a for g in gains for a in ("--at", g)])
     assert result.exit_code == 0, result.stderr
     content = json.loads(result.stdout)
+    assert content["notes"] == ["closed loop: the input laws substituted "
+                                "(F = -k1*x - k2*theta - k3*x_dot - k4*theta_dot)"]    # said so
     found = [complex(*e) for e in content["eigenvalues"]]        # [re, im] pairs
     expected = sorted(np.linalg.eigvals(A - B @ K[None, :]), key=lambda z: (z.real, z.imag))
     found = sorted(found, key=lambda z: (z.real, z.imag))
@@ -170,7 +178,7 @@ def test_generated_c_runs_the_spec_law_like_the_python_backend(tmp_path):
     spec = SPECS / "hybrid" / "cart_pole_lqr.yaml"
     out = tmp_path / "c"
     assert run("generate", spec, "--lang", "c", "-o", out).exit_code == 0
-    assert "F = -k1*x - k2*theta - k3*x_dot - k4*theta_dot" in (out / "cart_pole_lqr.c").read_text()
+    assert "F = -k1*x - k2*theta - k3*x_dot - k4*theta_dot" in (out / "cart_pole_lqr.h").read_text()
     compile_c(["cart_pole_lqr.c", "cart_pole_lqr_main.c", *RUNTIME_SOURCES, "-o", "driver"], out)
     done = subprocess.run([str(out / "driver")], capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, done.stderr
@@ -181,6 +189,49 @@ def test_generated_c_runs_the_spec_law_like_the_python_backend(tmp_path):
     for name in c.dtype.names:
         assert np.allclose(c[name], python[name], rtol=0, atol=1e-9), name
     assert abs(c["theta"][-1]) < 1e-3 < abs(c["theta"][0])     # balanced: the law acted
+    held = subprocess.run([str(out / "driver"), "--set", "F=0.3", "--t-end", "1"], capture_output=True, text=True,
+                          timeout=120)                     # --set replaces the law, as lagcli simulate's
+    rows = np.loadtxt(held.stdout.splitlines()[1:], delimiter=",")
+    expected = lagcli.load(spec).simulate(t_end=1.0, inputs={"F": 0.3}, backend="python")
+    assert held.returncode == 0 and np.allclose(rows[:, 1:5], expected.states, rtol=0, atol=1e-9)
+    assert rows[-1, 2] > 1.0                                   # no law: the pole falls
+
+
+@pytest.mark.skipif(shutil.which("cc") is None, reason="no C compiler (cc)")
+def test_generated_c_rhs_u_stays_open_loop_for_embedding_and_spec_inputs_is_the_law(tmp_path):
+    """An embedding program's u acts: `_rhs_u` of a spec with a law is the open-loop
+    cart-pole (the 2x2 Lagrange equations solved here with numpy), whatever the law, and
+    `_spec_inputs` is the law u = -(k1 x + k2 theta + k3 x_dot + k4 theta_dot)."""
+    from test_codegen_c import compile_c
+
+    spec = SPECS / "hybrid" / "cart_pole_lqr.yaml"
+    assert run("generate", spec, "--lang", "c", "-o", tmp_path).exit_code == 0
+    (tmp_path / "cart_pole_lqr_main.c").unlink()
+    (tmp_path / "use.c").write_text(r"""
+#include <stdio.h>
+#include "cart_pole_lqr.h"
+
+int main(void)
+{
+    const double *p = cart_pole_lqr_parameter_defaults;
+    const double y[4] = {0.3, -0.4, 0.5, 0.7}, u_given[1] = {0.8};
+    double u[1], dydt[4];
+    cart_pole_lqr_spec_inputs(0.0, y, p, u);
+    if (cart_pole_lqr_rhs_u(0.0, y, p, u_given, dydt) != 0)
+        return 1;
+    printf("%.17g %.17g %.17g\n", u[0], dydt[2], dydt[3]);
+    return 0;
+}
+""")
+    compile_c(sorted(p.name for p in tmp_path.glob("*.c")) + ["-o", "use"], tmp_path)
+    out = subprocess.run(["./use"], cwd=tmp_path, capture_output=True, text=True, check=True).stdout.split()
+    u, x_ddot, theta_ddot = map(float, out)
+    x, theta, x_dot, theta_dot = 0.3, -0.4, 0.5, 0.7
+    mc, m, l, g, k1, k2, k3, k4 = 1.0, 0.1, 0.5, 9.81, -1.0, -30.61497677, -2.24534752, -6.7231181
+    assert u == pytest.approx(-(k1 * x + k2 * theta + k3 * x_dot + k4 * theta_dot), rel=1e-14)
+    M = np.array([[mc + m, m * l * math.cos(theta)], [m * l * math.cos(theta), m * l ** 2]])
+    F = np.array([0.8 + m * l * math.sin(theta) * theta_dot ** 2, m * g * l * math.sin(theta)])
+    assert np.allclose([x_ddot, theta_ddot], np.linalg.solve(M, F), rtol=1e-13, atol=0)
 
 
 def test_generated_module_runs_the_spec_law_by_default_and_u_overrides_it(tmp_path):
@@ -200,3 +251,19 @@ def test_generated_module_runs_the_spec_law_by_default_and_u_overrides_it(tmp_pa
     K = cart_pole_lqr()[2]
     _, balanced = module.simulate(u=lambda t, y: [-K @ np.asarray(y)])
     assert np.allclose(balanced[:, 1:5], rows[:, 1:5], atol=1e-6)      # the spec's gain is this K to 8 digits
+
+
+FORCED = OSCILLATOR.replace("parameters: {m: 2.0, k: 8.0}", "parameters: {m: 2.0, k: 8.0, w: 3.0}\n"
+                            "known: {f: sin(w*t)}\ndefinitions: {stiffness: k}").replace(
+    "inputs: {F: -k*x}", "inputs: {F: -stiffness*x + f}")        # a known function and a definition
+
+
+@pytest.mark.parametrize("backend", ["python", "c"])
+def test_a_law_of_a_known_function_and_a_definition_against_the_forced_oscillator(backend):
+    """m x'' = -k x + sin(w t) from x = 1 at rest: x = cos(2t) + (w/2) B sin(2t) - B sin(w t)
+    with B = 1/(m (w^2 - 4)) = 0.1 (w0 = 2)."""
+    if backend == "c" and shutil.which("cc") is None:
+        pytest.skip("no C compiler (cc)")
+    traj = lagcli.load(FORCED).simulate(backend=backend)
+    t, B = traj.t, 1 / (2.0 * (9.0 - 4.0))
+    assert np.allclose(traj["x"], np.cos(2 * t) + 1.5 * B * np.sin(2 * t) - B * np.sin(3 * t), rtol=0, atol=1e-8)

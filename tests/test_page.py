@@ -76,14 +76,14 @@ def test_whole_page_from_the_command_line(tmp_path, name):
     """`lagcli report SPEC -o page.html`: with the plot (inline SVG) and the animation (GIF)."""
     pytest.importorskip("matplotlib")
     page = tmp_path / "page.html"
-    lagcli_command = str(Path(sys.executable).parent / "lagcli")
-    done = subprocess.run([lagcli_command, "report", str(SPECS / f"{name}.yaml"), "-o", str(page)],
+    lagcli_command = [sys.executable, "-m", "lagcli"]          # installed or not (PYTHONPATH)
+    done = subprocess.run([*lagcli_command, "report", str(SPECS / f"{name}.yaml"), "-o", str(page)],
                           capture_output=True, text=True, timeout=600)
     assert done.returncode == 0, done.stderr
     html = page.read_text(encoding="utf-8")
     assert "<svg" in html and "data:image/gif;base64," in html
     again = tmp_path / "again.html"                         # same spec, same bytes
-    subprocess.run([lagcli_command, "report", str(SPECS / f"{name}.yaml"), "-o", str(again)],
+    subprocess.run([*lagcli_command, "report", str(SPECS / f"{name}.yaml"), "-o", str(again)],
                    capture_output=True, timeout=600, check=True)
     assert again.read_bytes() == page.read_bytes()
     assert not re.search(r"""(src|href)=["']https?:""", html), "the page loads something from the network"

@@ -154,3 +154,92 @@ def test_no_untidy_form_in_the_json_report_expressions(path):
     report = system.report("dict")
     found = [(key, r) for key, expr in json_expressions(report, system.model) for r in residues(expr)]
     assert not found, f"{path.stem}: {found[:5]}"
+
+
+UNCONSTRAINED_SMALL = [p for p in BUNDLED if p.stem not in SLOW and "constraints" not in p.read_text()
+                       and "rolling" not in p.read_text()]
+
+
+@pytest.mark.parametrize("path", UNCONSTRAINED_SMALL, ids=[p.stem for p in UNCONSTRAINED_SMALL])
+def test_no_untidy_form_in_hamiltons_equations(path):
+    """`lagcli hamiltonian` (text and the notebook's LaTeX) of every bundled unconstrained
+    spec: the momenta, H and Hamilton's equations carry none of the untidy forms (the
+    double pendulum's used to be sums of l2 p1 cos^2(theta2) + l2 p1 sin^2(theta2)), and
+    they are still Hamilton's equations: at seeded random states q' from them equals the
+    solution of M q' = p - a with the derivation's M and a (numpy), and H equals
+    T2 - T0 + V there."""
+    import numpy as np
+
+    from lagcli.analysis.report import hamilton_content, hamilton_text
+    from lagcli.render.spec_printer import spec_str
+
+    system = lagcli.load(path)
+    h = system.hamiltonian()
+    if h.H is None:
+        pytest.skip("M is full and larger than 2 x 2: the solved form")
+    text = hamilton_text(hamilton_content(h, spec_str))
+    found = untidy_in([text], TEXT) + untidy_in([h._repr_latex_()], LATEX)
+    exprs = [h.H, *h.momenta.values(), *h.equations.values()]
+    found += [r for e in exprs for r in residues(sp.sympify(e))]
+    assert not found, f"{path.stem}:\n" + "\n".join(map(str, found[:5]))
+
+    d, model = system.derivation, system.model
+    values = {p.symbol: sp.Float(p.value) for p in (*model.parameters, *model.inputs)}
+    rng = np.random.default_rng(3)
+    momenta = [sp.Symbol(f"p_{q.name}", real=True) for q in model.q]
+    for _ in range(3):
+        state = {s: sp.Float(rng.uniform(-1.0, 1.0)) for s in (*model.q, *model.qd)} | {model.t: sp.Float(0.3)}
+        at = lambda e: complex(sp.sympify(e).xreplace(values).xreplace(state)).real
+        M = np.array([[at(e) for e in row] for row in sp.Matrix(d.mass_matrix).tolist()])
+        a = np.array([at(e) for e in d.t1_coefficients])
+        qd = np.array([float(state[v]) for v in model.qd])
+        p = M @ qd + a
+        state |= {s: sp.Float(v) for s, v in zip(momenta, p)}
+        assert [at(h.momenta[name]) for name in h.momenta] == pytest.approx(list(p), rel=1e-9, abs=1e-12)
+        solved = [at(h.equations[f"{q.name}_dot"]) for q in model.q]
+        assert solved == pytest.approx(list(np.linalg.solve(M, p - a)), rel=1e-9, abs=1e-12)
+        assert at(h.H) == pytest.approx(at(d.T2 - d.T0 + d.V), rel=1e-9, abs=1e-12)
+
+
+@pytest.mark.parametrize("path", UNCONSTRAINED_SMALL, ids=[p.stem for p in UNCONSTRAINED_SMALL])
+def test_no_untidy_form_in_the_routhian(path):
+    """`lagcli routh` (text and the notebook's LaTeX) of every bundled unconstrained spec
+    with a cyclic coordinate: R, V_eff, the cyclic velocities and the reduced equations
+    carry none of the untidy forms (the top's R had A + m (h^2 cos^2 + h^2 sin^2)), and at
+    seeded random states they are still the reduction: q'_s from numpy's solve of
+    M_ss q'_s = p_s - M_sr q'_r - a_s, R = L - p_s q'_s there, V_eff = -R at q'_r = 0."""
+    import numpy as np
+
+    from lagcli.analysis.report import routh_content, routh_text
+    from lagcli.render.spec_printer import spec_str
+
+    system = lagcli.load(path)
+    if not system.derivation.ignorable:
+        pytest.skip("no cyclic coordinate")
+    r = system.routh()
+    text = routh_text(routh_content(r, spec_str))
+    found = untidy_in([text], TEXT) + untidy_in([r._repr_latex_()], LATEX)
+    exprs = [r.R, r.effective_potential, *r.cyclic_velocities.values(), *r.reduced_equations]
+    found += [x for e in exprs for x in residues(sp.sympify(e))]
+    assert not found, f"{path.stem}:\n" + "\n".join(map(str, found[:5]))
+
+    d, model = system.derivation, system.model
+    s = [model.q.index(model.symbol(c)) for c in r.cyclic]
+    rest = [k for k in range(len(model.q)) if k not in s]
+    values = {p.symbol: sp.Float(p.value) for p in (*model.parameters, *model.inputs)}
+    rng = np.random.default_rng(5)
+    for _ in range(3):
+        state = {x: sp.Float(rng.uniform(0.2, 1.2)) for x in (*model.q, *model.qd)} | {model.t: sp.Float(0.3)}
+        momenta = {sp.Symbol(name, real=True): sp.Float(rng.uniform(-1.0, 1.0)) for name in r.momenta}
+        at = lambda e, extra={}: float(sp.sympify(e).xreplace(values).xreplace({**state, **momenta, **extra}))
+        M = np.array([[at(e) for e in row] for row in sp.Matrix(d.mass_matrix).tolist()])
+        a = np.array([at(e) for e in d.t1_coefficients])
+        qd_r = np.array([float(state[model.qd[k]]) for k in rest])
+        qd_s = np.linalg.solve(M[np.ix_(s, s)], np.array([float(v) for v in momenta.values()])
+                               - M[np.ix_(s, rest)] @ qd_r - a[s])
+        assert [at(r.cyclic_velocities[f"{model.q[k].name}_dot"]) for k in s] == pytest.approx(list(qd_s), rel=1e-9)
+        solved = {model.qd[k]: sp.Float(v) for k, v in zip(s, qd_s)}
+        R = at(d.L, solved) - sum(float(p) * v for p, v in zip(momenta.values(), qd_s))
+        assert at(r.R) == pytest.approx(R, rel=1e-9, abs=1e-12)
+        still = {model.qd[k]: sp.S.Zero for k in rest}
+        assert at(r.effective_potential) == pytest.approx(-at(r.R, still), rel=1e-9, abs=1e-12)

@@ -146,8 +146,9 @@ def _rest_point(system, charts, s: Stationary, parameters: dict, independent, an
     names = [q.name for q in model.q]
     q = np.array(s.values[:n])
     lm, singular = None, None
-    if not system.derivation.constraints and charts().singular(q):
-        singular = examine(charts(), q, frozenset(names[k] for k in angles))
+    turning = frozenset(names[k] for k in angles)
+    if _examinable(system, charts, q, parameters, turning):
+        singular = examine(charts(), q, turning)
         if not singular.equilibrium:
             return None
         lm = singular.linear
@@ -158,6 +159,29 @@ def _rest_point(system, charts, s: Stationary, parameters: dict, independent, an
             lm = None
     return RestPoint(dict(zip(names, s.values[:n])), dict(zip(names, s.symbolic[:n])) if s.symbolic else None,
                      lm, stability(lm) if lm is not None else None, tuple(names[k] for k in s.free), singular)
+
+
+def _examinable(system, charts, q: np.ndarray, parameters: dict, angles: frozenset) -> bool:
+    """M is singular at q and the other descriptions of the pose decide there: always for
+    an unconstrained system, for a constrained one where the velocities that move nothing
+    turn angles only (its charts are compiled only then)."""
+    from scipy.linalg import null_space
+
+    from lagcli.analysis.operating_point import Point
+    from lagcli.analysis.singular_chart import SINGULAR
+
+    d = system.derivation
+    if not d.constraints:
+        return charts().singular(q)
+    with np.errstate(all="ignore"):
+        M = system.mass_matrix(Point(0.0, q, np.zeros(len(q)), dict(parameters)))
+        s = np.linalg.svd(M, compute_uv=False) if np.all(np.isfinite(M)) else None
+    if s is None or s[-1] > SINGULAR * max(s[0], 1e-300):
+        return False
+    still = null_space(M, rcond=SINGULAR)
+    names = [x.name for x in d.model.q]
+    moved = {names[k] for k in range(len(names)) if np.max(np.abs(still[k]), initial=0.0) > 1e-6}
+    return bool(moved) and moved <= angles
 
 
 def _require_autonomous(d) -> None:

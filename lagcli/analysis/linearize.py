@@ -88,6 +88,9 @@ class CompiledSystem:
         return [point.t, *point.q, *point.qd, *qdd, *lam,
                 *(point.parameters[p.symbol.name] for p in (*model.parameters, *model.inputs))]
 
+    def mass_matrix(self, point: Point) -> np.ndarray:
+        return self._core(self._values(point))["M"].reshape(self.n, self.n)
+
     # constraint pieces (for the operating point and the partition)
     def phi(self, point: Point) -> np.ndarray:
         return self._constraints(self._values(point))["phi"].reshape(-1)
@@ -181,6 +184,7 @@ class LinearModel:
     energy_conserved: bool   # the Jacobi integral h = T2 - T0 + V exists (derivation)
     coordinate_rates: np.ndarray = field(default_factory=lambda: np.zeros(0))   # q_i' at the point (empty: 0)
     invariant: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))    # `invariant_directions`
+    generic_A: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))    # `generic_state_matrix`
 
     @property
     def states(self) -> tuple[str, ...]:
@@ -232,7 +236,39 @@ def linearize(system: CompiledSystem, point: Point, independent=()) -> LinearMod
         energy_conserved=_jacobi_conserved_at(d, point),
         coordinate_rates=point.qd[ci],
         invariant=invariant_directions(system, point, P, A_lin[:, :len(ci)]),
+        generic_A=generic_state_matrix(system, point, partition),
     )
+
+
+GENERIC_FACTORS = 0.3      # parameters scaled by 1 + up to this (deterministic, distinct per parameter)
+
+
+def generic_state_matrix(system: CompiledSystem, point: Point, partition) -> np.ndarray:
+    """A at the same point with every nonzero parameter scaled by its own factor in
+    (1, 1 + GENERIC_FACTORS) (a zero stays zero): an entry of A that is zero here but not
+    there is zero by a coincidence of the parameters' values (the bead on the hoop at
+    Omega^2 = g/R exactly, where the stiffness vanishes), not by the structure of the
+    equations (a cart's position, on which nothing depends, for any values). Unconstrained
+    systems only (scaled parameters move a constraint manifold off the point); empty when
+    not finite there or not made."""
+    if system.m:
+        return np.zeros((0, 0))
+    model = system.derivation.model
+    names = [p.symbol.name for p in (*model.parameters, *model.inputs)]
+    factors = 1 + GENERIC_FACTORS * np.modf(np.arange(1, len(names) + 1) * 0.6180339887498949)[0]
+    scaled = replace(point, parameters={**point.parameters, **{
+        name: point.parameters[name] * f for name, f in zip(names, factors)}})
+    try:
+        with np.errstate(all="ignore"):
+            _, _, J = system.accelerations(scaled)
+            K = _augmented(J["M"], J["A"])
+            f_q, f_qd = (-np.linalg.solve(K, J[name])[:system.n] for name in ("G_q", "G_qd"))
+    except (np.linalg.LinAlgError, ValueError, ZeroDivisionError, SingularPoint):
+        return np.zeros((0, 0))
+    ci, si = list(partition.coordinates), list(partition.speeds)
+    identity = np.eye(system.n)
+    A = np.block([[np.zeros((len(ci), len(ci))), identity[ci][:, si]], [f_q[si][:, ci], f_qd[si][:, si]]])
+    return A if np.all(np.isfinite(A)) else np.zeros((0, 0))
 
 
 def invariant_directions(system: CompiledSystem, point: Point, P: np.ndarray, columns: np.ndarray) -> np.ndarray:

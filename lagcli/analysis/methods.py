@@ -61,7 +61,20 @@ def linearize(system, at=None, parameters=None, inputs=None, independent=(), ext
     d = derivation(system, closed_loop)
     lm = linear_model(compiled(system, extra_inputs, closed_loop), evaluate(d, point_of(system, at, parameters, inputs)),
                       tuple(independent))
-    return linearization(d, lm, stability(lm))
+    lin = linearization(d, lm, stability(lm))
+    return _closed_loop_noted(lin, d.model) if closed_loop else lin
+
+
+def _closed_loop_noted(lin: Linearization, model) -> Linearization:
+    """`lin` with a note on its point naming the laws substituted (their inputs' columns
+    of B are then zero: the law, not the input, drives the closed loop)."""
+    import dataclasses
+
+    from lagcli.render.spec_printer import spec_str
+
+    laws = "; ".join(f"{law.symbol.name} = {spec_str(law.expr)}" for law in model.laws)
+    note = f"closed loop: the input laws substituted ({laws})"
+    return dataclasses.replace(lin, point=dataclasses.replace(lin.point, notes=(*lin.point.notes, note)))
 
 
 def linearize_sweep(system, variable: str, values, at=None, parameters=None, inputs=None, independent=(),

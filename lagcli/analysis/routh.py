@@ -33,7 +33,9 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
+from lagcli.derive.hamilton_form import tidy_fraction
 from lagcli.errors import UsageError
+from lagcli.render.tidy import display_form
 
 
 @dataclass(frozen=True)
@@ -59,23 +61,32 @@ def routhian(d) -> Routhian:
     # L does not depend on a cyclic coordinate, but may still hold it in a form that cancels
     # (sin(phi)**2 + cos(phi)**2 where the tidying gave up): any value of it is exact, and 0
     # leaves no cyclic coordinate in R (it would be an unknown name at the numbers)
+    # M, a and T0 - V as the reports print them (sin^2 + cos^2 = 1, angle sums folded), so
+    # the solved forms start from tidy entries; each result is one fraction tidied as
+    # Hamilton's form is (`tidy_fraction`), V_eff = V - T0 + the momenta's part, and
+    # R = its velocity part - V_eff, as a textbook writes them
     absent = {c: sp.S.Zero for c in cyclic}
-    M, a = sp.Matrix(d.mass_matrix).xreplace(absent), sp.Matrix(d.t1_coefficients).xreplace(absent)
+    M = sp.Matrix(d.mass_matrix).xreplace(absent).applyfunc(display_form)
+    a = sp.Matrix(d.t1_coefficients).xreplace(absent).applyfunc(display_form)
     p = sp.Matrix([sp.Symbol(f"p_{c.name}", real=True) for c in cyclic])
     M_ss, M_sr = M.extract(s, s), M.extract(s, r)
     qd_r = sp.Matrix([model.qd[k] for k in r])
-    qd_s = M_ss.LUsolve(p - M_sr * qd_r - a.extract(s, [0]))
-    qd_s = sp.Matrix([sp.cancel(e) for e in qd_s])
+    qd_s = M_ss.LUsolve(p - M_sr * qd_r - a.extract(s, [0])).applyfunc(tidy_fraction)
     eliminate = {model.qd[k]: e for k, e in zip(s, qd_s)}
-    R = _tidy((d.L.xreplace(absent) - sum(pi * model.qd[k] for pi, k in zip(p, s))).xreplace(eliminate))
+    qd = sp.Matrix(model.qd)
+    potential = display_form((d.V - d.T0).xreplace(absent))            # V - T0
+    L = (qd.T * M * qd)[0] / 2 + (a.T * qd)[0] - potential
+    R_full = (L - sum(pi * model.qd[k] for pi, k in zip(p, s))).xreplace(eliminate)
     at_rest = {model.qd[k]: 0 for k in r}
-    V_eff = _tidy(-R.xreplace(at_rest))
+    w = p - a.extract(s, [0]).xreplace(at_rest)
+    V_eff = tidy_fraction((w.T * M_ss.LUsolve(w))[0] / 2) + potential
+    R = tidy_fraction(R_full - R_full.xreplace(at_rest)) - V_eff
     forces = sp.Matrix(d.nonconservative_forces).xreplace(absent).xreplace(eliminate)
     if d.constraints:      # the multipliers' generalized forces sum_j lambda_j a_jr stay
         forces += sp.Matrix(d.constraint_matrix).T * sp.Matrix(d.multipliers)
     equations = _reduced_equations(model, R, r, forces)
     return Routhian(cyclic, tuple(p), tuple(model.q[k] for k in r), R, V_eff,
-                    tuple(_tidy(e) for e in qd_s), tuple(_tidy(e) for e in equations))
+                    tuple(qd_s), tuple(tidy_fraction(e) for e in equations))
 
 
 def _require_absent_from_constraints(d, cyclic) -> None:
@@ -92,13 +103,6 @@ def _require_absent_from_constraints(d, cyclic) -> None:
                 f"the reduced equations would still depend on '{name}'\n"
                 "  hint: Routh reduction needs coordinates that appear in no constraint; "
                 f"`lagcli derive` reports the conserved p_{name} and `simulate` its column")
-
-
-TIDY_BUDGET = 150   # count_ops up to which an expression is trigsimp'd for display
-
-
-def _tidy(expr: sp.Expr) -> sp.Expr:
-    return sp.trigsimp(sp.cancel(expr)) if sp.count_ops(expr) <= TIDY_BUDGET else expr
 
 
 def _reduced_equations(model, R, r, Q) -> tuple[sp.Expr, ...]:

@@ -22,6 +22,13 @@ cannot:
    linear model in w gives the eigenvalues and the verdict (`stability.py`). A
    constrained system, or descriptions that do not reach every direction, are left
    undecided, and the note says so.
+
+A constrained system is examined where the still velocities turn angles only (gimbal
+lock: a coin lying with its axis vertical in z-x-y angles): step 1 with the multipliers,
+each description's equations at rest F + A^T lambda = 0 solved for lambda by least
+squares (a chart that cannot tilt the coin does not feel the torque of the contact
+force about the missing axis, so the point is stationary in its own coordinates only);
+its stability is left undecided.
 """
 from __future__ import annotations
 
@@ -61,7 +68,10 @@ class Charts:
         q, qd = list(model.q), list(model.qd)
         M = sp.Matrix(d.mass_matrix).xreplace(rest).xreplace({v: 0 for v in qd})
         F = sp.Matrix(d.forcing).xreplace(rest)
-        self._matrices = CompiledJacobians([*q, *qd], {"M": M, "F": F}, {"F_q": ("F", q), "F_qd": ("F", qd)})
+        outputs = {"M": M, "F": F}
+        if d.constraints:                       # the constraint rows at rest: step 1 only
+            outputs["A"] = sp.Matrix(d.constraint_matrix).xreplace(rest).xreplace({v: 0 for v in qd})
+        self._matrices = CompiledJacobians([*q, *qd], outputs, {"F_q": ("F", q), "F_qd": ("F", qd)})
         self._pose = CompiledJacobians(q, {"key": sp.Matrix(pose_exprs)}, {"key_q": ("key", q)})
         self.n = len(q)
 
@@ -85,12 +95,12 @@ def examine(charts: Charts, q0: np.ndarray, angles: frozenset) -> CoordinateSing
 
     from lagcli.analysis.pose import same_pose
 
-    if charts.derivation.constraints:
-        raise ValueError("examine: an unconstrained system only")
     names = [s.name for s in charts.derivation.model.q]
     M0 = charts.at(q0)["M"]
     still_vectors = null_space(M0, rcond=SINGULAR)
     still = tuple(names[k] for k in range(len(q0)) if np.max(np.abs(still_vectors[k]), initial=0.0) > 1e-6)
+    if charts.derivation.constraints and not (still and set(still) <= angles):
+        raise ValueError("examine: a constrained system only where the still velocities turn angles")
     key0, _ = charts.key(q0)
     descriptions = [q0]
     for v in still_vectors.T:
@@ -101,9 +111,12 @@ def examine(charts: Charts, q0: np.ndarray, angles: frozenset) -> CoordinateSing
                 descriptions.append(q)
     at_rest = [charts.at(q) for q in descriptions]
     what = _what(still, angles)
-    if any(np.max(np.abs(m["F"]), initial=0.0) > AT_REST for m in at_rest):
+    if any(_unbalanced(m) > AT_REST for m in at_rest):
         return CoordinateSingularity(still, False, (f"stationary in these coordinates only ({what})",))
     notes = [what + ": the coordinates are singular, not the physics"]
+    if charts.derivation.constraints:
+        notes.append("a constrained system at a coordinate singularity: lagcli cannot decide the stability here")
+        return CoordinateSingularity(still, True, tuple(notes))
     linear, where = _assembled(charts, q0, descriptions, at_rest)
     if linear is None:
         notes.append("the other descriptions of this pose do not reach every direction: "
@@ -120,6 +133,15 @@ def examine(charts: Charts, q0: np.ndarray, angles: frozenset) -> CoordinateSing
     from lagcli.analysis.stability import stability
 
     return CoordinateSingularity(still, True, tuple(notes), linear, stability(linear))
+
+
+def _unbalanced(at_rest: dict) -> float:
+    """|F + A^T lambda| at rest, lambda by least squares (F itself when unconstrained)."""
+    F = np.asarray(at_rest["F"], dtype=float).reshape(-1)
+    if "A" in at_rest and at_rest["A"].size:
+        At = np.asarray(at_rest["A"], dtype=float).reshape(-1, F.size).T
+        F = F - At @ np.linalg.lstsq(At, F, rcond=None)[0]
+    return float(np.max(np.abs(F), initial=0.0))
 
 
 def _what(still, angles) -> str:

@@ -41,12 +41,11 @@ import numpy as np
 
 from lagcli.analysis.jordan import clustered, defective, drifting_states
 from lagcli.analysis.linearize import LinearModel
-from lagcli.analysis.structure import StructureBasis, structure_basis
+from lagcli.analysis.structure import STEADY, StructureBasis, structure_basis
 
 STRUCTURAL_ZERO = 1e-12     # |entry| <= this * max|A| counts as a structural zero
 MARGIN = 1e-9               # |Re s| <= this * max(1, max|s|) counts as on the imaginary axis
 ROUNDING = 1000 * np.finfo(float).eps  # parts of s below this * rounding_scale(A) are noise: set to 0
-STEADY = 1e-9               # |rate| above this: the point is no equilibrium or steady motion
 
 NOT_AT_REST = "no verdict"
 
@@ -104,11 +103,16 @@ def oscillation_frequencies(modes) -> tuple[float, ...]:
                          if m.kind == "oscillation" and m.eigenvalue.imag > 0}))
 
 
-def essential(A: np.ndarray, states) -> tuple[np.ndarray, list[str], list[str]]:
-    """A without its structurally zero rows and columns (repeatedly), and the states kept/dropped."""
+def essential(A: np.ndarray, states, generic: np.ndarray | None = None) -> tuple[np.ndarray, list[str], list[str]]:
+    """A without its structurally zero rows and columns (repeatedly), and the states kept/dropped.
+    An entry is a structural zero when it is zero in A and, given, in `generic` (A with the
+    parameters scaled: `linearize.generic_state_matrix`), so a zero that only a coincidence
+    of the parameters' values makes (a stiffness vanishing at a bifurcation) stays."""
     keep = list(range(A.shape[0]))
     scale = np.max(np.abs(A), initial=0.0)
     small = np.abs(A) <= STRUCTURAL_ZERO * scale
+    if generic is not None and generic.shape == A.shape:
+        small &= np.abs(generic) <= STRUCTURAL_ZERO * max(scale, np.max(np.abs(generic), initial=0.0))
     changed = True
     while changed:
         changed = False
@@ -144,7 +148,7 @@ def rounding_scale(A: np.ndarray) -> float:
 
 def stability(model: LinearModel) -> Stability:
     basis = structure_basis(model)
-    reduced, kept, dropped = essential(basis.A, basis.states)
+    reduced, kept, dropped = essential(basis.A, basis.states, basis.generic_A)
     values = in_order(clustered(reduced, sorted_eigenvalues(reduced)))
     scale = max(1.0, np.max(np.abs(values), initial=0.0))
     bad = defective(reduced, values, lambda s: abs(s.real) <= MARGIN * scale)

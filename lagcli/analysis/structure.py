@@ -23,6 +23,8 @@ import numpy as np
 
 from lagcli.analysis.linearize import LinearModel, gyroscopic_part
 
+STEADY = 1e-9               # |rate| above this: the point is no equilibrium or steady motion
+
 _CLEAN = 1e-9       # entries of a direction below this (of its largest) are 0
 
 
@@ -37,6 +39,7 @@ class StructureBasis:
     pairs: dict                         # coordinate name -> its speed's name (when square)
     Tc: np.ndarray
     Ts: np.ndarray
+    generic_A: np.ndarray = None        # A at scaled parameters, same basis (`linearize.generic_state_matrix`)
 
     @property
     def gyroscopic(self) -> np.ndarray:
@@ -74,8 +77,6 @@ class StructureBasis:
         """(state, rate) of each speed that changes and each kept coordinate that moves at
         the point: none at an equilibrium or a steady motion (where only coordinates
         neutral by structure move, at constant speeds)."""
-        from lagcli.analysis.stability import STEADY
-
         limit = STEADY * max(1.0, float(np.max(np.abs(model.point.qd), initial=0.0)))
         qd = model.coordinate_rates if model.coordinate_rates.size else np.zeros(len(model.coordinates))
         moving = np.linalg.solve(self.Tc, qd) if self.Tc.size else qd
@@ -103,8 +104,12 @@ def structure_basis(model: LinearModel) -> StructureBasis:
 def _basis(model, Tc, Ts, coordinates, speeds, pairs: dict) -> StructureBasis:
     T = np.block([[Tc, np.zeros((Tc.shape[0], Ts.shape[1]))], [np.zeros((Ts.shape[0], Tc.shape[1])), Ts]])
     A = np.linalg.solve(T, model.A @ T) if T.size else model.A
+    generic = model.generic_A
+    if generic.shape == model.A.shape and T.size:
+        generic = np.linalg.solve(T, generic @ T)
     return StructureBasis(A, (*coordinates, *speeds), tuple(coordinates), tuple(speeds),
-                          Ts.T @ model.K @ Tc, Ts.T @ model.C @ Ts, pairs, Tc, Ts)
+                          Ts.T @ model.K @ Tc, Ts.T @ model.C @ Ts, pairs, Tc, Ts,
+                          generic if generic.shape == A.shape else None)
 
 
 def _speed_order(model: LinearModel) -> list[int] | None:

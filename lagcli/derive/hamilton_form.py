@@ -2,7 +2,7 @@
 
 With T = 1/2 q'^T M q' + a^T q' + T0 the momenta are p = dL/dq' = M q' + a, and
 
-    H(q, p, t) = 1/2 (p - a)^T M^-1 (p - a) - T0 + V
+    H(q, p, t) = 1/2 (p - a)^T M^-1 (p - a) - T0 + V       (printed in this split)
     q' =  dH/dp = M^-1 (p - a)
     p' = -dH/dq + Q'  =  dL/dq (q, q', t) + Q'        (q' = M^-1 (p - a))
 
@@ -37,19 +37,46 @@ def hamilton_form(d) -> HamiltonForm:
     if d.constraints:
         raise UsageError(f"{model.source}: Hamilton's form here is for unconstrained systems "
                          "(use independent coordinates)")
-    M, a = sp.Matrix(d.mass_matrix), sp.Matrix(d.t1_coefficients)
+    # M, a, V - T0 as the reports print them (sin^2 + cos^2 = 1, angle sums folded), so the
+    # solved forms below start from the tidy entries
+    M, a = sp.Matrix(d.mass_matrix).applyfunc(display_form), sp.Matrix(d.t1_coefficients).applyfunc(display_form)
     qd = sp.Matrix(model.qd)
     p = sp.Matrix([sp.Symbol(f"p_{q.name}", real=True) for q in model.q])
     momentum = (M * qd + a).applyfunc(display_form)        # p = M q' + a, tidied as the reports do
     if not (M.is_diagonal() or M.rows <= SYMBOLIC_SIZE):
         return HamiltonForm(tuple(p), tuple(momentum), None, None, None)
-    velocity = M.LUsolve(p - a).applyfunc(sp.cancel)
-    H = _tidy(((p - a).T * velocity)[0] / 2 - d.T0 + d.V)
+    velocity = M.LUsolve(p - a).applyfunc(tidy_fraction)               # q' = dH/dp = M^-1 (p - a)
+    # written as a textbook does: the kinetic part over its one denominator, then - T0 + V
+    # (one fraction of both would hide V inside the kinetic part's denominator)
+    H = tidy_fraction(((p - a).T * velocity)[0] / 2) + tidy_fraction(display_form(d.V - d.T0))
     Q = sp.Matrix(d.nonconservative_forces).xreplace(dict(zip(model.qd, velocity)))
-    qdot = tuple(_tidy(H.diff(pi)) for pi in p)
-    pdot = tuple(_tidy(-H.diff(q) + Q[k]) for k, q in enumerate(model.q))
-    return HamiltonForm(tuple(p), tuple(momentum), H, qdot, pdot)
+    pdot = tuple(tidy_fraction(-H.diff(q) + Q[k]) for k, q in enumerate(model.q))
+    return HamiltonForm(tuple(p), tuple(momentum), H, tuple(velocity), pdot)
 
 
-def _tidy(expr):
-    return sp.trigsimp(sp.cancel(expr)) if sp.count_ops(expr) <= 150 else expr
+TRIGSIMP_BUDGET = 150    # count_ops up to which sympy's trigsimp is also tried
+
+
+def tidy_fraction(expr):
+    """One solved expression as the reports would print it (Hamilton's form here, the
+    Routhian in lagcli/analysis/routh.py). The shorter of: trigsimp of the cancelled form (small expressions), and the
+    cancelled fraction with numerator and denominator in the reports' `display_form`."""
+    cancelled = sp.cancel(sp.together(expr))
+    numerator, denominator = sp.fraction(cancelled)
+    if denominator.could_extract_minus_sign():
+        numerator, denominator = -numerator, -denominator
+    if denominator.is_Add and sp.count_ops(denominator) <= TRIGSIMP_BUDGET:
+        denominator = min(display_form(sp.factor(denominator)), display_form(denominator), key=sp.count_ops)
+    else:
+        denominator = display_form(denominator)
+    candidates = [_tidy_sign(display_form(numerator)) / denominator]
+    if sp.count_ops(cancelled) <= TRIGSIMP_BUDGET:
+        candidates.append(sp.trigsimp(cancelled))
+    return min(candidates, key=sp.count_ops)
+
+
+def _tidy_sign(expr):
+    """-(-a - b + c) -> a + b - c: a sum with most terms negative is not printed under a minus."""
+    if expr.is_Mul and expr.args[0] == -1 and len(expr.args) == 2 and expr.args[1].is_Add:
+        return sp.expand(expr) if sp.count_ops(sp.expand(expr)) <= sp.count_ops(expr) else expr
+    return expr

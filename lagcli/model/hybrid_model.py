@@ -68,13 +68,23 @@ class _Checks:
                                     f"velocities {_names(used)}", "an impact needs a position condition "
                                     "(G = dg/dq is the direction of the impulse); use action: reset or "
                                     "stop for a condition on velocities"))
+        if not value.free_symbols & set(self.b.q):
+            raise SpecError(Problem(src.loc, f"an impact's 'when' is a gap g(t, q): {src.text!r} uses no "
+                                    "coordinate, so G = dg/dq = 0 gives the impulse no direction",
+                                    "write the gap in the coordinates (e.g. y for a floor at y = 0); "
+                                    "use action: reset or stop for a condition on t alone"))
 
     def state(self, value: sp.Expr, src: Src) -> None:
         """t, q, q' and parameters only."""
         _law_check(self.b.u, self.b.qdd, value, src, "an event")
 
     def constant(self, value: sp.Expr, src: Src) -> None:
-        self.b.constant_in_motion(value, src)
+        """A restitution: numbers and parameters (no t, state or input)."""
+        self.b.no_inputs(value, src)
+        used = value.free_symbols & self.b.moving
+        if used:
+            raise SpecError(Problem(src.loc, f"a restitution is a constant: {src.text!r} uses {_names(used)}",
+                                    "use numbers and parameters (e.g. restitution: e with e a parameter)"))
 
 
 def _law_check(inputs, qdd, value: sp.Expr, src: Src, what: str = "an input law") -> None:

@@ -114,40 +114,28 @@ def generate(derivation, lang: str, initial=None, initial_notes=(), layout=None,
                          f"{' and '.join(n for n, k in LANGUAGES.items() if k.variational)} only (not {lang})")
     if lang != "latex":
         _refuse_hybrid(derivation, lang)
-    if lang in LAWS_SUBSTITUTED and derivation.model.laws:
-        derivation, layout, initial_notes = _laws_substituted(derivation, layout, initial_notes)
-    return program_sources(derivation, lang, initial, initial_notes, layout, variational)
+    return program_sources(derivation, lang, initial, initial_notes, layout, variational, spec_laws=True)
+
+
+SPEC_LAWS_IN_TABLE = ("c",)     # targets whose run table runs the spec's laws (generate only)
 
 
 def program_sources(derivation, lang: str, initial=None, initial_notes=(), layout=None,
-                    variational: bool | None = True) -> dict[str, str]:
+                    variational: bool | None = True, spec_laws: bool = False) -> dict[str, str]:
     """`generate` for the programs of a run (the System's: the Python module, the C driver):
     the smooth equations, whatever events or laws the run layer adds around them, with the
     variational integrator's functions whatever the system's size (a run may ask for them).
     Every target reads what it says of the system from `layout` (the System's, built once;
-    made here when the caller has none)."""
+    made here when the caller has none). `spec_laws` (`generate`): the C driver's table runs
+    the spec's input laws (a run's driver gets the run's laws substituted instead)."""
     from lagcli.interface import layout_of
 
     language = LANGUAGES[lang]
     options = {"variational": variational} if language.variational else {}
+    if spec_laws and lang in SPEC_LAWS_IN_TABLE:
+        options["spec_laws"] = True
     return getattr(importlib.import_module(language.module), language.function)(
         derivation, layout if layout is not None else layout_of(derivation), initial, initial_notes, **options)
-
-
-LAWS_SUBSTITUTED = ("c",)     # targets whose code gets the spec's laws substituted into F
-
-
-def _laws_substituted(derivation, layout, notes):
-    """The derivation with the spec's input laws substituted for its inputs in the forcing
-    (`lagcli.derive.closed_loop`, as `lagcli simulate --backend c` compiles them), the
-    layout of the original (the inputs stay in the interface) and a note saying so."""
-    from lagcli.derive.closed_loop import closed_loop
-    from lagcli.interface import layout_of
-    from lagcli.render.spec_printer import spec_str
-
-    laws = "; ".join(f"{law.symbol.name} = {spec_str(law.expr)}" for law in derivation.model.laws)
-    note = f"The input laws (simulate: inputs:) are substituted into the forcing: {laws}."
-    return closed_loop(derivation), layout if layout is not None else layout_of(derivation), (*notes, note)
 
 
 def _refuse_hybrid(derivation, lang: str) -> None:
@@ -157,7 +145,7 @@ def _refuse_hybrid(derivation, lang: str) -> None:
     model = derivation.model
     # c, fmu, octave and python carry events (event_code.py, octave_hybrid.py, python_events.py)
     events = model.events if lang not in ("c", "fmu", "octave", "python") else ()
-    laws = model.laws if lang not in ("python", "octave", "fmu", "casadi", "jax", *LAWS_SUBSTITUTED) else ()
+    laws = model.laws if lang not in ("python", "octave", "fmu", "casadi", "jax", "c") else ()
     rest = any(e.rest for e in model.events)      # held contacts: lagcli simulate (Python backend) only
     keys = [key for key, used in (("events:", events), ("an event's rest: true", rest),
                                   ("simulate: inputs:", laws)) if used]

@@ -56,12 +56,18 @@ class CPrinter(SlotPrinter, C99CodePrinter):
 
 
 def c_files(d: Derivation, layout: Layout, initial=None, initial_notes=(),
-            variational: bool | None = None) -> dict[str, str]:
+            variational: bool | None = None, spec_laws: bool = False) -> dict[str, str]:
     """{file name: text} of `<name>.h`, `<name>.c`, `<name>_main.c` and the C runtime;
     `layout`: the system's run interface; `initial` (the default state, made consistent
     by the caller) and `initial_notes`: see `lagcli.targets.about.interface`;
-    `variational`: see `discrete_code.variational_context` (None: for a small system only)."""
-    context = c_context(d, layout, initial, initial_notes, variational)
+    `variational`: see `discrete_code.variational_context` (None: for a small system only);
+    `spec_laws` (`lagcli generate`): the driver's model table runs the spec's input laws."""
+    laws = open_loop_laws(d) if spec_laws else ()
+    if laws:
+        said = "; ".join(f"{u} = {text}" for u, code, text in laws if code is not None)
+        initial_notes = (*initial_notes, f"The input laws (simulate: inputs:) run in the driver's model table "
+                         f"({d.model.name}_spec_inputs): {said}; the _u functions take u as given.")
+    context = c_context(d, layout, initial, initial_notes, variational, laws)
     name = d.model.name
     runtime = c_runtime_files()
     if {f"{name}.h", f"{name}.c", f"{name}_main.c"} & set(runtime):
@@ -77,19 +83,39 @@ def model_sources(context: dict) -> dict[str, str]:
     return {f"{name}.h": render("c/model.h.jinja", **context), f"{name}.c": render("c/model.c.jinja", **context)}
 
 
+LAWS_NOT_VARIATIONAL = ("--method variational does not run the input laws (simulate: inputs:) yet: it holds "
+                        "the inputs constant; use --method DOP853 or RK45")
+
+
+def open_loop_laws(d: Derivation) -> tuple:
+    """The spec's input laws as C (`lagcli.targets.laws.printed_laws`) when `d`'s forcing
+    still takes those inputs (`generate --lang c`: the model stays open loop, its `_u`
+    functions take u as given, and the model table runs the laws); () when there are none
+    or they are already substituted (the closed loop `lagcli simulate --backend c` builds)."""
+    from lagcli.targets.laws import printed_laws
+
+    with_law = {law.symbol for law in d.model.laws}
+    return printed_laws(d, CPrinter) if with_law & d.forcing.free_symbols else ()
+
+
 def c_context(d: Derivation, layout: Layout, initial=None, initial_notes=(),
-              variational: bool | None = None) -> dict:
-    """Everything the C templates need, pre-printed."""
+              variational: bool | None = None, laws: tuple = ()) -> dict:
+    """Everything the C templates need, pre-printed; `laws`: `open_loop_laws` (the model
+    table then runs them, and refuses --method variational, which holds inputs constant)."""
     from lagcli.targets.discrete_code import variational_context
     from lagcli.targets.event_code import event_context
 
     context = codegen.generated_context(d, CPrinter, layout, initial, initial_notes)
-    context.update(variational_context(d, CPrinter, variational))    # the variational integrator's functions
+    if laws:             # the variational integrator holds the inputs constant: the table refuses it
+        context.update(variational=None, variational_refusal=LAWS_NOT_VARIATIONAL)
+    else:
+        context.update(variational_context(d, CPrinter, variational))    # the variational integrator's functions
     context.update(event_context(d, CPrinter))           # the spec's events (none: empty)
     name = layout.name
     settings = layout.settings
     residual = context["i"].residual_index
-    return dict(context, prefix=name, PREFIX=name.upper(), nsys=context["n"] + context["m"],
+    return dict(context, prefix=name, PREFIX=name.upper(), nsys=context["n"] + context["m"], laws=laws,
+                law_inputs=tuple(u for u, code, _ in laws if code is not None),
                 settings=settings,
                 driver_method=settings.method if settings.method in EXPLICIT_METHODS else EXPLICIT_METHODS[-1],
                 table_method=settings.method if settings.method in C_METHODS else EXPLICIT_METHODS[-1],

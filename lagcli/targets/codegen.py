@@ -107,7 +107,7 @@ def generated_context(d: Derivation, printer_class, layout: Layout, initial=None
     the constraint tolerance (lagcli.interface). The run rules are runtime code, not
     context (lagcli/runtime/)."""
     outputs, reduced = reduced_outputs(d, layout)
-    printer = printer_class(slots(d, reduced, printer_class))
+    printer = printer_for(d, reduced, printer_class)
     n, m = d.n, len(d.constraints)
     bodies = function_bodies(reduced, printer, outputs, n, m)
     return dict(
@@ -116,6 +116,13 @@ def generated_context(d: Derivation, printer_class, layout: Layout, initial=None
         literal=printer_class.literal, imports=printer.imports(),
         constraint_tolerance=printer_class.literal(CONSTRAINT_TOLERANCE),
     )
+
+
+def printer_for(d: Derivation, reduced: Reduced, printer_class) -> SlotPrinter:
+    """A `printer_class` printing the symbols of `reduced` as slots, in the order of its terms
+    when the CSE gave them an order (`Reduced.ordered`)."""
+    printer = printer_class(slots(d, reduced, printer_class))
+    return printer if reduced.ordered else printer.in_given_order()
 
 
 def reduced_outputs(d: Derivation, layout: Layout) -> tuple[Outputs, Reduced]:

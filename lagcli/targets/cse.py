@@ -11,6 +11,7 @@ from sympy.simplify.cse_opts import sub_post
 
 from lagcli.targets.expressions import Outputs
 from lagcli.targets.minus_sign import could_extract_minus_sign
+from lagcli.targets.shared_dag import Dag, reduce_dag
 from lagcli.render.tidy import factored
 
 
@@ -102,6 +103,7 @@ def xreplaced(expr, rule: dict):
 
 
 CSE_OPTIMIZATIONS = "basic"   # `basic_optimizations`; None: no preprocessing
+LINEAR_CSE_MIN_NODES = 4000   # distinct subexpressions from which `linear_cse` replaces sympy.cse
 
 
 @dataclass(frozen=True)
@@ -111,6 +113,7 @@ class Reduced:
 
     temporaries: tuple[tuple[sp.Symbol, sp.Expr], ...]
     groups: dict
+    ordered: bool = True      # False: print sums and products in the order they have (`linear_cse`)
 
     def block(self, names, exclude=frozenset()) -> tuple[tuple[sp.Symbol, sp.Expr], ...]:
         """The temporaries (in order) that the groups `names` need, minus `exclude`."""
@@ -138,13 +141,39 @@ def eliminate(outputs: Outputs, optimizations=CSE_OPTIMIZATIONS) -> Reduced:
     `optimizations`: "basic" (`basic_optimizations`), None or a list for sympy.cse."""
     groups = outputs.groups()
     flat = [sp.sympify(e) for name in groups for e in groups[name]]
-    if optimizations == "basic":
-        optimizations = basic_optimizations()
-    temporaries, reduced = sp.cse(flat, symbols=sp.numbered_symbols("x", cls=sp.Dummy),
-                                  optimizations=optimizations, order="canonical")
+    symbols = sp.numbered_symbols("x", cls=sp.Dummy)
+    linear = optimizations is not None and not few_nodes(flat, LINEAR_CSE_MIN_NODES)
+    if linear:
+        temporaries, reduced = linear_cse(flat, symbols)
+    else:
+        if optimizations == "basic":
+            optimizations = basic_optimizations()
+        temporaries, reduced = sp.cse(flat, symbols=symbols, optimizations=optimizations, order="canonical")
     result, start = {}, 0
     for name in groups:
         size = len(groups[name])
         result[name] = tuple(reduced[start:start + size])
         start += size
-    return Reduced(tuple(temporaries), result)
+    return Reduced(tuple(temporaries), result, ordered=not linear)
+
+
+def few_nodes(exprs, budget: int) -> bool:
+    """True when `exprs` have at most `budget` distinct subexpressions together (stops
+    counting past it)."""
+    seen, stack = set(), list(exprs)
+    while stack:
+        node = stack.pop()
+        if node not in seen:
+            seen.add(node)
+            if len(seen) > budget:
+                return False
+            stack.extend(node.args)
+    return True
+
+
+def linear_cse(exprs, symbols) -> tuple[list, list]:
+    """The CSE of a big system (lagcli/targets/shared_dag.py): common factors of sums
+    pulled out and every subexpression used twice made a temporary, in one pass over the
+    distinct subexpressions; printed in the order it gives (`Reduced.ordered`)."""
+    dag = Dag()
+    return reduce_dag(dag, [dag.add_expr(e) for e in exprs], symbols)

@@ -19,7 +19,6 @@ from dataclasses import dataclass, replace
 from lagcli.derive.discrete import HOLONOMIC, JACOBIAN, MOMENTA, METHOD, discrete_groups, refusal
 from lagcli.targets import codegen
 from lagcli.targets.cse import eliminate
-from lagcli.targets.slots import slots
 from lagcli.render.tidy import small, tidy_expression
 
 
@@ -60,7 +59,7 @@ def variational_context(d, printer_class, wanted: bool | None = None) -> dict:
         groups = replace(groups, **{name: tuple(tidy_expression(e, d.model.qd, cache) for e in exprs)
                                     for name, exprs in groups.groups().items()})
     reduced = eliminate(groups)
-    printer = printer_class(slots(d, reduced, printer_class))
+    printer = codegen.printer_for(d, reduced, printer_class)
     code = VariationalCode(
         momenta=codegen.print_block(reduced, printer, MOMENTA),
         jacobian=codegen.print_block(reduced, printer, JACOBIAN),

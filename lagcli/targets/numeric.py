@@ -125,3 +125,27 @@ def _checked_callable(name: str, f: Callable) -> Callable:
             raise UsageError(f"inputs={{{name!r}: ...}}: the callable returned {value!r}, "
                              "not a number") from None
     return call
+
+
+def input_number(name: str, value) -> float:
+    """A constant of `System.simulate(inputs=...)`; anything else is a clear error."""
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        raise UsageError(f"inputs={{{name!r}: ...}}: {value!r} is not a number, an expression string "
+                         "or a callable u(t, y)") from None
+
+
+def law_callable(name: str, f):
+    """A law given as a Python callable, checked to take (t, y) before the run starts."""
+    import inspect
+
+    try:
+        inspect.signature(f).bind(0.0, ())
+    except TypeError as problem:
+        raise UsageError(f"inputs={{{name!r}: ...}}: the callable must take (t, y), the time and the "
+                         f"state [q..., q_dot...]: {problem}") from None
+    except ValueError:          # no signature to read (some builtins): called as it is
+        pass
+    return f
+

@@ -202,10 +202,11 @@ def frame_rows(t: np.ndarray, request: Request) -> list[int]:
 class Drawing:
     """The figure and its artists; `draw(row)` moves them to one trajectory row."""
 
-    def __init__(self, scene: Scene, times, states, p, request: Request, title: str):
+    def __init__(self, scene: Scene, times, states, p, request: Request, title: str, unit: str | None = None):
         from matplotlib.figure import Figure
 
         self.scene, self.times, self.states, self.p, self.request = scene, times, states, p, request
+        self.unit = unit
         self.figure = Figure(figsize=(6, 6), dpi=100)
         three = scene.dimension == 3
         self.ax = self.figure.add_subplot(projection="3d" if three else None)
@@ -290,7 +291,7 @@ class Drawing:
         centre, half = (box.max(0) + box.min(0)) / 2, max(float((box.max(0) - box.min(0)).max()) / 2, 1e-9) * 1.1
         for k, axis in enumerate("xyz"[:3 if three else 2]):
             getattr(self.ax, f"set_{axis}lim")(centre[k] - half, centre[k] + half)
-            getattr(self.ax, f"set_{axis}label")(axis)
+            getattr(self.ax, f"set_{axis}label")(f"{axis} [{self.unit}]" if self.unit else axis)
         if three:
             self.ax.set_box_aspect((1, 1, 1))
         else:
@@ -337,7 +338,7 @@ def animate(system, times, states, parameters: dict, path: str | None, request: 
     scene = scene_of(system.model)
     p = [parameters[name] for name in system.layout.parameter_names]
     drawing = Drawing(scene, np.asarray(times, dtype=float), np.asarray(states, dtype=float), p, request,
-                      system.name)
+                      system.name, length_unit(system.model))
     rows = frame_rows(drawing.times, request)
     if path is None or suffix in FRAME_FORMATS:
         drawing.draw(rows[0])
@@ -348,6 +349,28 @@ def animate(system, times, states, parameters: dict, path: str | None, request: 
         return drawing
     _save_movie(drawing, rows, path, suffix, request.fps)
     return drawing
+
+
+def length_unit(model) -> str | None:
+    """The unit of the view's axes: when the spec gives units, the points' positions are
+    lengths by them (lagcli/model/units.py) and every length the spec declares is in one
+    unit (units are dimensions to lagcli, not scales: the numbers drawn are the spec's),
+    that unit's text ("m", "mm"); None otherwise (no unit shown)."""
+    from lagcli.model.units import LENGTH, Mismatch, dimension_of, symbol_dimensions, unit_dimension
+
+    dims = symbol_dimensions(model)
+    if not dims:
+        return None
+    found = set()
+    for position in [*(p.position for p in model.particles), *(b.position for b in model.bodies)]:
+        for component in position:
+            try:
+                found.add(dimension_of(component, dims))
+            except Mismatch:
+                return None
+    found.discard(())
+    texts = {text.replace(" ", "") for text, loc in model.units.values() if unit_dimension(text, loc) == LENGTH}
+    return next(iter(texts)) if found == {LENGTH} and len(texts) == 1 else None
 
 
 def _save_movie(drawing: Drawing, rows, path: str, suffix: str, fps: float) -> None:

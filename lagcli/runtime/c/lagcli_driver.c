@@ -475,6 +475,8 @@ static int run_events(const run_settings *s, run_state *run, const double *y0)
         fprintf(stderr, "error: %s\n", result.message);
         return 2;
     }
+    if (log == NULL && result.end_note[0] != '\0')      /* with --events, lagcli notes it from the log */
+        fprintf(stderr, "note: %s\n", result.end_note);
     if (rc == LAGCLI_EVENTS_FAILED)
         fprintf(stderr, "error: %s\n", result.message);
     else if (rc != LAGCLI_ODE_OK)

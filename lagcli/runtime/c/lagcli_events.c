@@ -96,9 +96,26 @@ static double brent(event_loop *L, int k, double xa, double xb)
 
 static void end_line(event_loop *L, const char *kind, int k, double t, double value)
 {
+    char *note = L->result->end_note;
+    const size_t size = sizeof L->result->end_note;
+    const char *name = L->ev->names[k];
     if (L->run->log != NULL)
-        fprintf(L->run->log, "end,%s,%s,%.17g,%.17g\n", kind, L->ev->names[k], t, value);
+        fprintf(L->run->log, "end,%s,%s,%.17g,%.17g\n", kind, name, t, value);
     L->result->ended = 1;
+    /* the words of lagcli/runtime/run_limits.py, end_note */
+    if (strcmp(kind, "recurred") == 0)
+        snprintf(note, size, "event '%.100s' recurred after %.3g s at t = %.10g (accumulation: closer than "
+                 "%g x max(1, t)); the run ends there", name, value, t, LAGCLI_EVENTS_GAP);
+    else if (strcmp(kind, "resting") == 0)
+        snprintf(note, size, "event '%.100s' at t = %.10g: separation speed %.3g after the impact (below %g x "
+                 "the largest approach speed: the contact has come to rest); the run ends there", name, t,
+                 value, LAGCLI_EVENTS_RESTING);
+    else if (strcmp(kind, "unresolved") == 0)
+        snprintf(note, size, "event '%.100s' recurs at t = %.10g faster than the integrator's step can "
+                 "resolve (accumulation); the run ends there", name, t);
+    else
+        snprintf(note, size, "%ld events (the budget of one run) by t = %.10g; the run ends there",
+                 LAGCLI_EVENTS_BUDGET, t);
 }
 
 /* The event just handled, in the first step after it: a crossing in its direction on

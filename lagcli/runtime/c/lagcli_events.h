@@ -72,6 +72,8 @@ typedef struct {
     lagcli_ode_stats stats;           /* t reached, steps and nfev summed over the segments */
     long events;
     int ended;                        /* ended early at an event (stop, accumulation, budget) */
+    char end_note[400];               /* why it ended before t_end but at a stop, in the words of
+                                         lagcli simulate's note; "" otherwise */
     char message[800];                /* LAGCLI_EVENTS_FAILED: "at t = ...: event '...' ...";
                                          LAGCLI_EVENTS_BAD_VALUES: "event '...': restitution = ..." */
 } lagcli_event_result;

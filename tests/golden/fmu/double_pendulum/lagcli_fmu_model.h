@@ -15,7 +15,7 @@
 #include "double_pendulum.h"
 
 #define LAGCLI_FMU_MODEL double_pendulum_model
-#define LAGCLI_FMU_GUID "{777e9bf3-c5d9-0da2-7ade-4c106f4e05af}"
+#define LAGCLI_FMU_GUID "{35ce48bf-9896-f8e7-7bb5-d69a49630346}"
 #define LAGCLI_FMU_NINPUT 0u
 #define LAGCLI_FMU_ALPHA 10.0        /* Baumgarte stabilisation (constrained systems) */
 #define LAGCLI_FMU_BETA 10.0

@@ -1,0 +1,307 @@
+"""The CSE of a big system: one pass over the distinct subexpressions, no sympy arithmetic.
+
+sympy's `cse` (lagcli/targets/cse.py) rebuilds every subexpression through sympy's
+constructors several times (the 'basic' preprocessing, `opt_cse`'s sign and sub-sum
+searches, `tree_cse`'s canonical sort), which cost ~12 s of CPU for the 40-link chain,
+growing faster than its code. Above a size budget (`cse.LINEAR_CSE_MIN_NODES`, counted in
+distinct subexpressions: no bundled spec reaches it) the outputs go through this module
+instead:
+
+    Dag.add_expr      each distinct sympy subexpression becomes one node of a hash-consed
+                      graph of plain tuples: ("atom", expr), ("add", terms),
+                      ("mul", coefficient, ((base, integer exponent), ...)),
+                      ("call", func, args); children sorted by node id
+    _sum              like terms merged, then the common factors of the terms pulled out
+                      (content and shared powers, as `tidy.factored` does: a weighted sum
+                      m1*X + ... + mn*X becomes X*(m1 + ... + mn))
+    reduce_dag        a node with two or more parents (or an output that is also a part)
+                      becomes a temporary; the rest is rebuilt in place with sympy's
+                      unevaluated constructors (`_from_args`), children in node order
+
+Node ids are given in the order of a walk of the outputs in their order along sympy's
+`args` (a deterministic order: sympy sorts the arguments of a sum or product by
+`Basic.compare`), so the code is the same in every process. The printer is told to keep
+that order (`Reduced.ordered` False: no `as_ordered_terms` sort while printing).
+"""
+from __future__ import annotations
+
+import math
+
+import sympy as sp
+
+ONE = sp.S.One
+
+
+class Dag:
+    """A hash-consed graph of the outputs (see the module docstring)."""
+
+    def __init__(self):
+        self.nodes: list[tuple] = []
+        self._ids: dict = {}
+        self._converted: dict = {}
+
+    def add_expr(self, expr) -> int:
+        """The node of a sympy expression, each distinct subexpression converted once."""
+        found = self._converted.get(expr)
+        if found is None:
+            found = self._converted[expr] = self._convert(expr)
+        return found
+
+    def _convert(self, expr) -> int:
+        if not expr.args:
+            return self.atom(expr)
+        if expr.is_Add:
+            return self._sum([self.add_expr(a) for a in expr.args])
+        if expr.is_Mul:
+            coefficient, factors = ONE, []
+            for arg in expr.args:
+                if arg.is_Number:
+                    coefficient = _times(coefficient, arg)
+                else:
+                    factors.append(self._power(arg))
+            return self.product(coefficient, factors)
+        if expr.is_Pow and expr.exp.is_Integer:
+            return self.product(ONE, [self._power(expr)])
+        return self._node(("call", expr.func, tuple(self.add_expr(a) for a in expr.args)))
+
+    def _power(self, expr) -> tuple[int, int]:
+        if expr.is_Pow and expr.exp.is_Integer:
+            return self.add_expr(expr.base), int(expr.exp)
+        return self.add_expr(expr), 1
+
+    def _node(self, key: tuple) -> int:
+        found = self._ids.get(key)
+        if found is None:
+            found = self._ids[key] = len(self.nodes)
+            self.nodes.append(key)
+        return found
+
+    def atom(self, expr) -> int:
+        return self._node(("atom", expr))
+
+    def product(self, coefficient, factors) -> int:
+        """coefficient * prod(base**exponent) (a sympy number, integer exponents), nested
+        products flattened, equal bases merged."""
+        powers: dict = {}
+        for base, exponent in factors:
+            node = self.nodes[base]
+            if node[0] == "mul" and (exponent == 1 or node[1] is ONE):
+                coefficient = _times(coefficient, node[1] if exponent == 1 else node[1] ** exponent)
+                for inner, e in node[2]:
+                    powers[inner] = powers.get(inner, 0) + e * exponent
+            elif node[0] == "atom" and node[1].is_Number:
+                coefficient = _times(coefficient, node[1] ** exponent)
+            else:
+                powers[base] = powers.get(base, 0) + exponent
+        powers = {b: e for b, e in powers.items() if e}
+        if not coefficient or not powers:
+            return self.atom(coefficient)
+        if coefficient is ONE and len(powers) == 1:
+            (base, exponent), = powers.items()
+            if exponent == 1:
+                return base
+        return self._node(("mul", coefficient, tuple(sorted(powers.items()))))
+
+    def split(self, term: int) -> tuple:
+        """(numeric coefficient, {base: exponent}) of a term."""
+        node = self.nodes[term]
+        if node[0] == "mul":
+            return node[1], dict(node[2])
+        if node[0] == "atom" and node[1].is_Number:
+            return node[1], {}
+        return ONE, {term: 1}
+
+    def _sum(self, terms) -> int:
+        """The sum of the terms: like terms merged, common factors pulled out (`_factored`)."""
+        merged: dict = {}
+        for term in terms:
+            if self.nodes[term][0] == "add":
+                inner = self.nodes[term][1]
+            else:
+                inner = (term,)
+            for t in inner:
+                number, powers = self.split(t)
+                key = tuple(sorted(powers.items()))
+                merged[key] = merged[key] + number if key in merged else number
+        split = [(number, dict(key)) for key, number in merged.items() if number]
+        if not split:
+            return self.atom(sp.S.Zero)
+        if len(split) == 1:
+            number, powers = split[0]
+            return self.product(number, list(powers.items()))
+        return self._factored(split)
+
+    def _factored(self, split) -> int:
+        common = dict(split[0][1])
+        for _, powers in split[1:]:
+            common = {b: _common_exponent(e, powers[b]) for b, e in common.items() if b in powers}
+            common = {b: e for b, e in common.items() if e != 0}
+        content = _content([number for number, _ in split])
+        primitive = [(number if content is ONE else number / content,
+                      {b: e - common.get(b, 0) for b, e in powers.items()}) for number, powers in split]
+        terms = self._grouped(primitive)
+        inner = terms[0] if len(terms) == 1 else self._node(("add", tuple(sorted(terms))))
+        if content is ONE and not common:
+            return inner
+        return self.product(content, [*common.items(), (inner, 1)])
+
+    def _grouped(self, split) -> list[int]:
+        """The terms of a sum, those that are one factor (the weight) times a product
+        several terms share written as that product times the sum of their weights
+        (g*l1*m1*sin(q1) + g*l1*m2*sin(q1) -> g*l1*sin(q1)*(m1 + m2)); each term
+        joins the product most terms share."""
+        keys = [[(tuple((c, x) for c, x in sorted(powers.items()) if c != b), b)
+                 for b, e in powers.items() if e == 1] if len(powers) > 1 else []
+                for _, powers in split]
+        counts: dict = {}
+        for options in keys:
+            for key, _ in options:
+                counts[key] = counts.get(key, 0) + 1
+        groups: dict = {}
+        for (number, powers), options in zip(split, keys):
+            best = max(options, key=lambda option: (counts[option[0]], option[1]), default=None)
+            key = best[0] if best is not None and counts[best[0]] > 1 else (number, tuple(powers.items()))
+            groups.setdefault(key, []).append((number, powers, best))
+        terms = []
+        for key, members in groups.items():
+            if len(members) == 1:
+                number, powers, _ = members[0]
+                terms.append(self.product(number, list(powers.items())))
+            else:
+                weights = self._sum([self.product(number, [(best[1], 1)]) for number, _, best in members])
+                terms.append(self.product(ONE, [*key, (weights, 1)]))
+        return terms
+
+    def children(self, node_id: int) -> tuple:
+        node = self.nodes[node_id]
+        if node[0] == "add":
+            return node[1]
+        if node[0] == "mul":
+            return tuple(b for b, _ in node[2])
+        if node[0] == "call":
+            return node[2]
+        return ()
+
+
+def _times(a, b):
+    """a * b of sympy numbers, without sympy's arithmetic when one is 1."""
+    return b if a is ONE else a if b is ONE else a * b
+
+
+def _common_exponent(a, b):
+    """The power of a base both terms share: the smaller one when both are of one sign, else 0."""
+    if a > 0 and b > 0:
+        return min(a, b)
+    if a < 0 and b < 0:
+        return max(a, b)
+    return 0
+
+
+def _content(numbers):
+    """The gcd of rational coefficients over the lcm of their denominators, negative when
+    every one is (1 when one is not rational)."""
+    if not all(n.is_Rational for n in numbers):
+        return ONE
+    numerator, denominator = 0, 1
+    for number in numbers:
+        numerator = math.gcd(numerator, abs(number.p))
+        denominator = math.lcm(denominator, number.q)
+    content = sp.Rational(numerator, denominator if all(n.q != 1 for n in numbers) else 1)
+    return -content if all(n.p < 0 for n in numbers) else content
+
+
+def reduce_dag(dag: Dag, outputs: list[int], symbols) -> tuple[list, list]:
+    """(temporaries [(symbol, value)], reduced outputs): a node used twice or more (an
+    output counts as a use) becomes a temporary, unless it is a number times one factor."""
+    nest_sums(dag, _uses(dag, outputs))
+    uses = _uses(dag, outputs)
+    built: dict = {}
+    temporaries: list = []
+
+    def build(node_id):
+        done = built.get(node_id)
+        if done is not None:
+            return done
+        stack = [(node_id, False)]
+        while stack:
+            current, ready = stack.pop()
+            if current in built:
+                continue
+            if not ready:
+                stack.append((current, True))
+                stack.extend((c, False) for c in reversed(dag.children(current)) if c not in built)
+                continue
+            value = _rebuilt(dag.nodes[current], built)
+            if uses.get(current, 0) > 1 and not _inline(dag.nodes[current]):
+                symbol = next(symbols)
+                temporaries.append((symbol, value))
+                value = symbol
+            built[current] = value
+        return built[node_id]
+
+    reduced = [build(o) for o in outputs]
+    return temporaries, reduced
+
+
+MASK = (1 << 64) - 1
+
+
+def _mixed(node_id: int) -> int:
+    """A deterministic 64-bit scramble of a node id: sets of terms are hashed by the XOR
+    of their terms' scrambles, so a sum less one term is found in one look-up."""
+    return ((node_id + 1) * 0x9E3779B97F4A7C15 >> 7) & MASK
+
+
+def nest_sums(dag: Dag, nodes) -> None:
+    """Each sum of `nodes` that is another sum of them plus one term is rewritten as that
+    sum plus the term (x3 = x2 + m38, x4 = x3 + m37, ...: the n tails of the chain's
+    masses cost n additions instead of n**2/2). Rewrites the graph in place: no node may be
+    added to it afterwards."""
+    sums = sorted((len(dag.nodes[i][1]), i) for i in nodes if dag.nodes[i][0] == "add")
+    by_hash: dict = {}
+    for _, i in sums:
+        terms = frozenset(dag.nodes[i][1])
+        whole = 0
+        for t in terms:
+            whole ^= _mixed(t)
+        for t in sorted(terms) if len(terms) > 2 else ():
+            j, inside = by_hash.get(whole ^ _mixed(t), (None, None))
+            if j is not None and inside == terms - {t}:
+                dag.nodes[i] = ("add", (j, t))
+                break
+        by_hash.setdefault(whole, (i, terms))
+
+
+def _uses(dag: Dag, outputs) -> dict:
+    uses: dict = {}
+    stack = []
+    for output in outputs:
+        uses[output] = uses.get(output, 0) + 1
+        if uses[output] == 1:
+            stack.append(output)
+    while stack:
+        for child in dag.children(stack.pop()):
+            uses[child] = uses.get(child, 0) + 1
+            if uses[child] == 1:
+                stack.append(child)
+    return uses
+
+
+def _inline(node) -> bool:
+    """Atoms and a number times one factor are written where they are used."""
+    return node[0] == "atom" or (node[0] == "mul" and len(node[2]) == 1 and node[2][0][1] == 1)
+
+
+def _rebuilt(node, built):
+    kind = node[0]
+    if kind == "atom":
+        return node[1]
+    if kind == "add":
+        return sp.Add._from_args([built[t] for t in node[1]])
+    if kind == "call":
+        return node[1](*(built[a] for a in node[2]))
+    coefficient, powers = node[1], node[2]
+    factors = [built[b] if e == 1 else sp.Pow(built[b], e) for b, e in powers]
+    if coefficient is not ONE:
+        factors.insert(0, coefficient)
+    return sp.Mul._from_args(factors) if len(factors) > 1 else factors[0]
