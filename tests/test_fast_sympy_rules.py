@@ -76,6 +76,9 @@ def test_count_ops_is_sympys_count_ops():
 
     exprs = SPECIAL + _random_sums(60, 5) + [-e for e in _random_sums(20, 6)]
     exprs += [sp.expand(e) for e in _random_sums(20, 7)] + [x / y - 2.0 * z, -x - y, 1.5 * x - sp.E, -(x + y) ** 2]
+    unevaluated = [sp.Mul(n, sp.Add(*terms), evaluate=False) for n in (-1, 2, -2, 1.5)
+                   for terms in ((x, y), (x * sp.cos(y), -z), (l1, m1 * sp.sin(x - y)))]      # pull_signs, _keep_coeff
+    exprs += unevaluated + [sp.Mul(sp.Integer(-1), e * l2, evaluate=False) for e in unevaluated[:3]]
     for spec in ("rolling_disc", "heavy_symmetric_top"):
         d = derive_file(Path(__file__).resolve().parent.parent / "specs" / f"{spec}.yaml")
         exprs += [d.T, d.V, *d.mass_matrix, *d.forcing]
@@ -126,3 +129,17 @@ def test_leading_term_is_the_first_ordered_term():
         add += rng.choice([0, 0, 1, x * y, sp.cos(x)])
         if add.is_Add:
             assert leading_term(add) == add.as_ordered_terms()[0], add
+
+
+def test_small_counts_what_preorder_traversal_visits():
+    """`tidy.small` (each distinct subexpression sized once, `tree_size`) answers as counting
+    `sympy.preorder_traversal` would, at every budget around the true size, alone and for lists."""
+    from lagcli.render.tidy import small
+
+    exprs = SPECIAL + _random_sums(30, 9) + [sp.Min(x, y, z), (m1 * x + m1 * x * y) ** 2 * sp.cos(x) * sp.cos(x)]
+    for expr in exprs:
+        size = sum(1 for _ in sp.preorder_traversal(expr))
+        for budget in (0, 1, size // 2, size - 1, size, size + 1):
+            assert small(expr, budget) == (size <= budget), (expr, budget)
+    together = sum(1 for e in exprs[:5] for _ in sp.preorder_traversal(e))
+    assert small(exprs[:5], together) and not small(exprs[:5], together - 1)

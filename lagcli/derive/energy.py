@@ -19,6 +19,7 @@ import sympy as sp
 
 from lagcli.model.calculus import TimeDerivative, almost_everywhere, derivative, jacobian_columns
 from lagcli.model.model_types import Model, RigidBody, elementary_rotation
+from lagcli.model.products import product
 
 AXES = {"x": 0, "y": 1, "z": 2}
 
@@ -77,7 +78,7 @@ def _add_products(M, a, T0, J, inertia, v_t, mass, dots: dict) -> None:
     def dot(u, w) -> sp.Expr:
         key = (u, w)
         if key not in dots:
-            dots[key] = sp.Add(*(x * y for x, y in zip(u, w)))
+            dots[key] = sp.Add(*(product(x, y) for x, y in zip(u, w)))
         return dots[key]
 
     weighted = [column if inertia is None else tuple(inertia * sp.Matrix(column)) for _, column in J]
@@ -86,13 +87,13 @@ def _add_products(M, a, T0, J, inertia, v_t, mass, dots: dict) -> None:
         for (j, _), other in zip(J[k:], weighted[k:]):
             entry = dot(column, other)
             if entry != 0:
-                M[i, j].append(mass * entry)
+                M[i, j].append(product(mass, entry))
         if moving:
             entry = dot(column, I_v)
             if entry != 0:
-                a[i].append(mass * entry)
+                a[i].append(product(mass, entry))
     if moving:
-        T0.append(mass * dot(v_t, I_v) / 2)
+        T0.append(product(product(mass, dot(v_t, I_v)), sp.S.Half))
 
 
 def _split_extra_kinetic(model: Model):

@@ -21,6 +21,7 @@ import sympy as sp
 from lagcli.model.calculus import TimeDerivative, derivative, jacobian_columns
 from lagcli.derive.energy import body_angular_velocity
 from lagcli.model.model_types import Model
+from lagcli.model.products import product
 
 
 def forcing(model: Model, D: TimeDerivative, Q_applied: sp.ImmutableMatrix, dV: list) -> sp.ImmutableMatrix:
@@ -46,6 +47,6 @@ def _subtract(terms, J, vector, mass) -> None:
     """terms_i += -mass * (J^T vector)_i, J given by its nonzero columns (`jacobian_columns`)."""
     vector = tuple(vector)
     for i, column in J:
-        entry = sp.Add(*(x * y for x, y in zip(column, vector)))
+        entry = sp.Add(*(product(x, y) for x, y in zip(column, vector)))
         if entry != 0:
             terms[i].append(-(mass * entry))

@@ -16,7 +16,9 @@ from functools import reduce
 import sympy as sp
 from sympy.core.function import ArgumentIndexError
 
+from lagcli.model.angle_calls import TRIG, trig_call
 from lagcli.model.constants import ConstantError, value_at
+from lagcli.model.products import product
 
 
 class TimeDerivative:
@@ -85,11 +87,15 @@ def derivative(expr: sp.Expr, var: sp.Symbol, memo: dict | None = None) -> sp.Ex
         for i, a in enumerate(args):
             d = derivative(a, var, memo)
             if d:
-                terms.append(reduce(lambda x, y: x * y, args[:i] + [d] + args[i + 1:], sp.S.One))
+                terms.append(reduce(product, args[:i] + [d] + args[i + 1:]))    # x * y, in turn
         return sp.Add.fromiter(terms)
     if expr.is_Pow and var not in free_symbols(expr.exp, memo):
         base, exponent = expr.args
         return expr * (derivative(base, var, memo) * exponent / base)
+    if isinstance(expr, TRIG):     # sympy's fdiff, its new call built directly (`trig_call`)
+        arg = expr.args[0]
+        rate = trig_call(sp.cos, arg) if isinstance(expr, sp.sin) else -trig_call(sp.sin, arg)
+        return rate * derivative(arg, var, memo)
     if isinstance(expr, sp.Function) and type(expr)._eval_derivative is sp.Function._eval_derivative:
         terms = []
         for i, a in enumerate(expr.args, start=1):

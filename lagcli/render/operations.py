@@ -81,15 +81,17 @@ def _coefficient_and_factors(mul):
 
 def _plain_product(mul) -> bool:
     """A product sympy's `fraction` leaves whole: a float or integer coefficient and factors
-    that are symbols, plain function calls or positive integer powers of them."""
+    that are symbols, sums, plain function calls or positive integer powers."""
     number, factors = _coefficient_and_factors(mul)
     if not (number.is_Integer or number.is_Float):
         return False
+    if number == -1 and len(factors) == 1:
+        return False       # -(x + y) unevaluated: sympy counts its NEG and not the sum's ADD
     for factor in factors:
         if factor.is_Pow:
             if not (factor.exp.is_Integer and factor.exp > 0):
                 return False
-        elif not (factor.is_Symbol or isinstance(factor, PLAIN_FUNCTIONS)):
+        elif not (factor.is_Symbol or factor.is_Add or isinstance(factor, PLAIN_FUNCTIONS)):
             return False
     return True
 

@@ -7,11 +7,14 @@ as it was.
 """
 from __future__ import annotations
 
+import functools
 import math
 
 import sympy as sp
 from sympy.core.mul import _keep_coeff
 
+from lagcli.model.angle_calls import trig_call
+from lagcli.model.products import product
 from lagcli.render.operations import count_ops
 
 TIDY_MAX_OPS = 80             # rewrite trigonometry only in expressions this small (bench/codegen.py)
@@ -218,14 +221,36 @@ DISPLAY_MAX_NODES = 400       # tidy for display only expressions this small (tr
 
 def small(expr, budget: int = DISPLAY_MAX_NODES) -> bool:
     """True when expr (or a list of expressions, together) has at most `budget` tree
-    nodes (stops counting past it: cheap on the megabyte expressions of a big system,
-    unlike count_ops)."""
-    nodes = (node for e in expr for node in sp.preorder_traversal(e)) if isinstance(expr, list) \
-        else sp.preorder_traversal(expr)
-    for count, _ in enumerate(nodes, start=1):
-        if count > budget:
+    nodes, as `sympy.preorder_traversal` counts them (`tree_size`)."""
+    total = 0
+    for e in (expr if isinstance(expr, list) else [expr]):
+        total += tree_size(e, budget - total)
+        if total > budget:
             return False
     return True
+
+
+_SIZES: dict = {}          # expression -> its tree size (`tree_size`), bounded
+_SIZES_KEPT = 1 << 17
+
+
+def tree_size(expr, cap: int) -> int:
+    """The number of nodes `sympy.preorder_traversal(expr)` visits, or some number above
+    `cap` once it passes it (stops there: cheap on the megabyte expressions of a big
+    system). Each distinct subexpression is counted once and remembered: a mass matrix
+    entry m_1 X + ... + m_n X has n copies of X, which the traversal walked n times."""
+    found = _SIZES.get(expr)
+    if found is not None:
+        return found
+    total = 1
+    for arg in (expr._argset if hasattr(expr, "_argset") else expr.args):
+        total += tree_size(arg, cap - total)
+        if total > cap:
+            return total
+    if len(_SIZES) >= _SIZES_KEPT:
+        _SIZES.clear()
+    _SIZES[expr] = total
+    return total
 
 
 def display_form(expr) -> sp.Expr:
@@ -285,9 +310,10 @@ def group_by_calls(expr) -> sp.Expr:
         for factor in sp.Mul.make_args(term):
             (calls if factor.has(sp.Function) else rest).append(factor)
         groups.setdefault(tuple(calls), []).append(sp.Mul(*rest))
-    return sp.Add(*(common_factor(sp.Add(*coefficients)) * sp.Mul(*calls) for calls, coefficients in groups.items()))
+    return sp.Add(*(product(common_factor(sp.Add(*coefficients)), product(*calls)) for calls, coefficients in groups.items()))
 
 
+@functools.lru_cache(maxsize=1 << 15)     # the sums of masses of a chain recur in every entry
 def common_factor(expr) -> sp.Expr:
     """`sympy.factor_terms(expr)`, the same expression, computed directly (several times
     faster) for the sums the reports tidy: terms that are a rational number times
@@ -322,9 +348,15 @@ def common_factor(expr) -> sp.Expr:
     content = sp.Rational(numerator, denominator if all(n.q != 1 for n, _ in split) else 1)
     if all(number.is_negative for number, _ in split):
         content = -content
-    primitive = sp.Add(*((number / content) * sp.Mul(*(b ** (e - common.get(b, 0)) for b, e in powers.items()))
+    primitive = sp.Add(*(product(number / content, product(*(_power(b, e - common.get(b, 0)) for b, e in powers.items())))
                          for number, powers in split))
-    return _keep_coeff(content, sp.Mul(*(b ** e for b, e in common.items())) * primitive, clear=True, sign=True)
+    return _keep_coeff(content, product(product(*(_power(b, e) for b, e in common.items())), primitive),
+                       clear=True, sign=True)
+
+
+def _power(base, exponent: int) -> sp.Expr:
+    """base ** exponent, without building a power for the exponents 0 and 1."""
+    return base if exponent == 1 else sp.S.One if exponent == 0 else base ** exponent
 
 
 _ANGLE_SUMS = {   # (kinds of the two terms) -> (ratio of their coefficients, function, sign of y)
@@ -354,7 +386,7 @@ def fold_angle_sums(expr) -> sp.Expr:
             while a and b:
                 for ratio, function, sign in rules:
                     if b[0] == ratio * a[0]:
-                        out.append(a[0] * rest * function(x + sign * y))
+                        out.append(product(product(a[0], rest), trig_call(function, x + sign * y)))
                         a.pop(0), b.pop(0)
                         folded = True
                         break
@@ -400,6 +432,21 @@ def pythagorean(expr) -> sp.Expr:
         if expr == before:
             break
         arguments = _square_arguments(expr)
+    return expr
+
+
+def fewest_squares(expr) -> sp.Expr:
+    """A sum with sin(x)**2 or cos(x)**2 (one of them is enough, unlike `pythagorean`)
+    rewritten by sin**2 + cos**2 = 1 in the direction that leaves fewer terms (then fewer
+    powers, fewer minus signs): m + mc - m cos(x)**2 -> mc + m sin(x)**2, the solved forms'
+    denominators (lagcli/derive/hamilton_form.py) as a textbook writes them."""
+    if not expr.is_Add:
+        return expr
+    squares = {p.base.args[0] for p in powers_in(expr) if isinstance(p.base, (sp.sin, sp.cos))
+               and p.exp.is_Integer and p.exp >= 2}
+    for x in sorted(squares, key=sp.default_sort_key):
+        options = [expr, _eliminate_square(expr, sp.sin(x), sp.cos(x)), _eliminate_square(expr, sp.cos(x), sp.sin(x))]
+        expr = min(options, key=_pythagorean_cost)
     return expr
 
 

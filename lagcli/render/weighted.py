@@ -18,6 +18,7 @@ from __future__ import annotations
 import sympy as sp
 from sympy.core.mul import _keep_coeff
 
+from lagcli.model.products import product
 from lagcli.render.operations import count_ops
 from lagcli.render.tidy import (DISPLAY_MAX_NODES, MAX_POWER, _square_arguments, common_factor,
                                 is_expanded, pull_signs)
@@ -31,8 +32,8 @@ def weighted_display_form(weights, shared) -> sp.Expr | None:
             or not all(w.is_Symbol for w in weights) or not shared.free_symbols.isdisjoint(weights):
         return None
     number, powers, calls = split
-    first = weights[0] * shared                                    # every term counts as this one
-    grouped = _keep_coeff(number, sp.Mul(*powers) * sp.Add(*weights), clear=True, sign=True) * sp.Mul(*calls)
+    first = product(weights[0], shared)                            # every term counts as this one
+    grouped = product(_keep_coeff(number, product(*powers, sp.Add(*weights)), clear=True, sign=True), product(*calls))
     result = pull_signs(common_factor(grouped))
     negative = number.is_negative
     whole = len(weights) * count_ops(-first if negative else first) + len(weights) - 1 + negative

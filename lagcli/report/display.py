@@ -29,6 +29,7 @@ import sympy as sp
 
 from lagcli.model import calculus
 from lagcli.model.calculus import almost_everywhere
+from lagcli.model.products import product
 from lagcli.derive.result import Derivation
 from lagcli.render.tidy import DISPLAY_MAX_NODES, display_form, pull_signs, small
 from lagcli.render.weighted import weighted_display_form
@@ -77,7 +78,6 @@ class Display:
         upper = {(i, j): self.tidy(d.mass_matrix[i, j]) for i in range(n) for j in range(i, n)}
         self.M = [[upper[min(i, j), max(i, j)] for j in range(n)] for i in range(n)]
         self._free = {key: entry.free_symbols for key, entry in upper.items()}
-        self._velocity_index = {v: k for k, v in enumerate(self.qd)}
         self._derivatives: dict = {}
         self._mentions: dict = {}               # (i, j), i <= j -> indices of the coordinates M_ij mentions
         self._mentioning: list | None = None    # k -> the entries (i, j) that mention q_k
@@ -122,7 +122,8 @@ class Display:
             found = weighted_display_form(weighted[0], self.tidy(weighted[1], sized=True))
             if found is not None:
                 return found
-        rebuilt = expr.func(*(self.tidy(a, sized=True) for a in expr.args))
+        args = [self.tidy(a, sized=True) for a in expr.args]
+        rebuilt = expr if all(new is old for new, old in zip(args, expr.args)) else expr.func(*args)
         return display_form(rebuilt) if rebuilt.is_Add else rebuilt
 
     # -- energies and integrals ---------------------------------------------------------
@@ -130,13 +131,13 @@ class Display:
     @functools.cached_property
     def T2(self) -> Terms:
         n, qd, M = self.n, self.qd, self.M
-        terms = [M[i][i] * qd[i] ** 2 / 2 for i in range(n)]
-        terms += [M[i][j] * qd[i] * qd[j] for i in range(n) for j in range(i + 1, n)]
+        terms = [product(product(M[i][i], qd[i] ** 2), sp.S.Half) for i in range(n)]
+        terms += [product(product(M[i][j], qd[i]), qd[j]) for i in range(n) for j in range(i + 1, n)]
         return [self.signs(term) for term in terms if term != 0]
 
     @functools.cached_property
     def T1(self) -> Terms:
-        return [self.signs(a * v) for a, v in zip(self.a, self.qd) if a != 0]
+        return [self.signs(product(a, v)) for a, v in zip(self.a, self.qd) if a != 0]
 
     @property
     def T(self) -> Terms:
@@ -159,7 +160,7 @@ class Display:
         return self.T2 + [-e for e in split(self.T0)] + split(self.V)
 
     def momentum(self, s: int) -> Terms:
-        terms = [self.signs(M_sj * v) for M_sj, v in zip(self.M[s], self.qd) if M_sj != 0]
+        terms = [self.signs(product(M_sj, v)) for M_sj, v in zip(self.M[s], self.qd) if M_sj != 0]
         return terms + split(self.a[s])
 
     def conserved(self, kind: str, name: str) -> Terms:
@@ -182,7 +183,7 @@ class Display:
 
     def constraint_force(self, i: int) -> Terms:
         """C_i = sum_j lambda_j a_ji."""
-        return [self.signs(lam * row[i]) for lam, row in zip(self.d.multipliers, self.A) if row[i] != 0]
+        return [self.signs(product(lam, row[i])) for lam, row in zip(self.d.multipliers, self.A) if row[i] != 0]
 
     # -- equations of motion ---------------------------------------------------------------
 
@@ -257,7 +258,7 @@ class Display:
         return self._ordered(buckets, sign)
 
     def acceleration_terms(self, i: int) -> Terms:
-        return [self.signs(M_ij * a) for M_ij, a in zip(self.M[i], self.qdd) if M_ij != 0]
+        return [self.signs(product(M_ij, a)) for M_ij, a in zip(self.M[i], self.qdd) if M_ij != 0]
 
     def equation(self, i: int) -> Terms:
         """sum_j M_ij q''_j + c_i + (M_t q')_i + (gamma q')_i + a_t,i + dV/dq_i - dT0/dq_i - Q'_i."""
@@ -268,29 +269,40 @@ class Display:
         return self.part_terms(i, PARTS, sign=-1)
 
     def _ordered(self, buckets: dict, sign: int) -> Terms:
-        """Terms of degree 2 in q', then 1, then others depending on q', then free of q'."""
-        qd, index = self.qd, self._velocity_index
+        """Terms of degree 2 in q', then 1, then others depending on q', then free of q' (`ordered_terms`)."""
+        return ordered_terms(buckets, self.qd, self.tidy_assembled, self.signs, sign, self._free_symbols)
 
-        def key(monomial):
-            powers = monomial.as_powers_dict()
-            if all(base in index and e.is_Integer for base, e in powers.items()) or monomial == 1:
-                degree = sum(int(e) for base, e in powers.items() if base in index)
-                indices = tuple(sorted(index[b] for b, e in powers.items() if b in index for _ in range(int(e))))
-                return (0, -degree, indices, "")
-            return (1, 0, (), sp.default_sort_key(monomial))   # not a monomial in q': after them
 
-        out: Terms = []
-        for monomial in sorted(buckets, key=key):
-            coefficient = self.tidy_assembled(buckets[monomial] if sign == 1 else sign * buckets[monomial])
-            if coefficient == 0:
-                continue
-            if monomial == 1:
-                out.extend(self.signs(term) for term in split(coefficient))
-            else:
-                out.append(self.signs(coefficient * monomial))
-        velocities = set(qd)
-        moving = [not calculus.free_symbols(term, self._free_symbols).isdisjoint(velocities) for term in out]
-        return [term for term, m in zip(out, moving) if m] + [term for term, m in zip(out, moving) if not m]
+def ordered_terms(buckets: dict, velocities: Sequence, tidy: Callable, signs: Callable = pull_signs,
+                  sign: int = 1, memo: dict | None = None) -> Terms:
+    """The terms of an equation without its q'' terms, in the lecture notes' order, from
+    {velocity monomial (1 for none): coefficient}: degree 2 in q', then 1 (by coordinate),
+    then others depending on q', then free of q'. Each coefficient (times `sign`) is
+    tidied by `tidy` and its sign pulled out by `signs`; the coefficient of 1 gives one
+    term per summand. The derive report's equations and the Routh reduction's use this."""
+    index = {v: k for k, v in enumerate(velocities)}
+    memo = {} if memo is None else memo
+
+    def key(monomial):
+        powers = monomial.as_powers_dict()
+        if all(base in index and e.is_Integer for base, e in powers.items()) or monomial == 1:
+            degree = sum(int(e) for base, e in powers.items() if base in index)
+            indices = tuple(sorted(index[b] for b, e in powers.items() if b in index for _ in range(int(e))))
+            return (0, -degree, indices, "")
+        return (1, 0, (), sp.default_sort_key(monomial))   # not a monomial in q': after them
+
+    out: Terms = []
+    for monomial in sorted(buckets, key=key):
+        coefficient = tidy(buckets[monomial] if sign == 1 else product(sp.Integer(sign), buckets[monomial]))
+        if coefficient == 0:
+            continue
+        if monomial == 1:
+            out.extend(signs(term) for term in split(coefficient))
+        else:
+            out.append(signs(product(coefficient, monomial)))
+    moving_set = set(velocities)
+    moving = [not calculus.free_symbols(term, memo).isdisjoint(moving_set) for term in out]
+    return [term for term, m in zip(out, moving) if m] + [term for term, m in zip(out, moving) if not m]
 
 
 def _weighted_sum(expr) -> tuple[list, sp.Expr] | None:

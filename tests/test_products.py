@@ -1,0 +1,35 @@
+"""`product` (lagcli/model/products.py) builds the very expression sympy's Mul does."""
+import random
+
+import sympy as sp
+
+from lagcli.model.products import product
+
+
+def _factors(rng, pool):
+    kind = rng.random()
+    if kind < 0.35:
+        return rng.choice(pool)
+    if kind < 0.5:
+        return rng.choice([sp.Integer(2), sp.Integer(-1), sp.Rational(1, 2), sp.Rational(-3, 4), sp.S.One,
+                           sp.S.Zero, sp.Float(0.5), sp.pi, sp.sqrt(2), sp.I])
+    if kind < 0.65:
+        return rng.choice([sp.sin, sp.cos, sp.exp, sp.Abs])(rng.choice(pool))
+    if kind < 0.75:
+        return rng.choice(pool) ** rng.choice([2, 3, -1, -2, sp.Rational(1, 2)])
+    if kind < 0.85:
+        return sp.Add(*rng.sample(pool, 2)) * rng.choice([1, 2, -1])
+    return sp.Mul(*rng.sample(pool, 2)) * rng.choice([1, 3, -1, sp.Rational(1, 3)])
+
+
+def test_product_is_sympys_mul():
+    rng = random.Random(20261127)
+    x, y, z = sp.symbols("x y z", real=True)
+    q1, q10, q9 = sp.symbols("q1 q10 q9")
+    a, b = sp.symbols("a b", commutative=False)
+    pool = [x, y, z, q1, q10, q9, sp.cos(x), sp.sin(x - y)]
+    for k in range(3000):
+        factors = [_factors(rng, pool + ([a, b] if k % 10 == 0 else [])) for _ in range(rng.randint(1, 4))]
+        ours, theirs = product(*factors), sp.Mul(*factors)
+        assert product(1, factors[0]) == sp.Mul(1, factors[0])
+        assert ours == theirs and ours.args == theirs.args and type(ours) is type(theirs), factors
