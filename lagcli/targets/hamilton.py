@@ -24,7 +24,6 @@ from lagcli.interface import Layout
 from lagcli.targets import codegen
 from lagcli.targets.cse import eliminate
 from lagcli.targets.python import PythonPrinter
-from lagcli.targets.slots import slots
 from lagcli.render.templates import render
 from lagcli.render.tidy import tidy_expression
 
@@ -66,7 +65,7 @@ def hamilton_module(d: Derivation, layout: Layout, initial=None, initial_notes=(
     state [q, q']."""
     form = hamilton_form(d)
     reduced = eliminate(hamilton_groups(d))
-    printer = PythonPrinter(slots(d, reduced, PythonPrinter))
+    printer = codegen.printer_for(d, reduced, PythonPrinter)
     names = ("mass_matrix", "offset", "momentum_rate", "hamiltonian")
     blocks = {name: codegen.print_block(reduced, printer, (name,)) for name in names}
     system = codegen.print_block(reduced, printer, ("mass_matrix", "offset"))

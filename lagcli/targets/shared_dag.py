@@ -10,10 +10,12 @@ instead:
     Dag.add_expr      each distinct sympy subexpression becomes one node of a hash-consed
                       graph of plain tuples: ("atom", expr), ("add", terms),
                       ("mul", coefficient, ((base, integer exponent), ...)),
-                      ("call", func, args); children sorted by node id
+                      ("call", func, args); terms and factors sorted by node id
     _sum              like terms merged, then the common factors of the terms pulled out
                       (content and shared powers, as `tidy.factored` does: a weighted sum
-                      m1*X + ... + mn*X becomes X*(m1 + ... + mn))
+                      m1*X + ... + mn*X becomes X*(m1 + ... + mn)), then the terms that
+                      are a weight times a product other terms share grouped (`_grouped`)
+    nest_sums         a sum that is another sum plus one term becomes that sum plus the term
     reduce_dag        a node with two or more parents (or an output that is also a part)
                       becomes a temporary; the rest is rebuilt in place with sympy's
                       unevaluated constructors (`_from_args`), children in node order
