@@ -127,3 +127,35 @@ def test_weighted_sums_are_factored_and_tails_nested():
     assert len(sums) == n - 1 and all(len(v.args) == 2 for v in sums)     # m5 + m6, x0 + m4, ...
     additions = sum(len(e.args) - 1 for e in [*reduced, *(v for _, v in temporaries)] if e.is_Add)
     assert additions <= n * (n + 1) // 2 + n        # no entry adds its masses again
+
+
+def _variational_values(source: str, n: int, rng_seed: int) -> list:
+    import numpy as np
+
+    namespace: dict = {}
+    exec(compile(source, "module.py", "exec"), namespace)
+    model = namespace["variational_model"]()
+    rng = np.random.default_rng(rng_seed)
+    values = []
+    for _ in range(3):
+        t, q, v = rng.uniform(0, 1), rng.uniform(-1, 1, n), rng.uniform(-1, 1, n)
+        values += [np.ravel(x) for x in (*model.momenta(t, q, v), *model.jacobian(t, q, v), *model.holonomic(t, q))]
+    return values
+
+
+@pytest.mark.parametrize("name", ["double_pendulum", "cartesian_pendulum", "ex18_slider_compound_pendulum"])
+def test_variational_functions_agree(name, monkeypatch):
+    """The variational integrator's functions (their own CSE, lagcli/targets/discrete_code.py)
+    through `linear_cse` give the values of those through sympy.cse."""
+    import numpy as np
+    from lagcli import system
+    from lagcli.targets import cse
+
+    loaded = system.load(ROOT / "specs" / f"{name}.yaml")
+    (usual,) = loaded.generate("python").values()
+    monkeypatch.setattr(cse, "LINEAR_CSE_MIN_NODES", 0)
+    (linear,) = loaded.generate("python").values()
+    assert linear != usual
+    n = len(loaded.layout.coordinates)
+    for got, expected in zip(_variational_values(linear, n, 5), _variational_values(usual, n, 5)):
+        assert np.allclose(got, expected, rtol=1e-12, atol=1e-12)

@@ -185,6 +185,9 @@ def test_symbolic_cart_pole_and_bead(derived, assert_zero):
     mc, m, l, g = (d.model.symbol(n) for n in ("mc", "m", "l", "g"))
     assert_zero(lin.A - sp.Matrix([[0, 0, 1, 0], [0, 0, 0, 1], [0, -m * g / mc, 0, 0], [0, (mc + m) * g / (mc * l), 0, 0]]))
     assert_zero(lin.B - sp.Matrix([0, 0, 1 / mc, -1 / (mc * l)]))
+    # tidied as Hamilton's form and the Routhian are (issue 21): the textbook's closed form,
+    # the same tree, not (g*m + g*mc)/(l*mc)
+    assert lin.A[3, 1] == g * (m + mc) / (l * mc) and lin.A[2, 1] == -g * m / mc
     d = derived("bead_on_spinning_hoop")
     lin = symbolic_linear(d, parse_assignments(d, ["theta=acos(g/(R*Omega**2))"]))
     R, g, W = (d.model.symbol(n) for n in ("R", "g", "Omega"))

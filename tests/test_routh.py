@@ -130,3 +130,39 @@ def test_routh_of_the_heavy_top_at_given_momenta_needs_no_cyclic_angle():
         assert result.exit_code == 0 and result.exception is None, result.output
     found = float(result.output.split("steady motion 1: theta = ")[1].split(",")[0])
     assert found == pytest.approx(expected, abs=1e-9)
+
+
+@pytest.mark.parametrize("name", ["spherical_pendulum", "heavy_symmetric_top"])
+def test_reduced_equations_in_the_derive_order_equal_sympys_euler_lagrange(derived, name):
+    """Each reduced equation's printed terms: the q_r'' terms first, the velocity terms before
+    the velocity-free ones (the derive report's order, issue 21); their sum equals
+    d/dt(dR/dq'_r) - dR/dq_r taken by sympy's own diff on functions of t, at random states."""
+    d = derived(name)
+    model, reduction = d.model, routhian(d)
+    t, r = model.t, [model.q.index(q) for q in reduction.reduced]
+    curves = {model.q[k]: sp.Function(f"c{k}")(t) for k in r}
+    on_t = {**curves, **{model.qd[k]: curves[model.q[k]].diff(t) for k in r}}
+    back = {**{c.diff(t, 2): model.qdd[k] for k, c in zip(r, curves.values())},
+            **{c.diff(t): model.qd[k] for k, c in zip(r, curves.values())},
+            **{c: model.q[k] for k, c in zip(r, curves.values())}}
+    rng = np.random.default_rng(21)
+    symbols = [*model.parameter_symbols, *reduction.momenta, *model.q, *model.qd, *model.qdd]
+    for k, terms in zip(r, reduction.equation_terms):
+        accelerations = [any(term.has(model.qdd[j]) for j in r) for term in terms]
+        moving = [any(term.has(model.qd[j]) for j in r) for term in terms]
+        first = accelerations.index(False)
+        assert all(accelerations[:first]) and not any(accelerations[first:])
+        assert moving[first:] == sorted(moving[first:], reverse=True)
+        lagrange = sp.diff(reduction.R.diff(model.qd[k]).xreplace(on_t), t) - reduction.R.diff(model.q[k]).xreplace(on_t)
+        lagrange = lagrange.subs(back)
+        for _ in range(5):
+            at = {s: sp.Float(v) for s, v in zip(symbols, rng.uniform(0.3, 1.2, len(symbols)))}
+            assert float(sp.Add(*terms).xreplace(at)) == pytest.approx(float(lagrange.xreplace(at)), rel=1e-9, abs=1e-9)
+
+
+def test_cli_routh_prints_the_acceleration_first():
+    from lagcli.cli import cli
+
+    result = CliRunner().invoke(cli, ["routh", "specs/spherical_pendulum.yaml"])
+    (row,) = result.output.split("reduced equations (= 0):\n")[1].splitlines()[:1]
+    assert row == "  m*L**2*theta_ddot + L*g*m*sin(theta) - p_phi**2*cos(theta)/(L**2*m*sin(theta)**3)"

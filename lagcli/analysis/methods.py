@@ -201,4 +201,4 @@ def routh(system, momenta=None, parameters=None, inputs=None, guesses=None) -> R
     return Routh(model.name, tuple(c.name for c in reduction.cyclic), tuple(names), reduction.R,
                  reduction.effective_potential,
                  {model.qd[model.q.index(c)].name: e for c, e in zip(reduction.cyclic, reduction.cyclic_velocities)},
-                 reduction.equations, motions, d)
+                 reduction.equations, motions, d, reduction.equation_terms)

@@ -15,6 +15,7 @@ import sympy as sp
 from lagcli.analysis.wording import (complex_text, drift_sentence, modes_content, modes_text,
                                      motion_lines, number, pair)
 from lagcli.render.escape import latex_text
+from lagcli.report.display import signed_sum
 from lagcli.report.notation import analysis_letters, linear_equations
 
 
@@ -249,7 +250,7 @@ def routh_content(r, printer) -> dict:
         "routhian": printer(r.R),
         "effective_potential": printer(r.effective_potential),
         "cyclic_velocities": {name: printer(e) for name, e in r.cyclic_velocities.items()},
-        "reduced_equations": [printer(e) for e in r.reduced_equations],
+        "reduced_equations": [signed_sum(terms, printer) for terms in r.reduced_terms],
         "steady_motions": [{"coordinates": m.coordinates, "cyclic_rates": m.cyclic_rates,
                             "eigenvalues": [pair(s) for s in m.eigenvalues],
                             "frequencies": list(m.frequencies)} for m in r.steady_motions],
@@ -269,7 +270,7 @@ def routh_rows(r, d) -> list[str]:
     rows = [rf"{R} &= {printer.doprint(r.R)}", rf"V_{{\mathrm{{eff}}}} &= {printer.doprint(r.effective_potential)}"]
     rows += [rf"{printer.doprint(model.symbol(name))} &= {printer.doprint(e)}"
              for name, e in r.cyclic_velocities.items()]
-    return rows + [rf"0 &= {printer.doprint(e)}" for e in r.reduced_equations]
+    return rows + [rf"0 &= {printer.tex_terms(terms)}" for terms in r.reduced_terms]
 
 
 def routh_text(c: dict) -> str:

@@ -285,8 +285,9 @@ class Hamiltonian:
 class Routh:
     """The Routhian R over the `cyclic` coordinates at momenta `momenta` (symbols
     p_<q>), the effective potential, the cyclic velocities, the reduced equations
-    (each = 0) and, when momenta were given, the steady motions
-    (`lagcli.analysis.routh.SteadyMotion`: coordinates, cyclic rates, eigenvalues)."""
+    (each = 0; `reduced_terms`: their terms as printed, q'' terms first) and, when momenta
+    were given, the steady motions (`lagcli.analysis.routh.SteadyMotion`: coordinates,
+    cyclic rates, eigenvalues)."""
 
     name: str
     cyclic: tuple[str, ...]
@@ -297,6 +298,7 @@ class Routh:
     reduced_equations: tuple
     steady_motions: tuple
     derivation: object = field(repr=False, default=None)
+    reduced_terms: tuple = field(repr=False, default=())
 
     def __repr__(self) -> str:
         return (f"<Routh reduction of {self.name} over {', '.join(self.cyclic)}: "

@@ -33,9 +33,9 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
-from lagcli.derive.hamilton_form import tidy_fraction
+from lagcli.derive.hamilton_form import tidy_fraction, tidy_split
 from lagcli.errors import UsageError
-from lagcli.render.tidy import display_form
+from lagcli.render.tidy import display_form, pull_signs
 
 
 @dataclass(frozen=True)
@@ -47,6 +47,7 @@ class Routhian:
     effective_potential: sp.Expr            # V_eff(q_r, p)
     cyclic_velocities: tuple[sp.Expr, ...]  # q'_s(q_r, q'_r, p)
     equations: tuple[sp.Expr, ...]          # d/dt(dR/dq'_r) - dR/dq_r - Q'_r = 0
+    equation_terms: tuple[tuple[sp.Expr, ...], ...] = ()   # each equation's terms as printed: q'' first
 
 
 def routhian(d) -> Routhian:
@@ -84,9 +85,9 @@ def routhian(d) -> Routhian:
     forces = sp.Matrix(d.nonconservative_forces).xreplace(absent).xreplace(eliminate)
     if d.constraints:      # the multipliers' generalized forces sum_j lambda_j a_jr stay
         forces += sp.Matrix(d.constraint_matrix).T * sp.Matrix(d.multipliers)
-    equations = _reduced_equations(model, R, r, forces)
+    terms = _reduced_equations(model, R, r, forces)
     return Routhian(cyclic, tuple(p), tuple(model.q[k] for k in r), R, V_eff,
-                    tuple(qd_s), tuple(tidy_fraction(e) for e in equations))
+                    tuple(qd_s), tuple(sp.Add(*t) for t in terms), terms)
 
 
 def _require_absent_from_constraints(d, cyclic) -> None:
@@ -105,12 +106,46 @@ def _require_absent_from_constraints(d, cyclic) -> None:
                 f"`lagcli derive` reports the conserved p_{name} and `simulate` its column")
 
 
-def _reduced_equations(model, R, r, Q) -> tuple[sp.Expr, ...]:
+def _reduced_equations(model, R, r, Q) -> tuple[tuple[sp.Expr, ...], ...]:
+    """The terms of d/dt(dR/dq'_r) - dR/dq_r - Q'_r for each reduced coordinate, in the
+    derive report's order (`lagcli.report.display.ordered_terms`): the q_r'' terms, then
+    the velocity monomials by degree, then the rest. R is quadratic in q'_r (the cyclic
+    velocities it eliminated are linear in them), so Lagrange's operator on it is linear
+    in q_r'' and quadratic in q'_r, and its coefficients are its derivatives at q'_r = 0."""
     from lagcli.model.calculus import TimeDerivative
+    from lagcli.report.display import ordered_terms, split
 
-    q_r = [model.q[k] for k in r]
-    D = TimeDerivative(model.t, q_r, [model.qd[k] for k in r], [model.qdd[k] for k in r])
-    return tuple(D(R.diff(model.qd[k])) - R.diff(model.q[k]) - Q[k] for k in r)
+    qd_r, qdd_r = [model.qd[k] for k in r], [model.qdd[k] for k in r]
+    D = TimeDerivative(model.t, [model.q[k] for k in r], qd_r, qdd_r)
+    moving = {model.t, *model.q, *model.qd}
+
+    def tidy(expr):
+        return tidy_split(expr, moving)
+
+    out = []
+    for k in r:
+        lagrange = D(R.diff(model.qd[k])) - R.diff(model.q[k])
+        accelerations = [pull_signs(tidy(lagrange.diff(a)) * a) for a in qdd_r]
+        buckets = _velocity_coefficients(lagrange.xreplace({a: 0 for a in qdd_r}), qd_r)
+        for term in split(display_form(Q[k])):
+            coefficient, monomial = term.as_independent(*qd_r, as_Add=False)
+            buckets[monomial] = buckets.get(monomial, sp.S.Zero) - coefficient
+        out.append(tuple(a for a in accelerations if a != 0)
+                   + tuple(ordered_terms(buckets, qd_r, tidy)))
+    return tuple(out)
+
+
+def _velocity_coefficients(expr, qd) -> dict:
+    """{1, q'_j, q'_j q'_l: coefficient} of expr, a polynomial of degree <= 2 in qd."""
+    rest = {v: 0 for v in qd}
+    buckets = {sp.S.One: expr.xreplace(rest)}
+    for j, v in enumerate(qd):
+        slope = expr.diff(v)
+        buckets[v] = slope.xreplace(rest)
+        for w in qd[j:]:
+            curvature = slope.diff(w).xreplace(rest)
+            buckets[v * w] = curvature / 2 if w == v else curvature
+    return buckets
 
 
 @dataclass(frozen=True)

@@ -4,7 +4,8 @@ x = (q, q'), q'' = f(q, q', u) = M^-1 F with M^-1 F formed by LU solve (only for
 most `MAX_COORDINATES` coordinates and M, F within `MAX_OPS` operations, so the work
 is bounded by the expressions' size, not by a clock). The Jacobians are taken first
 and the operating point substituted afterwards (no 0/0), then each entry is tidied
-(cancel, trigsimp) when small.
+(`lagcli.derive.hamilton_form.tidy_fraction`, as Hamilton's form and the Routhian are;
+trigsimp too when small).
 """
 from __future__ import annotations
 
@@ -14,6 +15,7 @@ import sympy as sp
 
 from lagcli.errors import UsageError
 from lagcli.analysis.linearize import input_symbols
+from lagcli.derive.hamilton_form import tidy_fraction
 
 MAX_COORDINATES = 3
 MAX_OPS = 600
@@ -57,5 +59,10 @@ def _at(matrix: sp.Matrix, point: dict) -> sp.ImmutableMatrix:
 
 
 def _tidy(expr: sp.Expr) -> sp.Expr:
-    expr = sp.cancel(expr)
-    return sp.trigsimp(expr) if sp.count_ops(expr) <= TIDY_OPS else expr
+    """The shorter of the solved forms' tidying (`tidy_fraction`, as `lagcli hamiltonian`
+    and `routh` print theirs) and trigsimp of the cancelled entry (when small)."""
+    cancelled = sp.cancel(expr)
+    candidates = [tidy_fraction(cancelled)]
+    if sp.count_ops(cancelled) <= TIDY_OPS:
+        candidates.append(sp.trigsimp(cancelled))
+    return min(candidates, key=sp.count_ops)

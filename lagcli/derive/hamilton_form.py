@@ -18,7 +18,7 @@ from dataclasses import dataclass
 import sympy as sp
 
 from lagcli.errors import UsageError
-from lagcli.render.tidy import display_form
+from lagcli.render.tidy import display_form, fewest_squares
 
 SYMBOLIC_SIZE = 2
 
@@ -50,7 +50,8 @@ def hamilton_form(d) -> HamiltonForm:
     # (one fraction of both would hide V inside the kinetic part's denominator)
     H = tidy_fraction(((p - a).T * velocity)[0] / 2) + tidy_fraction(display_form(d.V - d.T0))
     Q = sp.Matrix(d.nonconservative_forces).xreplace(dict(zip(model.qd, velocity)))
-    pdot = tuple(tidy_fraction(-H.diff(q) + Q[k]) for k, q in enumerate(model.q))
+    moving = {model.t, *model.q, *p}
+    pdot = tuple(tidy_split(-H.diff(q) + Q[k], moving) for k, q in enumerate(model.q))
     return HamiltonForm(tuple(p), tuple(momentum), H, tuple(velocity), pdot)
 
 
@@ -69,10 +70,25 @@ def tidy_fraction(expr):
         denominator = min(display_form(sp.factor(denominator)), display_form(denominator), key=sp.count_ops)
     else:
         denominator = display_form(denominator)
+    denominator = denominator.replace(lambda e: e.is_Add, fewest_squares)
     candidates = [_tidy_sign(display_form(numerator)) / denominator]
     if sp.count_ops(cancelled) <= TRIGSIMP_BUDGET:
         candidates.append(sp.trigsimp(cancelled))
     return min(candidates, key=sp.count_ops)
+
+
+def tidy_split(expr, moving: set) -> sp.Expr:
+    """A solved expression as a textbook writes it: the terms whose denominator is free of
+    the `moving` symbols (coordinates, velocities or momenta, t) tidied as the reports do
+    (`display_form`: m g L sin(theta), a multiplier), the others as one fraction
+    (`tidy_fraction`), so that a potential's force does not disappear inside the kinetic
+    part's fraction over its squared denominator. Hamilton's p' here, the Routh reduction's
+    equations (lagcli/analysis/routh.py)."""
+    polynomial, fractional = [], []
+    for term in sp.Add.make_args(sp.sympify(expr)):
+        denominator = sp.fraction(sp.together(term))[1]
+        (fractional if denominator.free_symbols & moving else polynomial).append(term)
+    return display_form(sp.Add(*polynomial)) + (tidy_fraction(sp.Add(*fractional)) if fractional else 0)
 
 
 def _tidy_sign(expr):

@@ -435,6 +435,21 @@ def pythagorean(expr) -> sp.Expr:
     return expr
 
 
+def fewest_squares(expr) -> sp.Expr:
+    """A sum with sin(x)**2 or cos(x)**2 (one of them is enough, unlike `pythagorean`)
+    rewritten by sin**2 + cos**2 = 1 in the direction that leaves fewer terms (then fewer
+    powers, fewer minus signs): m + mc - m cos(x)**2 -> mc + m sin(x)**2, the solved forms'
+    denominators (lagcli/derive/hamilton_form.py) as a textbook writes them."""
+    if not expr.is_Add:
+        return expr
+    squares = {p.base.args[0] for p in powers_in(expr) if isinstance(p.base, (sp.sin, sp.cos))
+               and p.exp.is_Integer and p.exp >= 2}
+    for x in sorted(squares, key=sp.default_sort_key):
+        options = [expr, _eliminate_square(expr, sp.sin(x), sp.cos(x)), _eliminate_square(expr, sp.cos(x), sp.sin(x))]
+        expr = min(options, key=_pythagorean_cost)
+    return expr
+
+
 def _square_arguments(expr) -> list:
     """The arguments x of which both sin(x)**k and cos(x)**l (k, l >= 2) appear in expr."""
     squares = {p.base for p in powers_in(expr) if isinstance(p.base, (sp.sin, sp.cos))

@@ -78,7 +78,6 @@ class Display:
         upper = {(i, j): self.tidy(d.mass_matrix[i, j]) for i in range(n) for j in range(i, n)}
         self.M = [[upper[min(i, j), max(i, j)] for j in range(n)] for i in range(n)]
         self._free = {key: entry.free_symbols for key, entry in upper.items()}
-        self._velocity_index = {v: k for k, v in enumerate(self.qd)}
         self._derivatives: dict = {}
         self._mentions: dict = {}               # (i, j), i <= j -> indices of the coordinates M_ij mentions
         self._mentioning: list | None = None    # k -> the entries (i, j) that mention q_k
@@ -270,29 +269,40 @@ class Display:
         return self.part_terms(i, PARTS, sign=-1)
 
     def _ordered(self, buckets: dict, sign: int) -> Terms:
-        """Terms of degree 2 in q', then 1, then others depending on q', then free of q'."""
-        qd, index = self.qd, self._velocity_index
+        """Terms of degree 2 in q', then 1, then others depending on q', then free of q' (`ordered_terms`)."""
+        return ordered_terms(buckets, self.qd, self.tidy_assembled, self.signs, sign, self._free_symbols)
 
-        def key(monomial):
-            powers = monomial.as_powers_dict()
-            if all(base in index and e.is_Integer for base, e in powers.items()) or monomial == 1:
-                degree = sum(int(e) for base, e in powers.items() if base in index)
-                indices = tuple(sorted(index[b] for b, e in powers.items() if b in index for _ in range(int(e))))
-                return (0, -degree, indices, "")
-            return (1, 0, (), sp.default_sort_key(monomial))   # not a monomial in q': after them
 
-        out: Terms = []
-        for monomial in sorted(buckets, key=key):
-            coefficient = self.tidy_assembled(buckets[monomial] if sign == 1 else product(sp.Integer(sign), buckets[monomial]))
-            if coefficient == 0:
-                continue
-            if monomial == 1:
-                out.extend(self.signs(term) for term in split(coefficient))
-            else:
-                out.append(self.signs(product(coefficient, monomial)))
-        velocities = set(qd)
-        moving = [not calculus.free_symbols(term, self._free_symbols).isdisjoint(velocities) for term in out]
-        return [term for term, m in zip(out, moving) if m] + [term for term, m in zip(out, moving) if not m]
+def ordered_terms(buckets: dict, velocities: Sequence, tidy: Callable, signs: Callable = pull_signs,
+                  sign: int = 1, memo: dict | None = None) -> Terms:
+    """The terms of an equation without its q'' terms, in the lecture notes' order, from
+    {velocity monomial (1 for none): coefficient}: degree 2 in q', then 1 (by coordinate),
+    then others depending on q', then free of q'. Each coefficient (times `sign`) is
+    tidied by `tidy` and its sign pulled out by `signs`; the coefficient of 1 gives one
+    term per summand. The derive report's equations and the Routh reduction's use this."""
+    index = {v: k for k, v in enumerate(velocities)}
+    memo = {} if memo is None else memo
+
+    def key(monomial):
+        powers = monomial.as_powers_dict()
+        if all(base in index and e.is_Integer for base, e in powers.items()) or monomial == 1:
+            degree = sum(int(e) for base, e in powers.items() if base in index)
+            indices = tuple(sorted(index[b] for b, e in powers.items() if b in index for _ in range(int(e))))
+            return (0, -degree, indices, "")
+        return (1, 0, (), sp.default_sort_key(monomial))   # not a monomial in q': after them
+
+    out: Terms = []
+    for monomial in sorted(buckets, key=key):
+        coefficient = tidy(buckets[monomial] if sign == 1 else product(sp.Integer(sign), buckets[monomial]))
+        if coefficient == 0:
+            continue
+        if monomial == 1:
+            out.extend(signs(term) for term in split(coefficient))
+        else:
+            out.append(signs(product(coefficient, monomial)))
+    moving_set = set(velocities)
+    moving = [not calculus.free_symbols(term, memo).isdisjoint(moving_set) for term in out]
+    return [term for term, m in zip(out, moving) if m] + [term for term, m in zip(out, moving) if not m]
 
 
 def _weighted_sum(expr) -> tuple[list, sp.Expr] | None:

@@ -56,7 +56,7 @@ def print_block(reduced: Reduced, printer: SlotPrinter, names, exclude: Block | 
     skip = exclude.names if exclude is not None else frozenset()
     temps = reduced.block(names, frozenset(s for s, _ in reduced.temporaries if printer.slots[s] in skip))
     check_slots([v for _, v in temps] + [e for name in names for e in reduced.groups[name]],
-                printer.slots)
+                printer.slots, reduced.free_symbols)
     return Block(
         temporaries=tuple((printer.slots[s], printer.code(v)) for s, v in temps),
         values={name: tuple(printer.code(e) for e in reduced.groups[name]) for name in names},

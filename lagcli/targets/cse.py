@@ -5,6 +5,7 @@ temporaries its outputs depend on (`Reduced.block`).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import sympy as sp
 from sympy.simplify.cse_opts import sub_post
@@ -120,13 +121,25 @@ class Reduced:
         needed = set()
         for name in names:
             for expr in self.groups[name]:
-                needed |= expr.free_symbols
+                needed |= self.free_symbols(expr)
         chosen = []
         for symbol, value in reversed(self.temporaries):
             if symbol in needed:
                 chosen.append((symbol, value))
-                needed |= value.free_symbols
+                needed |= self.free_symbols(value)
         return tuple(pair for pair in reversed(chosen) if pair[0] not in exclude)
+
+    def free_symbols(self, expr) -> frozenset:
+        """`expr.free_symbols` of a temporary's value or an output, each found once (every
+        function body asks again: a tenth of `generate` of the 40-link chain)."""
+        found = self._free.get(expr)
+        if found is None:
+            found = self._free[expr] = frozenset(sp.sympify(expr).free_symbols)
+        return found
+
+    @cached_property
+    def _free(self) -> dict:
+        return {}
 
     def operation_count(self, names) -> int:
         """Operations (sympy.count_ops) to evaluate the groups `names`, temporaries included."""

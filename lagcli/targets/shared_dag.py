@@ -82,6 +82,8 @@ class Dag:
     def product(self, coefficient, factors) -> int:
         """coefficient * prod(base**exponent) (a sympy number, integer exponents), nested
         products flattened, equal bases merged."""
+        if coefficient is ONE and len(factors) == 1 and factors[0][1] == 1:
+            return factors[0][0]
         powers: dict = {}
         for base, exponent in factors:
             node = self.nodes[base]
@@ -103,43 +105,47 @@ class Dag:
         return self._node(("mul", coefficient, tuple(sorted(powers.items()))))
 
     def split(self, term: int) -> tuple:
-        """(numeric coefficient, {base: exponent}) of a term."""
+        """(numeric coefficient, ((base, exponent), ...) sorted) of a term."""
         node = self.nodes[term]
         if node[0] == "mul":
-            return node[1], dict(node[2])
+            return node[1], node[2]
         if node[0] == "atom" and node[1].is_Number:
-            return node[1], {}
-        return ONE, {term: 1}
+            return node[1], ()
+        return ONE, ((term, 1),)
 
     def _sum(self, terms) -> int:
-        """The sum of the terms: like terms merged, common factors pulled out (`_factored`)."""
+        """The sum of the terms: like terms merged, common factors pulled out (`_factored`).
+        A term is worked on as [number, {base: exponent}, its node or None once changed]."""
         merged: dict = {}
         for term in terms:
-            if self.nodes[term][0] == "add":
-                inner = self.nodes[term][1]
-            else:
-                inner = (term,)
-            for t in inner:
-                number, powers = self.split(t)
-                key = tuple(sorted(powers.items()))
-                merged[key] = merged[key] + number if key in merged else number
-        split = [(number, dict(key)) for key, number in merged.items() if number]
+            for t in self.nodes[term][1] if self.nodes[term][0] == "add" else (term,):
+                number, key = self.split(t)
+                found = merged.get(key)
+                if found is None:
+                    merged[key] = [number, key, t]
+                else:
+                    found[0], found[2] = found[0] + number, None
+        split = [(number, dict(key), node) for number, key, node in merged.values() if number]
         if not split:
             return self.atom(sp.S.Zero)
         if len(split) == 1:
-            number, powers = split[0]
-            return self.product(number, list(powers.items()))
+            return self._term(split[0])
         return self._factored(split)
+
+    def _term(self, term) -> int:
+        number, powers, node = term
+        return node if node is not None else self.product(number, list(powers.items()))
 
     def _factored(self, split) -> int:
         common = dict(split[0][1])
-        for _, powers in split[1:]:
+        for _, powers, _ in split[1:]:
             common = {b: _common_exponent(e, powers[b]) for b, e in common.items() if b in powers}
             common = {b: e for b, e in common.items() if e != 0}
-        content = _content([number for number, _ in split])
-        primitive = [(number if content is ONE else number / content,
-                      {b: e - common.get(b, 0) for b, e in powers.items()}) for number, powers in split]
-        terms = self._grouped(primitive)
+        content = _content([number for number, _, _ in split])
+        if content is not ONE or common:
+            split = [(number if content is ONE else number / content,
+                      {b: e - common.get(b, 0) for b, e in powers.items()}, None) for number, powers, _ in split]
+        terms = self._grouped(split)
         inner = terms[0] if len(terms) == 1 else self._node(("add", tuple(sorted(terms))))
         if content is ONE and not common:
             return inner
@@ -150,25 +156,26 @@ class Dag:
         several terms share written as that product times the sum of their weights
         (g*l1*m1*sin(q1) + g*l1*m2*sin(q1) -> g*l1*sin(q1)*(m1 + m2)); each term
         joins the product most terms share."""
+        if all(len(powers) < 2 for _, powers, _ in split):
+            return [self._term(term) for term in split]
         keys = [[(tuple((c, x) for c, x in sorted(powers.items()) if c != b), b)
                  for b, e in powers.items() if e == 1] if len(powers) > 1 else []
-                for _, powers in split]
+                for _, powers, _ in split]
         counts: dict = {}
         for options in keys:
             for key, _ in options:
                 counts[key] = counts.get(key, 0) + 1
         groups: dict = {}
-        for (number, powers), options in zip(split, keys):
+        for k, (term, options) in enumerate(zip(split, keys)):
             best = max(options, key=lambda option: (counts[option[0]], option[1]), default=None)
-            key = best[0] if best is not None and counts[best[0]] > 1 else (number, tuple(powers.items()))
-            groups.setdefault(key, []).append((number, powers, best))
+            key = best[0] if best is not None and counts[best[0]] > 1 else k
+            groups.setdefault(key, []).append((term, best))
         terms = []
         for key, members in groups.items():
             if len(members) == 1:
-                number, powers, _ = members[0]
-                terms.append(self.product(number, list(powers.items())))
+                terms.append(self._term(members[0][0]))
             else:
-                weights = self._sum([self.product(number, [(best[1], 1)]) for number, _, best in members])
+                weights = self._sum([self.product(term[0], [(best[1], 1)]) for term, best in members])
                 terms.append(self.product(ONE, [*key, (weights, 1)]))
         return terms
 

@@ -46,11 +46,12 @@ def slots(d: Derivation, reduced: Reduced, printer_class=None) -> dict:
     return table
 
 
-def check_slots(exprs, table: dict) -> None:
-    """Raise EmitError when an expression has a symbol that has no slot."""
+def check_slots(exprs, table: dict, free_symbols=lambda expr: sp.sympify(expr).free_symbols) -> None:
+    """Raise EmitError when an expression has a symbol that has no slot (`free_symbols`:
+    how to find an expression's symbols; `Reduced.free_symbols` remembers them)."""
     missing = set()
     for expr in exprs:
-        missing |= {s for s in sp.sympify(expr).free_symbols if s not in table}
+        missing |= {s for s in free_symbols(expr) if s not in table}
     if missing:
         names = ", ".join(sorted(str(s) for s in missing))
         raise EmitError(f"cannot generate code: no array slot for symbol(s) {names} "
