@@ -37,7 +37,7 @@ def derive(model: Model) -> Derivation:
     T = T2 + T1 + e.T0
     L = T - e.V
     Q_applied = almost_everywhere(applied_generalized_forces(model, D))
-    dV = gradient(e.V, model.q, D.free)
+    dV = gradient(e.V, model.q, D.free, D.partials)
     F = almost_everywhere(forcing(model, D, Q_applied, dV))
 
     lhs = [sp.Add(*(product(M_ij, qdd[j]) for j, M_ij in nonzero[i])) - F[i] for i in range(n)]   # M q'' - F

@@ -52,7 +52,7 @@ def kinetic_parts(model: Model, D: TimeDerivative) -> tuple[sp.Matrix, sp.Matrix
     a, T0 = [[] for _ in range(n)], []
     dots: dict = {}      # a chain's points share Jacobian columns: each product formed once
     for mass, r in model.mass_points:
-        J, r_t = jacobian_columns(r, model.q, D.free), r.applyfunc(lambda e: derivative(e, model.t, D.free))
+        J, r_t = jacobian_columns(r, model.q, D.free, D.partials), r.applyfunc(lambda e: derivative(e, model.t, D.free))
         _add_products(M, a, T0, J, None, r_t, mass, dots)
     for body in model.bodies:
         omega = body_angular_velocity(body, D)

@@ -30,7 +30,7 @@ def forcing(model: Model, D: TimeDerivative, Q_applied: sp.ImmutableMatrix, dV: 
     terms = [[Q_applied[i], -dV[i]] for i in range(n)]   # each F_i summed once
     for mass, r in model.mass_points:
         acceleration = D.matrix(D.matrix(r), accelerations=False)
-        _subtract(terms, jacobian_columns(r, q, D.free), acceleration, mass)
+        _subtract(terms, jacobian_columns(r, q, D.free, D.partials), acceleration, mass)
     for body in model.bodies:
         omega = body_angular_velocity(body, D)
         spin = D.matrix(omega, accelerations=False)

@@ -32,6 +32,7 @@ class TimeDerivative:
         self.accelerations = frozenset(qdd)
         self.order = {var: k for k, (var, _) in enumerate(self.chain)}
         self.free: dict = {}      # free symbols of every subexpression seen (see `derivative`)
+        self.partials: dict = {}  # (term, variable) -> derivative, for the terms `gradient` meets
 
     def __call__(self, expr: sp.Expr, accelerations: bool = True) -> sp.Expr:
         """D expr; with `accelerations=False`, D expr at q'' = 0 (the q'' terms are never
@@ -45,7 +46,7 @@ class TimeDerivative:
         # differentiated for in one pass over a sum's terms, summed once (adding term by
         # term rebuilt the growing sum: a chain's positions made both quadratic)
         chain = [self.chain[k] for k in sorted(k for k in map(self.order.get, free) if k is not None and k < last)]
-        partials = gradient(expr, [var for var, _ in chain], self.free)
+        partials = gradient(expr, [var for var, _ in chain], self.free, self.partials)
         terms = [partial * rate for partial, (_, rate) in zip(partials, chain)]
         return sp.Add(derivative(expr, self.t, self.free) if self.t in free else sp.S.Zero, *terms)
 
@@ -117,27 +118,34 @@ def jacobian(exprs, variables, memo: dict | None = None) -> sp.ImmutableMatrix:
                               [derivative(e, v, memo) for e in exprs for v in variables])
 
 
-def gradient(expr: sp.Expr, variables, memo: dict) -> list[sp.Expr]:
+def gradient(expr: sp.Expr, variables, memo: dict, partials: dict | None = None) -> list[sp.Expr]:
     """[derivative(expr, v) for v in variables], in one pass over a sum's terms: each term
     is differentiated for the variables it mentions only (n coordinates of a sum of n
-    uncoupled terms cost n, not n^2). The same expressions as `derivative`'s."""
+    uncoupled terms cost n, not n^2). The same expressions as `derivative`'s. `partials`
+    remembers each term's derivatives: a chain's positions are sums sharing their terms
+    (the k-th point's holds the k - 1 terms of the one before it)."""
     index = {v: k for k, v in enumerate(variables)}
     parts: list[list] = [[] for _ in variables]
+    partials = {} if partials is None else partials
     for term in (expr.args if expr.is_Add else (expr,)):
         for v in free_symbols(term, memo):
             if v in index:
-                parts[index[v]].append(derivative(term, v, memo))
+                key = (term, v)
+                if key not in partials:
+                    partials[key] = derivative(term, v, memo)
+                parts[index[v]].append(partials[key])
     return [sp.Add(*p) if expr.is_Add else (p[0] if p else sp.S.Zero) for p in parts]
 
 
-def jacobian_columns(exprs, variables, memo: dict) -> list[tuple[int, tuple[sp.Expr, ...]]]:
+def jacobian_columns(exprs, variables, memo: dict,
+                     partials: dict | None = None) -> list[tuple[int, tuple[sp.Expr, ...]]]:
     """The nonzero columns of `jacobian(exprs, variables)` as (index, column) pairs, in order:
     only the variables the expressions mention are differentiated for, so a point that
     moves with a few of n coordinates costs what those few do, not n."""
     exprs = [sp.sympify(e) for e in exprs]
     mentioned = frozenset().union(*(free_symbols(e, memo) for e in exprs))
     used = [(j, v) for j, v in enumerate(variables) if v in mentioned]
-    rows = [gradient(e, [v for _, v in used], memo) for e in exprs]    # one pass over each sum's terms
+    rows = [gradient(e, [v for _, v in used], memo, partials) for e in exprs]    # one pass over each sum's terms
     columns = []
     for k, (j, _) in enumerate(used):
         column = tuple(row[k] for row in rows)

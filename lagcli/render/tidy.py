@@ -309,7 +309,7 @@ def group_by_calls(expr) -> sp.Expr:
         calls, rest = [], []
         for factor in sp.Mul.make_args(term):
             (calls if factor.has(sp.Function) else rest).append(factor)
-        groups.setdefault(tuple(calls), []).append(sp.Mul(*rest))
+        groups.setdefault(tuple(calls), []).append(product(*rest))
     return sp.Add(*(product(common_factor(sp.Add(*coefficients)), product(*calls)) for calls, coefficients in groups.items()))
 
 
@@ -408,8 +408,8 @@ def _two_angles(term):
     if len(trig) != 2 or trig[0].args[0] == trig[1].args[0]:
         return None
     first, second = sorted(trig, key=lambda f: sp.default_sort_key(f.args[0]))
-    rest = sp.Mul(*(f for f in factors if f not in trig))
-    if rest.has(sp.sin(first.args[0]), sp.cos(first.args[0]), sp.sin(second.args[0]), sp.cos(second.args[0])):
+    rest = product(*(f for f in factors if f not in trig))
+    if rest.has(*(trig_call(f, arg) for arg in (first.args[0], second.args[0]) for f in (sp.sin, sp.cos))):
         return None
     kind = ("s" if isinstance(first, sp.sin) else "c") + ("s" if isinstance(second, sp.sin) else "c")
     return kind, first.args[0], second.args[0], number, rest
