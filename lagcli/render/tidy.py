@@ -173,9 +173,9 @@ def _common_factor_out(add) -> sp.Expr:
         split.append((number, powers))
     common = dict(split[0][1])
     for _, powers in split[1:]:
-        common = {base: _common_exponent(e, powers[base]) for base, e in common.items() if base in powers}
+        common = {base: common_exponent(e, powers[base]) for base, e in common.items() if base in powers}
         common = {base: e for base, e in common.items() if e != 0}
-    content = _content([number for number, _ in split])
+    content = numeric_content([number for number, _ in split])
     if content == 1 and not common:
         return add
     primitive = sp.Add(*((number / content) * sp.Mul(*(b ** (e - common.get(b, 0)) for b, e in powers.items()))
@@ -183,7 +183,7 @@ def _common_factor_out(add) -> sp.Expr:
     return _keep_coeff(content, sp.Mul(*(b ** e for b, e in common.items())) * primitive, clear=True, sign=True)
 
 
-def _common_exponent(a, b):
+def common_exponent(a, b):
     """The power of a base both terms share: the smaller one when both are of one sign, else 0."""
     if a > 0 and b > 0:
         return min(a, b)
@@ -192,7 +192,7 @@ def _common_exponent(a, b):
     return 0
 
 
-def _content(numbers) -> sp.Rational:
+def numeric_content(numbers) -> sp.Rational:
     """The numeric content of terms with these coefficients, as sympy's factor_terms
     (clear=False) takes it; 1 when one is not rational."""
     if not all(n.is_Rational for n in numbers):

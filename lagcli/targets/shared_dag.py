@@ -27,9 +27,9 @@ that order (`Reduced.ordered` False: no `as_ordered_terms` sort while printing).
 """
 from __future__ import annotations
 
-import math
-
 import sympy as sp
+
+from lagcli.render.tidy import common_exponent, numeric_content
 
 ONE = sp.S.One
 
@@ -141,9 +141,9 @@ class Dag:
     def _factored(self, split) -> int:
         common = dict(split[0][1])
         for _, powers, _ in split[1:]:
-            common = {b: _common_exponent(e, powers[b]) for b, e in common.items() if b in powers}
+            common = {b: common_exponent(e, powers[b]) for b, e in common.items() if b in powers}
             common = {b: e for b, e in common.items() if e != 0}
-        content = _content([number for number, _, _ in split])
+        content = numeric_content([number for number, _, _ in split])
         if content is not ONE or common:
             split = [(number if content is ONE else number / content,
                       {b: e - common.get(b, 0) for b, e in powers.items()}, None) for number, powers, _ in split]
@@ -195,28 +195,6 @@ class Dag:
 def _times(a, b):
     """a * b of sympy numbers, without sympy's arithmetic when one is 1."""
     return b if a is ONE else a if b is ONE else a * b
-
-
-def _common_exponent(a, b):
-    """The power of a base both terms share: the smaller one when both are of one sign, else 0."""
-    if a > 0 and b > 0:
-        return min(a, b)
-    if a < 0 and b < 0:
-        return max(a, b)
-    return 0
-
-
-def _content(numbers):
-    """The gcd of rational coefficients over the lcm of their denominators, negative when
-    every one is (1 when one is not rational)."""
-    if not all(n.is_Rational for n in numbers):
-        return ONE
-    numerator, denominator = 0, 1
-    for number in numbers:
-        numerator = math.gcd(numerator, abs(number.p))
-        denominator = math.lcm(denominator, number.q)
-    content = sp.Rational(numerator, denominator if all(n.q != 1 for n in numbers) else 1)
-    return -content if all(n.p < 0 for n in numbers) else content
 
 
 def reduce_dag(dag: Dag, outputs: list[int], symbols) -> tuple[list, list]:
