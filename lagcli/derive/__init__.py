@@ -20,6 +20,7 @@ from lagcli.derive.result import Derivation, Equation
 from lagcli.derive.event_functions import event_functions
 from lagcli.model.model_types import Model
 from lagcli.model.products import product
+from lagcli.model.sums import total
 
 __all__ = ["derive", "Derivation"]
 
@@ -31,8 +32,8 @@ def derive(model: Model) -> Derivation:
     M, a = e.mass_matrix, e.t1_coefficients
     n = len(model.q)
     nonzero = _rows_of(M)       # the nonzero entries (M of n uncoupled coordinates has n of n^2)
-    row_sums = [sp.Add(*(product(qd[i], M_ij) for i, M_ij in nonzero[j])) for j in range(n)]   # (q'^T M)_j
-    T2 = sp.Add(*(product(row_sums[j], qd[j]) for j in range(n))) / 2                        # q'^T M q' / 2
+    row_sums = [total([product(qd[i], M_ij) for i, M_ij in nonzero[j]]) for j in range(n)]   # (q'^T M)_j
+    T2 = total([product(row_sums[j], qd[j]) for j in range(n)]) / 2                          # q'^T M q' / 2
     T1 = a.dot(qd)
     T = T2 + T1 + e.T0
     L = T - e.V
@@ -40,7 +41,7 @@ def derive(model: Model) -> Derivation:
     dV = gradient(e.V, model.q, D.free, D.partials)
     F = almost_everywhere(forcing(model, D, Q_applied, dV))
 
-    lhs = [sp.Add(*(product(M_ij, qdd[j]) for j, M_ij in nonzero[i])) - F[i] for i in range(n)]   # M q'' - F
+    lhs = [total([product(M_ij, qdd[j]) for j, M_ij in nonzero[i]]) - F[i] for i in range(n)]   # M q'' - F
     rows = constraint_rows(model)
     A = constraint_matrix(model, rows)
     multipliers = tuple(r.multiplier for r in rows)

@@ -22,6 +22,7 @@ from lagcli.model.calculus import TimeDerivative, derivative, jacobian_columns
 from lagcli.derive.energy import body_angular_velocity
 from lagcli.model.model_types import Model
 from lagcli.model.products import product
+from lagcli.model.sums import total
 
 
 def forcing(model: Model, D: TimeDerivative, Q_applied: sp.ImmutableMatrix, dV: list) -> sp.ImmutableMatrix:
@@ -40,13 +41,13 @@ def forcing(model: Model, D: TimeDerivative, Q_applied: sp.ImmutableMatrix, dV: 
         K = model.kinetic
         for i, (qi, v) in enumerate(zip(q, qd)):
             terms[i].append(-(D(derivative(K, v), accelerations=False) - derivative(K, qi)))
-    return sp.ImmutableMatrix(n, 1, [sp.Add(*row) for row in terms])
+    return sp.ImmutableMatrix(n, 1, [total(row) for row in terms])
 
 
 def _subtract(terms, J, vector, mass) -> None:
     """terms_i += -mass * (J^T vector)_i, J given by its nonzero columns (`jacobian_columns`)."""
     vector = tuple(vector)
     for i, column in J:
-        entry = sp.Add(*(product(x, y) for x, y in zip(column, vector)))
+        entry = total([product(x, y) for x, y in zip(column, vector)])
         if entry != 0:
             terms[i].append(-(mass * entry))

@@ -25,7 +25,7 @@ def product(*factors) -> sp.Expr:
     factors = [f if isinstance(f, Basic) else _sympify(f) for f in factors]
     if len(factors) == 2:
         a, b = factors
-        if a.is_Symbol and b.is_Add and a.is_commutative and b.is_commutative:    # a mass times a dot product
+        if _symbol_and_sum(a, b) or _symbol_and_sum(b, a):     # a mass times a dot product, M_ij q''_j
             return sp.Mul._from_args((b, a) if b.compare(a) < 0 else (a, b), True)
         if _distributes(a, b):
             return sp.Mul(*factors)
@@ -46,6 +46,11 @@ def product(*factors) -> sp.Expr:
     if len(args) == 1:
         return args[0]
     return sp.Mul._from_args(args, True) if args else sp.S.One
+
+
+def _symbol_and_sum(a, b) -> bool:
+    """A commutative symbol and sum: plain, with distinct bases (`_plain`)."""
+    return a.is_Symbol and b.is_Add and a.is_commutative is True and b.is_commutative is True
 
 
 def _distributes(a, b) -> bool:
