@@ -35,8 +35,8 @@ def derive(model: Model) -> Derivation:
     row_sums = [total([product(qd[i], M_ij) for i, M_ij in nonzero[j]]) for j in range(n)]   # (q'^T M)_j
     T2 = total([product(row_sums[j], qd[j]) for j in range(n)]) / 2                          # q'^T M q' / 2
     T1 = a.dot(qd)
-    T = T2 + T1 + e.T0
-    L = T - e.V
+    T = total([total([T2, T1]), e.T0])       # T2 + T1 + T0 (sympy's `+` sorted V's terms anew)
+    L = total([T, -e.V])
     Q_applied = almost_everywhere(applied_generalized_forces(model, D))
     dV = gradient(e.V, model.q, D.free, D.partials)
     F = almost_everywhere(forcing(model, D, Q_applied, dV))
@@ -52,8 +52,8 @@ def derive(model: Model) -> Derivation:
     probe = LagrangianProbe(M, a, e.T0, e.V)
     ignorable = ignorable_coordinates(model, probe, Q_applied, rows)
     no_jacobi = jacobi_obstacle(model, probe, Q_applied, rows)
-    h = None if no_jacobi else jacobi_integral(model, T2, e.T0, e.V)
-    energy = T + e.V
+    h = None if no_jacobi else jacobi_integral(model, T2, e.T0, e.V, probe.memo)
+    energy = total([T, e.V])
     energy_is_jacobi = h is not None and numerically_zero([T1 + 2 * e.T0])
     return Derivation(
         model=model, T=T, T2=T2, T1=T1, T0=e.T0, V=e.V, L=L,

@@ -139,7 +139,7 @@ def potential_energy(model: Model) -> sp.Expr:
         squared = delta.dot(delta)
         stretch = sp.sqrt(squared) - spring.rest_length if spring.rest_length != 0 else None
         terms.append(spring.stiffness * (stretch ** 2 if stretch is not None else squared) / 2)
-    return sp.Add(*terms)
+    return total(terms)
 
 
 def energies(model: Model, D: TimeDerivative) -> Energies:

@@ -255,12 +255,8 @@ class DependenceProbe:
 
     def _evaluate(self, point: dict) -> list[float] | None:
         if self._compiled is None:
-            # plain Python floats (the math module's printer): mpmath's printer made
-            # every rational an mpf at every call
-            from sympy.printing.pycode import PythonCodePrinter
-
             self._compiled = sp.lambdify(self.symbols, self.exprs, modules=["math", "mpmath", {"math": math}],
-                                         printer=PythonCodePrinter)
+                                         printer=_probe_printer())
         try:
             values = [complex(v) for v in self._compiled(*(point[s] for s in self.symbols))]
         except (ValueError, ZeroDivisionError, OverflowError, TypeError, ArithmeticError, NameError):
@@ -295,6 +291,19 @@ class DependenceProbe:
         return done == 0  # no point could be evaluated: undecided, so assume dependence
 
 
+def _probe_printer():
+    """Plain Python floats (the math module's printer: mpmath's made every rational an mpf
+    at every call), terms and factors printed in their stored order: sorting them for
+    reading (`as_ordered_terms`) was most of the time to compile a chain's V, and only the
+    last bits of the values depend on the order (the probe's tolerance is 1e-9)."""
+    from sympy.printing.pycode import PythonCodePrinter
+
+    class UnorderedPrinter(PythonCodePrinter):
+        _default_settings = {**PythonCodePrinter._default_settings, "order": "none"}
+
+    return UnorderedPrinter
+
+
 @functools.lru_cache(maxsize=1 << 16)
 def _rough(expr: sp.Basic) -> bool:
     """expr.has(DiracDelta, Heaviside, Derivative), remembered for shared subexpressions
@@ -302,12 +311,29 @@ def _rough(expr: sp.Basic) -> bool:
     return isinstance(expr, (sp.DiracDelta, sp.Heaviside, sp.Derivative)) or any(_rough(a) for a in expr.args)
 
 
+def _any_rough(exprs) -> bool:
+    """`_rough` of any of `exprs`, in one walk visiting each distinct subtree once (the
+    100-link chain's mass matrix has 170 000 nodes: more than `_rough` remembers)."""
+    stack, seen = list(exprs), set()
+    while stack:
+        node = stack.pop()
+        if node in seen:
+            continue
+        if isinstance(node, (sp.DiracDelta, sp.Heaviside, sp.Derivative)):
+            return True
+        seen.add(node)
+        stack.extend(node.args)
+    return False
+
+
 def almost_everywhere(value):
     """Derivatives of abs/sign/min/max taken almost everywhere: DiracDelta -> 0, d sign -> 0 and
     Heaviside(x) -> (1 + sign(x))/2, so every result prints in the spec language and in C."""
     if isinstance(value, sp.MatrixBase):    # its nonzero entries only: M of n uncoupled coordinates has n
-        changed = {key: almost_everywhere(e) for key, e in value.todok().items()}
-        return sp.ImmutableMatrix(sp.SparseMatrix(value.shape[0], value.shape[1], changed))
+        entries = value.todok()
+        if _any_rough(entries.values()):
+            entries = {key: almost_everywhere(e) for key, e in entries.items()}
+        return sp.ImmutableMatrix(sp.SparseMatrix(value.shape[0], value.shape[1], entries))
     value = sp.sympify(value)
     if not _rough(value):
         return value
