@@ -8,7 +8,7 @@ from hypothesis import given, settings, strategies as st
 
 from lagcli.model.ordering import sort_args, sort_key
 from lagcli.model.products import product
-from lagcli.model.sums import total
+from lagcli.model.sums import negative, total
 
 x, y, z = sp.symbols("x y z", real=True)
 m1, m10, m2, q1, q10 = sp.symbols("m1 m10 m2 q1 q10")
@@ -49,6 +49,8 @@ def test_total_is_sympys_add(seed, count):
     assert ours == theirs and type(ours) is type(theirs), terms
     assert ours.args == theirs.args, terms
     assert ours.is_commutative == theirs.is_commutative
+    minus, theirs = negative(ours), -theirs
+    assert minus == theirs and minus.args == theirs.args and type(minus) is type(theirs), terms
 
 
 @settings(max_examples=300, deadline=None)

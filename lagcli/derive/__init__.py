@@ -20,7 +20,7 @@ from lagcli.derive.result import Derivation, Equation
 from lagcli.derive.event_functions import event_functions
 from lagcli.model.model_types import Model
 from lagcli.model.products import product
-from lagcli.model.sums import total
+from lagcli.model.sums import negative, total
 
 __all__ = ["derive", "Derivation"]
 
@@ -40,6 +40,7 @@ def derive(model: Model) -> Derivation:
     Q_applied = almost_everywhere(applied_generalized_forces(model, D))
     dV = gradient(e.V, model.q, D.free, D.partials)
     F = almost_everywhere(forcing(model, D, Q_applied, dV))
+    Q_minus_dV = [total([Q, negative(dV_i)]) for Q, dV_i in zip(Q_applied, dV)]
 
     lhs = [total([product(M_ij, qdd[j]) for j, M_ij in nonzero[i]]) - F[i] for i in range(n)]   # M q'' - F
     rows = constraint_rows(model)
@@ -58,7 +59,7 @@ def derive(model: Model) -> Derivation:
     return Derivation(
         model=model, T=T, T2=T2, T1=T1, T0=e.T0, V=e.V, L=L,
         mass_matrix=M, t1_coefficients=a,
-        generalized_forces=almost_everywhere(Q_applied - sp.Matrix(dV)),
+        generalized_forces=almost_everywhere(sp.Matrix(n, 1, Q_minus_dV)),
         nonconservative_forces=Q_applied,
         forcing=F, equations=equations,
         constraints=rows, constraint_matrix=A, constraint_bias=constraint_bias(model, rows, D),

@@ -12,6 +12,8 @@ from __future__ import annotations
 
 import sympy as sp
 from sympy.core.basic import Basic
+from sympy.core.mul import _keep_coeff
+from sympy.core.parameters import global_parameters
 from sympy.core.sympify import _sympify
 
 from lagcli.model.ordering import sort_args
@@ -49,6 +51,14 @@ def total(terms) -> sp.Expr:
     if len(result) == 1:
         return result[0]
     return sp.Add._from_args(result, True)   # no constructor postprocessor: those are MatrixExpr's
+
+
+def negative(expr: sp.Expr) -> sp.Expr:
+    """`-expr`, the same expression: a sum's terms negated one by one (as `Mul(-1, sum)`
+    distributes) and summed by `total`."""
+    if expr.is_Add and expr.is_commutative and global_parameters.distribute:
+        return total([_keep_coeff(sp.S.NegativeOne, term) for term in expr.args])
+    return -expr
 
 
 def _collect(args: list):
