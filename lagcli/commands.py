@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from lagcli.collector import collector_paused
+from lagcli.model.collector import collector_paused
 
 
 def _derive(path: str):

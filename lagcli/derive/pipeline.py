@@ -6,7 +6,7 @@ from pathlib import Path
 import sympy as sp
 
 import lagcli.derive
-from lagcli.collector import collector_paused
+from lagcli.model.collector import collector_paused
 from lagcli.derive.representable import refuse_unrepresentable
 from lagcli.derive.result import Derivation
 from lagcli.model.build import build_model

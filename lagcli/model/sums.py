@@ -24,6 +24,8 @@ _ZERO, _ONE = sp.S.Zero, sp.S.One
 def total(terms) -> sp.Expr:
     """`sympy.Add(*terms)`, the same expression."""
     terms = [t if isinstance(t, Basic) else _sympify(t) for t in terms]
+    if not global_parameters.evaluate:       # inside `with sympy.evaluate(False)`
+        return sp.Add(*terms)
     args = [t for t in terms if t is not _ZERO]
     if len(args) < 2:
         return args[0] if args else _ZERO

@@ -11,7 +11,8 @@ def collector_paused():
     sympy builds and drops millions of expressions, freed by reference counting, and each
     full collection walks every live one (a quarter of the CPU of the 100-link chain's
     derivation, a fifth of `generate --lang c` at 40 links; the same peak memory without
-    it: bench/README.md). No sympy here: `commands` imports it at start-up."""
+    it: bench/README.md). No sympy here: `commands` imports it at start-up (lagcli.model
+    imports nothing)."""
     enabled = gc.isenabled()
     gc.disable()
     try:
