@@ -7,24 +7,9 @@ top: `lagcli simulate` with a warm C cache must start without importing sympy at
 """
 from __future__ import annotations
 
-import contextlib
-import gc
 from pathlib import Path
 
-
-@contextlib.contextmanager
-def _collector_paused():
-    """Python's cycle collector off for the duration (and on again after, if it was):
-    sympy builds and drops millions of expressions, freed by reference counting, and each
-    full collection walks every live one (a fifth of the CPU of `generate --lang c` of the
-    40-link chain, with the same peak memory without it: bench/README.md)."""
-    enabled = gc.isenabled()
-    gc.disable()
-    try:
-        yield
-    finally:
-        if enabled:
-            gc.enable()
+from lagcli.model.collector import collector_paused
 
 
 def _derive(path: str):
@@ -258,7 +243,7 @@ def input_laws(items, system) -> dict:
             for name, text in given.items()}
 
 
-@_collector_paused()
+@collector_paused()
 def generate(path: str, lang: str, output: str | None = None, form: str = "lagrangian",
              note=lambda text: None, variational: bool | None = None) -> None:
     """`lagcli generate`: code or a document for `path` in `lang` (see lagcli.targets.LANGUAGES).

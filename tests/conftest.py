@@ -153,10 +153,44 @@ def ddt():
 HEAVY_SPECS = ("benchmark_bicycle", "benchmark_bicycle_frames")
 
 
+# A test marked `core_specs` sweeps the bundled specs but runs only on these by default
+# (on all of them with `pytest -m slow`): together they hold each kind of system (plain,
+# holonomic constraint, rolling and nonholonomic, time-dependent, an input, frames in 3D,
+# impacts), so the default run meets every code path of the costly sweeps (compilers,
+# Octave, FMUs, a browser) in a fraction of their time.
+CORE_SPECS = ("double_pendulum", "cartesian_pendulum", "chaplygin_sled", "kapitza_pendulum", "cart_pole",
+              "heavy_symmetric_top_frames", "rolling_disc", "atwood", "bouncing_ball", "pendulum_wall")
+
+
+def bundled_spec_names() -> set[str]:
+    return {p.stem for p in SPECS.glob("*.yaml")} | {p.stem for p in SPECS.glob("hybrid/*.yaml")}
+
+
+def named_specs(case_id: str, names: set[str]) -> set[str]:
+    """Those of `names` that a parametrized case's id names ("atwood-c",
+    "hybrid/rimless_wheel", "sphere_on_turntable.yaml")."""
+    tokens = {token.removeprefix("hybrid/").removesuffix(".yaml") for token in case_id.split("-")}
+    return tokens & names
+
+
 @pytest.hookimpl(tryfirst=True)
 def pytest_collection_modifyitems(config, items):
+    bundled = bundled_spec_names()
     for item in items:
         callspec = getattr(item, "callspec", None)
-        if callspec is not None and any(name in callspec.id for name in HEAVY_SPECS) \
-                and "bicycle" not in item.module.__name__:
+        if callspec is None:
+            continue
+        if any(name in callspec.id for name in HEAVY_SPECS) and "bicycle" not in item.module.__name__:
             item.add_marker(pytest.mark.slow)
+        elif item.get_closest_marker("core_specs") and named_specs(callspec.id, bundled) \
+                and not named_specs(callspec.id, set(CORE_SPECS)):
+            item.add_marker(pytest.mark.slow)
+
+
+def selected_specs(request, specs: list[Path]) -> list[Path]:
+    """The core specs of `specs` and those a selected test of the requesting module names:
+    a module fixture that builds every spec at once builds only what this run checks."""
+    module = request.module.__name__
+    ids = {item.callspec.id for item in request.session.items
+           if item.module.__name__ == module and hasattr(item, "callspec")}
+    return [p for p in specs if p.stem in CORE_SPECS or any(named_specs(case, {p.stem}) for case in ids)]

@@ -126,6 +126,7 @@ def call(c: Built, d, case: dict) -> dict:
             "inv": dict(zip(names, list(inv))), "rhs": list(plain), "dydt": list(dydt)}
 
 
+@pytest.mark.core_specs
 @pytest.mark.parametrize("spec", SPEC_FILES, ids=spec_id)
 def test_c_agrees_with_engine(spec, built, derived, rng):
     d = derived(spec.name)

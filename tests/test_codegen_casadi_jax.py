@@ -155,6 +155,7 @@ def inputs_of(case: dict) -> list[float]:
     return case["u"] if case["u"] else []
 
 
+@pytest.mark.core_specs
 @pytest.mark.parametrize("spec", SPECS, ids=spec_id)
 def test_casadi_agrees_with_reference(spec, casadi, generated, reference, derived, rng):
     d = derived(str(spec))
@@ -199,6 +200,7 @@ def check_implicit(module, case: dict, expected: dict, n: int, label: str) -> No
         assert position.size == velocity.size == acceleration.size == 0
 
 
+@pytest.mark.core_specs
 @pytest.mark.parametrize("spec", SPECS, ids=spec_id)
 def test_jax_agrees_with_reference(spec, jax, generated, reference, derived, rng):
     import jax.numpy as jnp

@@ -83,6 +83,7 @@ def compare(system, fmu: Path, t_end: float, fmi_type: str) -> None:
         assert worst <= TOLERANCE * scale, f"{name}: FMU and lagcli simulate differ by {worst:.3g}"
 
 
+@pytest.mark.core_specs
 @pytest.mark.parametrize("name", SPEC_NAMES)
 def test_fmu_validates_and_agrees_with_simulate(name, derived, tmp_path):
     system = system_of(derived, name)
@@ -97,6 +98,7 @@ def test_fmu_validates_and_agrees_with_simulate(name, derived, tmp_path):
     compare(system, fmu, min(SHORT_SPAN, layout.settings.t_end), "ModelExchange")
 
 
+@pytest.mark.core_specs
 @pytest.mark.parametrize("name", SPEC_NAMES)      # the bicycles: -m slow (conftest)
 def test_fmu_agrees_over_the_whole_span(name, derived, tmp_path):
     system = system_of(derived, name)

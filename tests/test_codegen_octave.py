@@ -29,7 +29,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from conftest import HEAVY_SPECS
+from conftest import HEAVY_SPECS, selected_specs
 from test_codegen_python import SPEC_FILES, assert_close, random_inputs, reference
 from test_codegen_rust import assert_rows_agree, parse_csv
 
@@ -102,10 +102,10 @@ def run_options(key: str, t_end: float | None = None) -> str:
 
 
 @pytest.fixture(scope="module")
-def results(tmp_path_factory, derived):
+def results(request, tmp_path_factory, derived):
     folder = tmp_path_factory.mktemp("octave")
     rng = np.random.default_rng(20240617)
-    specs = {p.stem: p for p in DEFAULT_SPECS}
+    specs = {p.stem: p for p in selected_specs(request, DEFAULT_SPECS)}
     specs["all_functions"] = ALL_FUNCTIONS
     cases = {key: random_inputs(derived(str(path)), rng, 4) for key, path in specs.items()}
     keyword = folder / "keyword.yaml"
@@ -127,12 +127,14 @@ def check_rhs(d, cases, text: str, label: str) -> None:
         assert_close(got[2 * n:], ref["lam"], f"{label}: lambda")
 
 
+@pytest.mark.core_specs
 @pytest.mark.parametrize("spec", DEFAULT_SPECS + [ALL_FUNCTIONS], ids=lambda p: p.stem)
 def test_rhs_matches_engine(spec, results, derived):
     folder, cases = results
     check_rhs(derived(str(spec)), cases[spec.stem], (folder / spec.stem / "rhs.txt").read_text(), spec.stem)
 
 
+@pytest.mark.core_specs
 @pytest.mark.parametrize("spec", DEFAULT_SPECS, ids=lambda p: p.stem)
 def test_run_script_csv_matches_simulate(spec, results):
     import lagcli
@@ -143,6 +145,7 @@ def test_run_script_csv_matches_simulate(spec, results):
     assert_rows_agree(header, rows, expected, CSV_TOL, spec.stem)
 
 
+@pytest.mark.core_specs
 @pytest.mark.parametrize("spec", DEFAULT_SPECS, ids=lambda p: p.stem)
 def test_text_is_matlab_too(spec, results):
     folder, _ = results

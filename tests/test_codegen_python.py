@@ -187,6 +187,7 @@ def run_module(path: Path, cases: list[dict]) -> dict:
     return json.loads(done.stdout)
 
 
+@pytest.mark.core_specs
 @pytest.mark.parametrize("spec", SPEC_FILES, ids=spec_id)
 def test_module_agrees_with_engine_without_sympy(spec, generated, derived, rng):
     d = derived(spec.name)

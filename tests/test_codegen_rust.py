@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from conftest import HEAVY_SPECS
+from conftest import HEAVY_SPECS, selected_specs
 from test_codegen_python import SPEC_FILES, assert_close, random_inputs, reference
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -95,9 +95,9 @@ def build_workspace(specs: dict[str, Path], folder: Path) -> dict[str, Path]:
 
 
 @pytest.fixture(scope="module")
-def binaries(tmp_path_factory):
+def binaries(request, tmp_path_factory):
     folder = tmp_path_factory.mktemp("rust_crates")
-    specs = {p.stem: p for p in DEFAULT_SPECS}
+    specs = {p.stem: p for p in selected_specs(request, DEFAULT_SPECS)}
     keyword = folder / "keyword.yaml"
     keyword.write_text(KEYWORD_SPEC)
     specs["keyword"] = keyword
@@ -112,6 +112,7 @@ def run(binary: Path, *args: str, stdin: str = "") -> subprocess.CompletedProces
     return subprocess.run([str(binary), *args], input=stdin, capture_output=True, text=True, timeout=300)
 
 
+@pytest.mark.core_specs
 @pytest.mark.parametrize("spec", DEFAULT_SPECS + [ALL_FUNCTIONS], ids=lambda p: p.stem)
 def test_rhs_matches_engine(spec, binaries, derived, rng):
     d = derived(str(spec))
@@ -142,6 +143,7 @@ def assert_rows_agree(header, rows, trajectory, tol: float, what: str) -> None:
     assert worst <= tol, f"{what}: differs from lagcli simulate by {worst:.3g} (relative to 1 + |value|)"
 
 
+@pytest.mark.core_specs
 @pytest.mark.parametrize("spec", DEFAULT_SPECS, ids=lambda p: p.stem)
 def test_example_csv_matches_simulate(spec, binaries):
     import lagcli

@@ -90,6 +90,7 @@ def _one_family(a, b, angles) -> bool:
 
 @pytest.mark.parametrize("name", sorted(p.stem for p in SPECS.glob("*.yaml")
                                         if not p.stem.startswith("benchmark_bicycle")))
+@pytest.mark.core_specs
 def test_every_bundled_spec_lists_each_pose_once(name):
     from lagcli.errors import UsageError
     from lagcli.model.angles import angle_coordinates

@@ -68,6 +68,7 @@ def test_hamilton_equations_agree_with_lagrange(derived, name):
         assert np.ptp(H) < 1e-8 * max(1.0, abs(H[0]))
 
 
+@pytest.mark.core_specs
 @pytest.mark.parametrize("name", UNCONSTRAINED)
 def test_generated_hamiltonian_module_agrees_with_lagrange(derived, name, tmp_path):
     """`lagcli generate --lang python --form hamiltonian`: its rhs(t, x, p) integrated in

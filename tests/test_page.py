@@ -61,6 +61,7 @@ def assert_rendered(seen: dict, name: str):
     assert seen["shot"] is None or (seen["shot"].exists() and seen["shot"].stat().st_size > 1000)
 
 
+@pytest.mark.core_specs
 @needs_chromium
 @pytest.mark.parametrize("name", BUNDLED)
 def test_every_bundled_page_renders_in_a_browser(tmp_path, name):

@@ -41,6 +41,7 @@ def _report(spec: Path, *args) -> str:
 SMALL_SPECS = tuple(p.stem for p in ALL if "bicycle" not in p.stem)   # trigsimp takes minutes on a bicycle
 
 
+@pytest.mark.core_specs
 @pytest.mark.parametrize("name", SMALL_SPECS)
 def test_printed_expressions_do_not_simplify_further(name):
     spec = SPECS / f"{name}.yaml"

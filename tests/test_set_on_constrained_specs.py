@@ -88,6 +88,7 @@ def run(spec: str, assignment: str, backend: str):
     return header, np.loadtxt(io.StringIO(result.stdout), delimiter=",", skiprows=1), result.stderr
 
 
+@pytest.mark.core_specs
 @pytest.mark.parametrize("backend", BACKENDS)
 @pytest.mark.parametrize("spec", sorted(CASES))
 def test_set_moves_the_initial_state_onto_the_new_constraints(spec, backend):

@@ -38,6 +38,7 @@ def invoke(*args):
     return CliRunner().invoke(cli, ["simulate", *map(str, args)])
 
 
+@pytest.mark.core_specs
 @needs_cc
 @pytest.mark.parametrize("spec", SPEC_FILES, ids=[p.stem for p in SPEC_FILES])
 def test_python_and_c_backends_agree(spec):

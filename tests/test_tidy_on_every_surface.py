@@ -138,6 +138,7 @@ def loaded():
     return {}
 
 
+@pytest.mark.core_specs
 @pytest.mark.parametrize("path", CASES)
 def test_no_untidy_form_in_the_reports_notebook_and_page(path, loaded):
     system = lagcli.load(path)
@@ -160,6 +161,7 @@ UNCONSTRAINED_SMALL = [p for p in BUNDLED if p.stem not in SLOW and "constraints
                        and "rolling" not in p.read_text()]
 
 
+@pytest.mark.core_specs
 @pytest.mark.parametrize("path", UNCONSTRAINED_SMALL, ids=[p.stem for p in UNCONSTRAINED_SMALL])
 def test_no_untidy_form_in_hamiltons_equations(path):
     """`lagcli hamiltonian` (text and the notebook's LaTeX) of every bundled unconstrained

@@ -20,6 +20,7 @@ from lagcli.derive.result import Derivation, Equation
 from lagcli.derive.event_functions import event_functions
 from lagcli.model.model_types import Model
 from lagcli.model.products import product
+from lagcli.model.sums import negative, total
 
 __all__ = ["derive", "Derivation"]
 
@@ -31,16 +32,17 @@ def derive(model: Model) -> Derivation:
     M, a = e.mass_matrix, e.t1_coefficients
     n = len(model.q)
     nonzero = _rows_of(M)       # the nonzero entries (M of n uncoupled coordinates has n of n^2)
-    row_sums = [sp.Add(*(product(qd[i], M_ij) for i, M_ij in nonzero[j])) for j in range(n)]   # (q'^T M)_j
-    T2 = sp.Add(*(product(row_sums[j], qd[j]) for j in range(n))) / 2                        # q'^T M q' / 2
+    row_sums = [total([product(qd[i], M_ij) for i, M_ij in nonzero[j]]) for j in range(n)]   # (q'^T M)_j
+    T2 = total([product(row_sums[j], qd[j]) for j in range(n)]) / 2                          # q'^T M q' / 2
     T1 = a.dot(qd)
-    T = T2 + T1 + e.T0
-    L = T - e.V
+    T = total([total([T2, T1]), e.T0])       # T2 + T1 + T0 (sympy's `+` sorted V's terms anew)
+    L = total([T, -e.V])
     Q_applied = almost_everywhere(applied_generalized_forces(model, D))
     dV = gradient(e.V, model.q, D.free, D.partials)
     F = almost_everywhere(forcing(model, D, Q_applied, dV))
+    Q_minus_dV = [total([Q, negative(dV_i)]) for Q, dV_i in zip(Q_applied, dV)]
 
-    lhs = [sp.Add(*(product(M_ij, qdd[j]) for j, M_ij in nonzero[i])) - F[i] for i in range(n)]   # M q'' - F
+    lhs = [total([product(M_ij, qdd[j]) for j, M_ij in nonzero[i]]) - F[i] for i in range(n)]   # M q'' - F
     rows = constraint_rows(model)
     A = constraint_matrix(model, rows)
     multipliers = tuple(r.multiplier for r in rows)
@@ -51,13 +53,13 @@ def derive(model: Model) -> Derivation:
     probe = LagrangianProbe(M, a, e.T0, e.V)
     ignorable = ignorable_coordinates(model, probe, Q_applied, rows)
     no_jacobi = jacobi_obstacle(model, probe, Q_applied, rows)
-    h = None if no_jacobi else jacobi_integral(model, T2, e.T0, e.V)
-    energy = T + e.V
+    h = None if no_jacobi else jacobi_integral(model, T2, e.T0, e.V, probe.memo)
+    energy = total([T, e.V])
     energy_is_jacobi = h is not None and numerically_zero([T1 + 2 * e.T0])
     return Derivation(
         model=model, T=T, T2=T2, T1=T1, T0=e.T0, V=e.V, L=L,
         mass_matrix=M, t1_coefficients=a,
-        generalized_forces=almost_everywhere(Q_applied - sp.Matrix(dV)),
+        generalized_forces=almost_everywhere(sp.Matrix(n, 1, Q_minus_dV)),
         nonconservative_forces=Q_applied,
         forcing=F, equations=equations,
         constraints=rows, constraint_matrix=A, constraint_bias=constraint_bias(model, rows, D),

@@ -20,6 +20,7 @@ import sympy as sp
 from lagcli.model.calculus import TimeDerivative, almost_everywhere, derivative, jacobian_columns
 from lagcli.model.model_types import Model, RigidBody, elementary_rotation
 from lagcli.model.products import product
+from lagcli.model.sums import total
 
 AXES = {"x": 0, "y": 1, "z": 2}
 
@@ -50,7 +51,7 @@ def kinetic_parts(model: Model, D: TimeDerivative) -> tuple[sp.Matrix, sp.Matrix
     n = len(model.q)
     M: dict = defaultdict(list)     # (i, j) -> terms, upper triangle (J^T J is symmetric)
     a, T0 = [[] for _ in range(n)], []
-    dots: dict = {}      # a chain's points share Jacobian columns: each product formed once
+    dots = _DotProducts()
     for mass, r in model.mass_points:
         J, r_t = jacobian_columns(r, model.q, D.free, D.partials), r.applyfunc(lambda e: derivative(e, model.t, D.free))
         _add_products(M, a, T0, J, None, r_t, mass, dots)
@@ -61,39 +62,61 @@ def kinetic_parts(model: Model, D: TimeDerivative) -> tuple[sp.Matrix, sp.Matrix
         _add_products(M, a, T0, J_w, body.inertia, w_t, 1, dots)
     entries = {}
     for (i, j), terms in sorted(M.items()):
-        entries[i, j] = entries[j, i] = sp.Add(*terms)
-    M, a, T0 = sp.Matrix(sp.SparseMatrix(n, n, entries)), sp.Matrix([sp.Add(*terms) for terms in a]), sp.Add(*T0)
+        entries[i, j] = entries[j, i] = total(terms)
+    M, a, T0 = sp.Matrix(sp.SparseMatrix(n, n, entries)), sp.Matrix([total(terms) for terms in a]), total(T0)
     if model.kinetic == 0:
         return M, a, T0
     extra_M, extra_a, extra_T0 = _split_extra_kinetic(model)
     return M + extra_M, a + extra_a, T0 + extra_T0
 
 
-def _add_products(M, a, T0, J, inertia, v_t, mass, dots: dict) -> None:
+class _DotProducts:
+    """u . w of vectors of expressions, each pair formed once (a chain's points share their
+    Jacobian columns). Vectors are numbered when first seen, so the pairs of a point's
+    columns are looked up by number (hashing tuples of expressions per pair cost more)."""
+
+    def __init__(self):
+        self.numbers: dict = {}
+        self.vectors: list = []
+        self.values: dict = {}
+
+    def number(self, vector: tuple) -> int:
+        found = self.numbers.get(vector)
+        if found is None:
+            found = self.numbers[vector] = len(self.vectors)
+            self.vectors.append(vector)
+        return found
+
+    def __call__(self, u: int, w: int) -> sp.Expr | None:
+        """The dot product of vectors u and w (numbers); None when it is zero."""
+        key = (u, w)
+        if key not in self.values:
+            value = total([product(x, y) for x, y in zip(self.vectors[u], self.vectors[w])])
+            self.values[key] = None if value == 0 else value
+        return self.values[key]
+
+
+def _add_products(M, a, T0, J, inertia, v_t, mass, dots: _DotProducts) -> None:
     """The terms of mass * (J^T I J, J^T I v_t, 1/2 v_t^T I v_t) for one point (I = None:
     the identity) or body; J is given by its nonzero columns (`jacobian_columns`)."""
     I_v = v_t if inertia is None else inertia * v_t
     moving = any(v_t)
-
-    def dot(u, w) -> sp.Expr:
-        key = (u, w)
-        if key not in dots:
-            dots[key] = sp.Add(*(product(x, y) for x, y in zip(u, w)))
-        return dots[key]
-
-    weighted = [column if inertia is None else tuple(inertia * sp.Matrix(column)) for _, column in J]
-    v_t, I_v = tuple(v_t), tuple(I_v)
-    for k, (i, column) in enumerate(J):
+    columns = [dots.number(column) for _, column in J]
+    weighted = columns if inertia is None else [dots.number(tuple(inertia * sp.Matrix(column))) for _, column in J]
+    v_t, I_v = dots.number(tuple(v_t)), dots.number(tuple(I_v))
+    for k, (i, _) in enumerate(J):
+        column = columns[k]
         for (j, _), other in zip(J[k:], weighted[k:]):
-            entry = dot(column, other)
-            if entry != 0:
+            entry = dots(column, other)
+            if entry is not None:
                 M[i, j].append(product(mass, entry))
         if moving:
-            entry = dot(column, I_v)
-            if entry != 0:
+            entry = dots(column, I_v)
+            if entry is not None:
                 a[i].append(product(mass, entry))
     if moving:
-        T0.append(product(product(mass, dot(v_t, I_v)), sp.S.Half))
+        entry = dots(v_t, I_v)
+        T0.append(product(product(mass, entry if entry is not None else 0), sp.S.Half))
 
 
 def _split_extra_kinetic(model: Model):
@@ -116,7 +139,7 @@ def potential_energy(model: Model) -> sp.Expr:
         squared = delta.dot(delta)
         stretch = sp.sqrt(squared) - spring.rest_length if spring.rest_length != 0 else None
         terms.append(spring.stiffness * (stretch ** 2 if stretch is not None else squared) / 2)
-    return sp.Add(*terms)
+    return total(terms)
 
 
 def energies(model: Model, D: TimeDerivative) -> Energies:

@@ -22,12 +22,13 @@ from lagcli.model.calculus import TimeDerivative, derivative, jacobian_columns
 from lagcli.derive.energy import body_angular_velocity
 from lagcli.model.model_types import Model
 from lagcli.model.products import product
+from lagcli.model.sums import negative, total
 
 
 def forcing(model: Model, D: TimeDerivative, Q_applied: sp.ImmutableMatrix, dV: list) -> sp.ImmutableMatrix:
     """F of M q'' = F, from the applied forces Q' and the gradient dV of V."""
     q, qd, n = model.q, model.qd, len(model.q)
-    terms = [[Q_applied[i], -dV[i]] for i in range(n)]   # each F_i summed once
+    terms = [[Q_applied[i], negative(dV[i])] for i in range(n)]   # each F_i summed once
     for mass, r in model.mass_points:
         acceleration = D.matrix(D.matrix(r), accelerations=False)
         _subtract(terms, jacobian_columns(r, q, D.free, D.partials), acceleration, mass)
@@ -40,13 +41,13 @@ def forcing(model: Model, D: TimeDerivative, Q_applied: sp.ImmutableMatrix, dV: 
         K = model.kinetic
         for i, (qi, v) in enumerate(zip(q, qd)):
             terms[i].append(-(D(derivative(K, v), accelerations=False) - derivative(K, qi)))
-    return sp.ImmutableMatrix(n, 1, [sp.Add(*row) for row in terms])
+    return sp.ImmutableMatrix(n, 1, [total(row) for row in terms])
 
 
 def _subtract(terms, J, vector, mass) -> None:
     """terms_i += -mass * (J^T vector)_i, J given by its nonzero columns (`jacobian_columns`)."""
     vector = tuple(vector)
     for i, column in J:
-        entry = sp.Add(*(product(x, y) for x, y in zip(column, vector)))
+        entry = total([product(x, y) for x, y in zip(column, vector)])
         if entry != 0:
-            terms[i].append(-(mass * entry))
+            terms[i].append(-product(mass, entry))

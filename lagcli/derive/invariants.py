@@ -24,6 +24,7 @@ import sympy as sp
 
 from lagcli.model.calculus import DependenceProbe, depends_on, free_symbols, numerically_zero
 from lagcli.derive.result import Conserved
+from lagcli.model.sums import total
 
 
 class LagrangianProbe:
@@ -32,8 +33,8 @@ class LagrangianProbe:
     def __init__(self, M, a, T0, V):
         upper = [entry for (i, j), entry in sorted(M.todok().items()) if i <= j]
         self.groups = [[T0 - V], [e for e in a if e != 0], upper]
-        memo: dict = {}     # shared subexpressions walked once
-        self.names = [set().union(*(free_symbols(sp.sympify(e), memo) for e in g)) for g in self.groups]
+        self.memo: dict = {}     # free symbols of shared subexpressions (M's entries: in T2 too), found once
+        self.names = [set().union(*(free_symbols(sp.sympify(e), self.memo) for e in g)) for g in self.groups]
         self.probes: list[DependenceProbe | None] = [None] * len(self.groups)
 
     def depends_on(self, symbol: sp.Symbol) -> bool:
@@ -68,11 +69,12 @@ def _zero(exprs) -> bool:
     return not exprs or numerically_zero(exprs)
 
 
-def jacobi_integral(model, T2, T0, V) -> sp.Expr:
+def jacobi_integral(model, T2, T0, V, memo: dict | None = None) -> sp.Expr:
     """h = T2 - T0 + V (at t = 0 when an explicit t cancels out of L but not of h's form);
-    conserved only when `jacobi_obstacle` finds nothing."""
-    h = T2 - T0 + V
-    return h.subs(model.t, 0) if depends_on(h, (model.t,), {}) else h
+    conserved only when `jacobi_obstacle` finds nothing. `memo`: free symbols already found
+    (`free_symbols`)."""
+    h = total([total([T2, -T0]), V])
+    return h.subs(model.t, 0) if depends_on(h, (model.t,), {} if memo is None else memo) else h
 
 
 def jacobi_obstacle(model, probe: LagrangianProbe, Q_applied, rows) -> str | None:

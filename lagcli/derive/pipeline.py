@@ -6,6 +6,7 @@ from pathlib import Path
 import sympy as sp
 
 import lagcli.derive
+from lagcli.model.collector import collector_paused
 from lagcli.derive.representable import refuse_unrepresentable
 from lagcli.derive.result import Derivation
 from lagcli.model.build import build_model
@@ -38,9 +39,10 @@ def load_model_text(text: str, toml: bool = False) -> Model:
 def _build(raw) -> Model:
     spec, problems = check(raw)
     if not problems:
-        model = build_model(spec)
-        check_model(model)
-        check_model_units(model)
+        with collector_paused():
+            model = build_model(spec)
+            check_model(model)
+            check_model_units(model)
         return model
     raise SpecError(problems + [p for p in _expression_problems(spec) if p not in problems])
 
@@ -58,9 +60,10 @@ def _expression_problems(spec) -> list:
 
 def derive_model(model: Model) -> Derivation:
     """`derive(model)`, refusing a mass matrix that is singular everywhere (lagcli.model.validation)."""
-    derivation = lagcli.derive.derive(model)     # looked up at call time (tests patch it)
-    refuse_unrepresentable(derivation)
-    check_mass_matrix(derivation)
+    with collector_paused():
+        derivation = lagcli.derive.derive(model)     # looked up at call time (tests patch it)
+        refuse_unrepresentable(derivation)
+        check_mass_matrix(derivation)
     return derivation
 
 

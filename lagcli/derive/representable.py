@@ -33,11 +33,22 @@ _HINT_RANGE = ("the derivation multiplies the spec's numbers (a mass of 1e200 at
 def refuse_unrepresentable(d) -> None:
     """SpecError naming every quantity of `d` (a Derivation) that is not finite and real
     identically, or holds a constant beyond double precision."""
+    if _all_representable(d):
+        return
     problems = _problems(d, _quantities(d))
     if not problems:           # M and F are made of T, V and Q': checked when those pass
         problems = _problems(d, _matrices(d))
     if problems:
         raise SpecError(problems)
+
+
+def _all_representable(d) -> bool:
+    """True when no quantity holds a problem: the leaves of all of them, in one walk (T holds
+    M's entries and F shares T's parts: walking each quantity apart walked M three times).
+    Each quantity's leaves are among these, so a problem of one is a problem here."""
+    values = [value for _, value, _ in _quantities(d)] + [d.mass_matrix, d.forcing]
+    leaves = _leaves(values)
+    return not any(s in leaves for s in _NOT_FINITE) and out_of_range(None, leaves) is None
 
 
 def _problems(d, quantities) -> list[Problem]:
@@ -73,7 +84,7 @@ def _leaves(value) -> set:
     """The atoms of an expression or matrix (what `atoms()` finds), each distinct subtree
     visited once: T and F of a chain share their sums, and walking them as trees (`has`,
     `atoms`) was most of this check's time."""
-    stack = list(value) if isinstance(value, sp.MatrixBase) else [value]
+    stack = _flat(value)
     seen, leaves = set(), set()
     while stack:
         node = stack.pop()
@@ -85,6 +96,15 @@ def _leaves(value) -> set:
         else:
             leaves.add(node)
     return leaves
+
+
+def _flat(value) -> list:
+    """The expressions of an expression, a matrix or a list of those."""
+    if isinstance(value, sp.MatrixBase):
+        return list(value)
+    if isinstance(value, list):
+        return [e for v in value for e in _flat(v)]
+    return [value]
 
 
 def _quantities(d):

@@ -15,7 +15,7 @@ from collections.abc import Callable
 
 import sympy as sp
 
-from lagcli.model.calculus import TimeDerivative, numerically_zero
+from lagcli.model.calculus import TimeDerivative, numerically_zero, shared_terms
 from lagcli.errors import Problem, SpecError
 from lagcli.model.expr import Scope, parse, parse_constant
 from lagcli.interface import acceleration_name, velocity_name
@@ -46,6 +46,7 @@ class _ModelBuilder:
         self.qdd = tuple(Acceleration(acceleration_name(n), real=True) for n in names)
         self.u = tuple(sp.Symbol(u.name, real=True) for u in spec.inputs)
         self.D = TimeDerivative(self.t, self.q, self.qd, self.qdd)
+        self.terms: dict = {}       # the terms of the positions' sums met so far (`_position`)
         # the symbol sets every check asks about, formed once (per check they made a spec of
         # n coordinates cost n^2)
         self.rates = frozenset(self.qd) | frozenset(self.qdd)
@@ -82,6 +83,11 @@ class _ModelBuilder:
             return self.expr(srcs[0], check=check, vector=True).matrix
         parts = [self.expr(s, check=check) for s in srcs]
         return sp.ImmutableMatrix(parts + [sp.S.Zero] * (3 - len(parts)))
+
+    def _position(self, srcs) -> sp.ImmutableMatrix:
+        """A particle's or body's position, each term of its sums the same object as the equal
+        term of an earlier position (`shared_terms`)."""
+        return shared_terms(self.vector(srcs, self.no_velocities), self.terms)
 
     def constant(self, src: Src | None, default: float | None, extra=None, elsewhere=None) -> float | None:
         if src is None:
@@ -147,7 +153,7 @@ class _ModelBuilder:
         self._frames()
         definitions = self._named(spec.definitions, None, vector=None)
         particles = tuple(PointMass(p.name, self.expr(p.mass, check=self.constant_in_motion),
-                                    self.vector(p.position, self.no_velocities), p.loc)
+                                    self._position(p.position), p.loc)
                           for p in spec.particles)
         bodies = tuple(self._body(b) for b in spec.bodies)
         self._name_points(particles, bodies)
@@ -257,7 +263,7 @@ class _ModelBuilder:
             rotations = tuple((axis, self.expr(a, check=self.no_velocities)) for axis, a in body.orientation)
             tensor = _inertia_tensor(inertia)
         return RigidBody(body.name, self.expr(body.mass, check=self.constant_in_motion),
-                         sp.ImmutableMatrix(tensor), self.vector(body.position, self.no_velocities),
+                         sp.ImmutableMatrix(tensor), self._position(body.position),
                          rotations, body.loc)
 
     def _force(self, force, where, bodies) -> AppliedForce:

@@ -19,6 +19,7 @@ from sympy.core.function import ArgumentIndexError
 from lagcli.model.angle_calls import TRIG, trig_call
 from lagcli.model.constants import ConstantError, value_at
 from lagcli.model.products import product
+from lagcli.model.sums import total
 
 
 class TimeDerivative:
@@ -33,6 +34,7 @@ class TimeDerivative:
         self.order = {var: k for k, (var, _) in enumerate(self.chain)}
         self.free: dict = {}      # free symbols of every subexpression seen (see `derivative`)
         self.partials: dict = {}  # (term, variable) -> derivative, for the terms `gradient` meets
+        self.rated: dict = {}     # (partial, rate) -> their product: one object for equal terms
 
     def __call__(self, expr: sp.Expr, accelerations: bool = True) -> sp.Expr:
         """D expr; with `accelerations=False`, D expr at q'' = 0 (the q'' terms are never
@@ -47,8 +49,17 @@ class TimeDerivative:
         # term rebuilt the growing sum: a chain's positions made both quadratic)
         chain = [self.chain[k] for k in sorted(k for k in map(self.order.get, free) if k is not None and k < last)]
         partials = gradient(expr, [var for var, _ in chain], self.free, self.partials)
-        terms = [partial * rate for partial, (_, rate) in zip(partials, chain)]
-        return sp.Add(derivative(expr, self.t, self.free) if self.t in free else sp.S.Zero, *terms)
+        terms = [self._rated(partial, rate) for partial, (_, rate) in zip(partials, chain)]
+        return total([derivative(expr, self.t, self.free) if self.t in free else sp.S.Zero, *terms])
+
+    def _rated(self, partial: sp.Expr, rate: sp.Symbol) -> sp.Expr:
+        """partial * rate, the same object each time (a chain's velocities share their terms, so
+        differentiating them again finds them in the memos at once, not by comparing copies)."""
+        key = (partial, rate)
+        found = self.rated.get(key)
+        if found is None:
+            found = self.rated[key] = product(partial, rate)
+        return found
 
     def matrix(self, m: sp.MatrixBase, accelerations: bool = True) -> sp.ImmutableMatrix:
         return sp.ImmutableMatrix(m.shape[0], m.shape[1], [self(e, accelerations) for e in m])
@@ -79,24 +90,24 @@ def derivative(expr: sp.Expr, var: sp.Symbol, memo: dict | None = None) -> sp.Ex
     memo = {} if memo is None else memo
     if not isinstance(expr, sp.Basic) or var not in free_symbols(expr, memo):   # a plain 0 or number
         return sp.S.Zero
-    if expr is var or expr == var:
+    if expr.is_Symbol:          # one whose free symbols hold var: var itself
         return sp.S.One
     if expr.is_Add:
-        return expr.func(*(derivative(a, var, memo) for a in expr.args))
+        return total([derivative(a, var, memo) for a in expr.args])
     if expr.is_Mul:
         args, terms = list(expr.args), []
         for i, a in enumerate(args):
             d = derivative(a, var, memo)
             if d:
                 terms.append(reduce(product, args[:i] + [d] + args[i + 1:]))    # x * y, in turn
-        return sp.Add.fromiter(terms)
+        return total(terms)
     if expr.is_Pow and var not in free_symbols(expr.exp, memo):
         base, exponent = expr.args
         return expr * (derivative(base, var, memo) * exponent / base)
     if isinstance(expr, TRIG):     # sympy's fdiff, its new call built directly (`trig_call`)
         arg = expr.args[0]
         rate = trig_call(sp.cos, arg) if isinstance(expr, sp.sin) else -trig_call(sp.sin, arg)
-        return rate * derivative(arg, var, memo)
+        return product(rate, derivative(arg, var, memo))
     if isinstance(expr, sp.Function) and type(expr)._eval_derivative is sp.Function._eval_derivative:
         terms = []
         for i, a in enumerate(expr.args, start=1):
@@ -134,7 +145,7 @@ def gradient(expr: sp.Expr, variables, memo: dict, partials: dict | None = None)
                 if key not in partials:
                     partials[key] = derivative(term, v, memo)
                 parts[index[v]].append(partials[key])
-    return [sp.Add(*p) if expr.is_Add else (p[0] if p else sp.S.Zero) for p in parts]
+    return [total(p) if expr.is_Add else (p[0] if p else sp.S.Zero) for p in parts]
 
 
 def jacobian_columns(exprs, variables, memo: dict,
@@ -152,6 +163,20 @@ def jacobian_columns(exprs, variables, memo: dict,
         if any(column):
             columns.append((j, column))
     return columns
+
+
+def shared_terms(vector: sp.ImmutableMatrix, seen: dict) -> sp.ImmutableMatrix:
+    """`vector` with each term of its sums replaced by the first equal term in `seen` (which
+    learns the new ones): a chain's positions repeat the terms of the point before, parsed
+    anew, and the derivation's memos (`free`, `partials`) compared equal copies node by node
+    (Basic.__eq__) where the same object is found at once. The same expressions."""
+    def share(expr):
+        if not expr.is_Add:
+            return expr
+        args = tuple(seen.setdefault(term, term) for term in expr.args)
+        same = all(a is b for a, b in zip(args, expr.args))
+        return expr if same else sp.Add._from_args(args, expr.is_commutative)
+    return sp.ImmutableMatrix(vector.shape[0], vector.shape[1], [share(e) for e in vector])
 
 
 def depends_on(expr: sp.Expr, symbols: Iterable[sp.Symbol], memo: dict | None = None) -> bool:
@@ -230,12 +255,8 @@ class DependenceProbe:
 
     def _evaluate(self, point: dict) -> list[float] | None:
         if self._compiled is None:
-            # plain Python floats (the math module's printer): mpmath's printer made
-            # every rational an mpf at every call
-            from sympy.printing.pycode import PythonCodePrinter
-
             self._compiled = sp.lambdify(self.symbols, self.exprs, modules=["math", "mpmath", {"math": math}],
-                                         printer=PythonCodePrinter)
+                                         printer=_probe_printer())
         try:
             values = [complex(v) for v in self._compiled(*(point[s] for s in self.symbols))]
         except (ValueError, ZeroDivisionError, OverflowError, TypeError, ArithmeticError, NameError):
@@ -270,6 +291,19 @@ class DependenceProbe:
         return done == 0  # no point could be evaluated: undecided, so assume dependence
 
 
+def _probe_printer():
+    """Plain Python floats (the math module's printer: mpmath's made every rational an mpf
+    at every call), terms and factors printed in their stored order: sorting them for
+    reading (`as_ordered_terms`) was most of the time to compile a chain's V, and only the
+    last bits of the values depend on the order (the probe's tolerance is 1e-9)."""
+    from sympy.printing.pycode import PythonCodePrinter
+
+    class UnorderedPrinter(PythonCodePrinter):
+        _default_settings = {**PythonCodePrinter._default_settings, "order": "none"}
+
+    return UnorderedPrinter
+
+
 @functools.lru_cache(maxsize=1 << 16)
 def _rough(expr: sp.Basic) -> bool:
     """expr.has(DiracDelta, Heaviside, Derivative), remembered for shared subexpressions
@@ -277,12 +311,29 @@ def _rough(expr: sp.Basic) -> bool:
     return isinstance(expr, (sp.DiracDelta, sp.Heaviside, sp.Derivative)) or any(_rough(a) for a in expr.args)
 
 
+def _any_rough(exprs) -> bool:
+    """`_rough` of any of `exprs`, in one walk visiting each distinct subtree once (the
+    100-link chain's mass matrix has 170 000 nodes: more than `_rough` remembers)."""
+    stack, seen = list(exprs), set()
+    while stack:
+        node = stack.pop()
+        if node in seen:
+            continue
+        if isinstance(node, (sp.DiracDelta, sp.Heaviside, sp.Derivative)):
+            return True
+        seen.add(node)
+        stack.extend(node.args)
+    return False
+
+
 def almost_everywhere(value):
     """Derivatives of abs/sign/min/max taken almost everywhere: DiracDelta -> 0, d sign -> 0 and
     Heaviside(x) -> (1 + sign(x))/2, so every result prints in the spec language and in C."""
     if isinstance(value, sp.MatrixBase):    # its nonzero entries only: M of n uncoupled coordinates has n
-        changed = {key: almost_everywhere(e) for key, e in value.todok().items()}
-        return sp.ImmutableMatrix(sp.SparseMatrix(value.shape[0], value.shape[1], changed))
+        entries = value.todok()
+        if _any_rough(entries.values()):
+            entries = {key: almost_everywhere(e) for key, e in entries.items()}
+        return sp.ImmutableMatrix(sp.SparseMatrix(value.shape[0], value.shape[1], entries))
     value = sp.sympify(value)
     if not _rough(value):
         return value

@@ -78,7 +78,7 @@ def _value(expr: sp.Expr, memo: dict, point: dict | None) -> float:
 def _node_value(expr: sp.Expr, memo: dict, point: dict | None) -> float:
     if expr is sp.nan:
         raise ConstantError("is undefined (NaN)")
-    if expr in (sp.zoo, sp.oo, sp.S.NegativeInfinity):
+    if expr is sp.zoo or expr is sp.oo or expr is sp.S.NegativeInfinity:    # singletons (`in` called __eq__)
         raise ConstantError("is infinite")
     if expr is sp.I:
         raise ConstantError("is complex")

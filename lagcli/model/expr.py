@@ -28,6 +28,7 @@ from dataclasses import dataclass
 import sympy as sp
 
 from lagcli.model.constants import ConstantError, constant_value
+from lagcli.model.sums import total
 from lagcli.errors import Loc, Problem, SpecError
 from lagcli.spec.slips import EQUATION_HINT, expression_syntax_hint
 
@@ -388,7 +389,7 @@ class _Builder:
     def add(self, values: list, nodes: list[ast.AST], negated: list[bool]):
         """The sum of the terms `values` (written at `nodes`; those `negated` subtracted)."""
         terms = [self.as_scalar(v, n) for v, n in zip(values, nodes)]
-        return sp.Add(*(-term if minus else term for term, minus in zip(terms, negated)))
+        return total([-term if minus else term for term, minus in zip(terms, negated)])
 
     def as_scalar(self, value, node: ast.AST | None = None):
         """`value`, which must be a scalar (every value here; vectors.py checks it)."""

@@ -13,16 +13,22 @@ radical, a float...) goes to `sympy.Mul`. tests/test_products.py compares both.
 from __future__ import annotations
 
 import sympy as sp
-from sympy.core.basic import Basic, _args_sortkey as _ORDER      # the key `Mul.flatten` sorts by
+from sympy.core.basic import Basic
 from sympy.core.sympify import _sympify
 from sympy.functions.elementary.exponential import ExpBase
+
+from lagcli.model.ordering import sort_args
 
 
 def product(*factors) -> sp.Expr:
     """`sympy.Mul(*factors)`, the same expression."""
     factors = [f if isinstance(f, Basic) else _sympify(f) for f in factors]
-    if len(factors) == 2 and _distributes(*factors):
-        return sp.Mul(*factors)
+    if len(factors) == 2:
+        a, b = factors
+        if _symbol_and_sum(a, b) or _symbol_and_sum(b, a):     # a mass times a dot product, M_ij q''_j
+            return sp.Mul._from_args((b, a) if b.compare(a) < 0 else (a, b), True)
+        if _distributes(a, b):
+            return sp.Mul(*factors)
     number, plain = sp.S.One, []
     for factor in factors:
         for part in (factor.args if factor.is_Mul else (factor,)):
@@ -35,11 +41,16 @@ def product(*factors) -> sp.Expr:
     bases = [p.base if p.is_Pow else p for p in plain]
     if number == 0 or len(set(bases)) != len(bases) or (len(plain) == 1 and plain[0].is_Add):
         return sp.Mul(*factors)
-    plain.sort(key=_ORDER)
+    sort_args(plain)      # `Mul.flatten`'s order
     args = plain if number == 1 else [number, *plain]
     if len(args) == 1:
         return args[0]
     return sp.Mul._from_args(args, True) if args else sp.S.One
+
+
+def _symbol_and_sum(a, b) -> bool:
+    """A commutative symbol and sum: plain, with distinct bases (`_plain`)."""
+    return a.is_Symbol and b.is_Add and a.is_commutative is True and b.is_commutative is True
 
 
 def _distributes(a, b) -> bool:

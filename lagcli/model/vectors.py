@@ -26,6 +26,7 @@ import sympy as sp
 
 from lagcli.model.expr import FUNCTIONS, _Builder
 from lagcli.model.kinematics import Entity, Vector
+from lagcli.model.sums import total
 
 VECTOR_FUNCTIONS = {  # name: (argument kinds, what it gives)
     "dot": (("vector", "vector"), "scalar"),
@@ -117,8 +118,8 @@ class VectorBuilder(_Builder):
         if not any(isinstance(v, Vector) for v in values):
             return super().add(values, nodes, negated)
         vectors = [self.as_vector(v, n) for v, n in zip(values, nodes)]
-        return Vector(tuple(sp.Add(*(-v.components[k] if minus else v.components[k]
-                                     for v, minus in zip(vectors, negated))) for k in range(3)))
+        return Vector(tuple(total([-v.components[k] if minus else v.components[k]
+                                   for v, minus in zip(vectors, negated)]) for k in range(3)))
 
     def _BinOp(self, node: ast.BinOp):
         if isinstance(node.op, (ast.Add, ast.Sub)):

@@ -1,0 +1,75 @@
+"""`total` (lagcli/model/sums.py) builds the very expression sympy's Add does, and
+`sort_key` (lagcli/model/ordering.py) orders expressions as `Basic.compare` does."""
+import functools
+import random
+
+import sympy as sp
+from hypothesis import given, settings, strategies as st
+
+from lagcli.model.ordering import sort_args, sort_key
+from lagcli.model.products import product
+from lagcli.model.sums import negative, total
+
+x, y, z = sp.symbols("x y z", real=True)
+m1, m10, m2, q1, q10 = sp.symbols("m1 m10 m2 q1 q10")
+a, b = sp.symbols("a b", commutative=False)
+f = sp.Function("f")
+POOL = [x, y, z, m1, m10, m2, q1, q10, sp.cos(q1), sp.sin(q1 - q10), f(x), sp.Dummy("d")]
+NUMBERS = [sp.Integer(2), sp.Integer(-1), sp.Rational(1, 2), sp.Rational(-3, 4), sp.S.One, sp.S.Zero,
+           sp.Float(0.5), sp.pi, sp.sqrt(2), sp.I, sp.oo, sp.zoo, sp.nan]
+
+
+def _expression(rng, depth=0):
+    kind = rng.random()
+    if kind < 0.3 or depth > 2:
+        return rng.choice(POOL)
+    if kind < 0.4:
+        return rng.choice(NUMBERS[:7] if rng.random() < 0.9 else NUMBERS)
+    if kind < 0.5:
+        return rng.choice([sp.sin, sp.cos, sp.exp, sp.Abs])(_expression(rng, depth + 1))
+    if kind < 0.6:
+        return _expression(rng, depth + 1) ** rng.choice([2, 3, -1, sp.Rational(1, 2)])
+    if kind < 0.75:
+        return sp.Add(*(_expression(rng, depth + 1) for _ in range(rng.randint(2, 4))))
+    if kind < 0.8:
+        return sp.Mul(rng.choice([2, -1, sp.Rational(1, 3)]), _expression(rng, depth + 1), evaluate=False)
+    if kind < 0.85:
+        return rng.choice([a, b]) * rng.choice(POOL)
+    return sp.Mul(*(_expression(rng, depth + 1) for _ in range(rng.randint(2, 3))))
+
+
+@settings(max_examples=400, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(1, 12))
+def test_total_is_sympys_add(seed, count):
+    rng = random.Random(seed)
+    terms = [_expression(rng) for _ in range(count)]
+    terms += rng.sample(terms, min(2, len(terms)))      # like terms to collect
+    terms += [product(rng.choice(POOL), t) for t in terms[:2]]
+    ours, theirs = total(terms), sp.Add(*terms)
+    assert ours == theirs and type(ours) is type(theirs), terms
+    assert ours.args == theirs.args, terms
+    assert ours.is_commutative == theirs.is_commutative
+    minus, theirs = negative(ours), -theirs
+    assert minus == theirs and minus.args == theirs.args and type(minus) is type(theirs), terms
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(2, 30))
+def test_sort_key_orders_as_compare(seed, count):
+    rng = random.Random(seed)
+    exprs = [_expression(rng) for _ in range(count)]
+    ours, theirs = list(exprs), sorted(exprs, key=functools.cmp_to_key(sp.Basic.compare))
+    sort_args(ours)
+    assert ours == theirs and [type(e) for e in ours] == [type(e) for e in theirs]
+    for u, v in zip(exprs, exprs[1:]):
+        c = u.compare(v)
+        assert (sort_key(u) > sort_key(v)) - (sort_key(u) < sort_key(v)) == c, (u, v)
+
+
+def test_mass_matrix_entry():
+    """The chain's mass matrix entries: 100 masses times one dot product."""
+    X = q1 * sp.cos(x) * sp.cos(y) + q1 * sp.sin(x) * sp.sin(y)
+    masses = sp.symbols("m1:101")
+    terms = [product(m, X) for m in masses]
+    assert all(t == sp.Mul(m, X) and t.args == sp.Mul(m, X).args for m, t in zip(masses, terms))
+    assert total(terms).args == sp.Add(*terms).args
