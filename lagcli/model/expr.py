@@ -28,7 +28,7 @@ from dataclasses import dataclass
 import sympy as sp
 
 from lagcli.model.constants import ConstantError, constant_value
-from lagcli.model.sums import total
+from lagcli.model.sums import negative, total
 from lagcli.errors import Loc, Problem, SpecError
 from lagcli.spec.slips import EQUATION_HINT, expression_syntax_hint
 
@@ -361,7 +361,7 @@ class _Builder:
 
     def unary(self, op: ast.unaryop, operand: sp.Expr) -> sp.Expr:
         if isinstance(op, ast.USub):
-            return -operand
+            return negative(operand)       # -(a chain's sum of n terms): not sorted by compare
         if isinstance(op, ast.UAdd):
             return operand
         self.fail(f"operator '{type(op).__name__}' is not allowed")
@@ -389,7 +389,7 @@ class _Builder:
     def add(self, values: list, nodes: list[ast.AST], negated: list[bool]):
         """The sum of the terms `values` (written at `nodes`; those `negated` subtracted)."""
         terms = [self.as_scalar(v, n) for v, n in zip(values, nodes)]
-        return total([-term if minus else term for term, minus in zip(terms, negated)])
+        return total([negative(term) if minus else term for term, minus in zip(terms, negated)])
 
     def as_scalar(self, value, node: ast.AST | None = None):
         """`value`, which must be a scalar (every value here; vectors.py checks it)."""

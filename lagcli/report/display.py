@@ -31,6 +31,7 @@ from lagcli.model import calculus
 from lagcli.model.calculus import almost_everywhere
 from lagcli.model.products import product
 from lagcli.derive.result import Derivation
+from lagcli.render.shapes import Shapes
 from lagcli.render.tidy import DISPLAY_MAX_NODES, display_form, pull_signs, small
 from lagcli.render.weighted import weighted_display_form
 
@@ -46,8 +47,9 @@ def signed_sum(terms: Sequence[sp.Expr], print_expr: Callable[[sp.Expr], str]) -
     out = []
     for i, term in enumerate(terms):
         negative = term.could_extract_minus_sign()
-        body = print_expr(-term if negative else term)
-        if (-term if negative else term).is_Add:
+        shown = -term if negative else term
+        body = print_expr(shown)
+        if shown.is_Add:
             body = f"({body})"
         if i == 0:
             out.append(f"-{body}" if negative else body)
@@ -73,7 +75,10 @@ class Display:
         self._parts: dict = {}
         self._signs: dict = {}
         self._free_symbols: dict = {}   # of every subexpression differentiated (calculus.free_symbols)
+        self._differentiated: dict = {}  # (expr, var) -> d expr / d var
+        self._merged: dict = {}          # (i, names) -> the parts `names` of equation i, by monomial
         self._tidy_on = simplify
+        self._tidy_by_shape = Shapes(functools.partial(self._tidy_tree, sized=True))
         n = self.n
         upper = {(i, j): self.tidy(d.mass_matrix[i, j]) for i in range(n) for j in range(i, n)}
         self.M = [[upper[min(i, j), max(i, j)] for j in range(n)] for i in range(n)]
@@ -88,8 +93,13 @@ class Display:
         self.A = [[self.tidy(e) for e in row.a] for row in d.constraints]
 
     def differentiate(self, expr: sp.Expr, var) -> sp.Expr:
-        """d expr / d var (`derivative`)."""
-        return derivative(expr, var, self._free_symbols)
+        """d expr / d var (`derivative`), each taken once (Q_i and the explicit form's
+        position terms both need dV/dq_i)."""
+        key = (expr, var)
+        found = self._differentiated.get(key)
+        if found is None:
+            found = self._differentiated[key] = derivative(expr, var, self._free_symbols)
+        return found
 
     def tidy(self, expr, sized: bool = False) -> sp.Expr:
         """expr tidied (`_tidy_tree`); `sized`: expr is known to be within TREE_MAX_NODES."""
@@ -97,7 +107,10 @@ class Display:
         if not self._tidy_on:
             return expr
         if expr not in self._cache:
-            self._cache[expr] = self._tidy_tree(expr, sized)
+            if expr.is_Add and not sized and small(expr, TREE_MAX_NODES):
+                self._cache[expr] = self._tidy_by_shape(expr)   # the steps of the last sum of its shape
+            else:
+                self._cache[expr] = self._tidy_tree(expr, sized)
         return self._cache[expr]
 
     def signs(self, expr) -> sp.Expr:
@@ -251,11 +264,14 @@ class Display:
 
     def part_terms(self, i: int, names: Sequence[str], sign: int = 1) -> Terms:
         """The terms of the parts `names` of equation i, merged by monomial and ordered."""
-        buckets: dict = {}
-        for name in names:
-            for monomial, coefficient in self.parts(i)[name].items():
-                _add(buckets, monomial, coefficient)
-        return self._ordered(buckets, sign)
+        key = (i, tuple(names))
+        if key not in self._merged:       # the equation and F_i merge the same parts
+            buckets: dict = {}
+            for name in names:
+                for monomial, coefficient in self.parts(i)[name].items():
+                    _add(buckets, monomial, coefficient)
+            self._merged[key] = buckets
+        return self._ordered(self._merged[key], sign)
 
     def acceleration_terms(self, i: int) -> Terms:
         return [self.signs(product(M_ij, a)) for M_ij, a in zip(self.M[i], self.qdd) if M_ij != 0]

@@ -1,0 +1,98 @@
+"""`lagcli.render.shapes.Shapes` (a result remembered for an expression's shape, renamed
+back for the next expression of that shape) gives what computing it afresh gives, node
+for node (`srepr`: the same arguments in the same order, so the same printed bytes).
+The oracle is the function itself, called directly on each expression: the report's
+tidying (`display_form`, `pull_signs`, `Display.tidy`) on chain-like expressions whose
+symbols' names sort in every order ("q10" < "q2" as names), with mixed assumptions."""
+from __future__ import annotations
+
+import functools
+
+import sympy as sp
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from lagcli.render.shapes import Shapes, renamed, renamings
+from lagcli.render.tidy import display_form, pull_signs
+
+q = [sp.Symbol(f"q{k}", real=True) for k in range(1, 13)]
+l = [sp.Symbol(f"l{k}", positive=True) for k in range(1, 13)]
+m = [sp.Symbol(f"m{k}", positive=True) for k in range(1, 13)]
+c = [sp.Symbol(f"c{k}") for k in range(1, 13)]          # no assumptions: compared by them too
+indices = st.lists(st.integers(0, 11), min_size=4, max_size=4, unique=True)
+
+
+def dot(i: int, j: int, number=1) -> sp.Expr:
+    """A planar chain's dot product of two Jacobian columns, as the derivation writes it."""
+    return number * (l[i] * l[j] * sp.sin(q[i]) * sp.sin(q[j]) + l[i] * l[j] * sp.cos(q[i]) * sp.cos(q[j]))
+
+
+def shapes_of(draw_indices) -> list[sp.Expr]:
+    i, j, k, h = draw_indices
+    return [
+        dot(i, j), dot(i, j, -2), dot(i, i),
+        sp.Add(*(w * dot(i, j) for w in (m[k], m[h], m[j]))),          # a mass matrix entry
+        sp.Add(*(w * dot(i, i) for w in (m[k], m[h]))),
+        c[i] * sp.sin(q[i] - q[j]) * (m[k] + m[h]) - c[j] * sp.cos(q[j]) ** 2 + c[j] * sp.sin(q[j]) ** 2,
+        l[i] * (m[k] - m[h]) * sp.cos(q[i] + q[j]) + l[j] * m[k] * sp.sin(q[h]) ** 2 * sp.Rational(3, 2),
+        -q[i] - q[j] + 2 * q[k], (q[j] - q[i]) * (-c[k] - c[h]) * l[i],
+    ]
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(indices, min_size=2, max_size=4))
+def test_remembered_display_form_is_display_form(index_sets):
+    remembered = Shapes(display_form)
+    for index_set in index_sets:
+        for expr in shapes_of(index_set):
+            assert sp.srepr(remembered(expr)) == sp.srepr(display_form(expr)), expr
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.lists(indices, min_size=2, max_size=3))
+def test_remembered_pull_signs_is_pull_signs(index_sets):
+    remembered = Shapes(pull_signs)
+    for index_set in index_sets:
+        for expr in shapes_of(index_set):
+            assert sp.srepr(remembered(expr)) == sp.srepr(pull_signs(expr)), expr
+
+
+def test_display_tidy_by_shape_is_the_tree_tidied_directly(tmp_path):
+    """Every entry of a 12-link chain's mass matrix (most tidied by shape, from an entry
+    before of that shape) is the entry tidied without shapes."""
+    import lagcli
+    from lagcli.report.display import Display
+
+    links = range(1, 13)
+    lines = ["name: chain12", f"coordinates: [{', '.join(f'q{k}' for k in links)}]", "parameters:"]
+    lines += [f"  {p}{k}: 1.0" for k in links for p in "ml"] + ["  g: 9.81", "gravity: [0, -g]", "particles:"]
+    for k in links:
+        x = " + ".join(f"l{j}*sin(q{j})" for j in range(1, k + 1))
+        y = " + ".join(f"l{j}*cos(q{j})" for j in range(1, k + 1))
+        lines.append(f"  P{k}: {{mass: m{k}, position: [{x}, -({y})]}}")
+    path = tmp_path / "chain12.yaml"
+    path.write_text("\n".join(lines) + "\n")
+    d = lagcli.load(str(path)).derivation
+    shown, direct = Display(d), Display(d)
+    direct._tidy_by_shape = functools.partial(direct._tidy_tree, sized=True)    # no shapes
+    n = len(d.model.q)
+    for i in range(n):
+        for j in range(i, n):
+            assert sp.srepr(shown.M[i][j]) == sp.srepr(direct.tidy(d.mass_matrix[i, j])), (i, j)
+
+
+def test_not_plain_has_no_shape():
+    x = sp.Symbol("x", real=True)
+    assert renamings(sp.exp(x) + x) is None
+    assert renamings(sp.Float(1.5) * x) is None
+    assert renamings(sp.Symbol("x") + x) is None       # one name, two sets of assumptions
+
+
+def test_renamed_keeps_argument_order_and_form():
+    a, b = sp.symbols("a b", real=True)
+    unevaluated = sp.Mul(2, a + b, evaluate=False)       # common_factor's 2*(a + b)
+    forward, back = renamings(unevaluated)
+    nodes: dict = {}
+    there = renamed(unevaluated, forward, nodes)
+    assert there.is_Mul and len(there.args) == 2
+    assert sp.srepr(renamed(there, back, nodes)) == sp.srepr(unevaluated)
