@@ -141,6 +141,8 @@ class Dag:
     def _factored(self, split) -> int:
         common = dict(split[0][1])
         for _, powers, _ in split[1:]:
+            if not common:
+                break
             common = {b: common_exponent(e, powers[b]) for b, e in common.items() if b in powers}
             common = {b: e for b, e in common.items() if e != 0}
         content = numeric_content([number for number, _, _ in split])
@@ -160,9 +162,7 @@ class Dag:
         joins the product most terms share."""
         if all(len(powers) < 2 for _, powers, _ in split):
             return [self._term(term) for term in split]
-        keys = [[(tuple((c, x) for c, x in sorted(powers.items()) if c != b), b)
-                 for b, e in powers.items() if e == 1] if len(powers) > 1 else []
-                for _, powers, _ in split]
+        keys = [_products_less_one(powers) if len(powers) > 1 else [] for _, powers, _ in split]
         counts: dict = {}
         for options in keys:
             for key, _ in options:
@@ -190,6 +190,12 @@ class Dag:
         if node[0] == "call":
             return node[2]
         return ()
+
+
+def _products_less_one(powers: dict) -> list:
+    """(the other factors, sorted, the factor) for each factor of exponent 1 of a term."""
+    factors = sorted(powers.items())
+    return [(tuple(f for f in factors if f[0] != b), b) for b, e in powers.items() if e == 1]
 
 
 def _times(a, b):
