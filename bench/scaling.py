@@ -216,8 +216,11 @@ def main() -> None:
     if len(rows) >= 2:
         ns = [r[0] for r in rows]
         for k, what in ((1, "derive --json"), (2, "generate --lang c"), (3, "C rhs")):
+            values = [r[k] for r in rows]
+            steps = ", ".join(f"{a}-{b}: {exponent([a, b], [u, v]):.2f}"      # start-up hides the small N
+                              for a, b, u, v in zip(ns, ns[1:], values, values[1:]))
             print(f"growth exponent of {what} (least squares, N = {ns[0]}..{ns[-1]}): "
-                  f"{exponent(ns, [r[k] for r in rows]):.2f}")
+                  f"{exponent(ns, values):.2f}; between neighbours: {steps}")
 
 
 if __name__ == "__main__":

@@ -12,7 +12,7 @@ same comparison written as nested tuples, built once per distinct subexpression
 
 so sorting by either gives the same list (both sorts are stable). A node whose
 hashable content holds a frozenset (compared as `Basic(*set)`, in the set's order) has
-no key: `sorted_args` then sorts with `Basic.compare` itself. tests/test_ordering.py
+no key: `sort_args` then sorts with `Basic.compare` itself. tests/test_sums_and_ordering.py
 compares both on random expressions.
 """
 from __future__ import annotations
