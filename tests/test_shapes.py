@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import functools
 
+import pytest
 import sympy as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -39,22 +40,14 @@ def shapes_of(draw_indices) -> list[sp.Expr]:
     ]
 
 
-@settings(max_examples=60, deadline=None)
-@given(st.lists(indices, min_size=2, max_size=4))
-def test_remembered_display_form_is_display_form(index_sets):
-    remembered = Shapes(display_form)
+@pytest.mark.parametrize("tidy", [display_form, pull_signs], ids=["display_form", "pull_signs"])
+@settings(max_examples=45, deadline=None)
+@given(index_sets=st.lists(indices, min_size=2, max_size=4))
+def test_remembered_by_shape_is_the_direct_result(tidy, index_sets):
+    remembered = Shapes(tidy)
     for index_set in index_sets:
         for expr in shapes_of(index_set):
-            assert sp.srepr(remembered(expr)) == sp.srepr(display_form(expr)), expr
-
-
-@settings(max_examples=30, deadline=None)
-@given(st.lists(indices, min_size=2, max_size=3))
-def test_remembered_pull_signs_is_pull_signs(index_sets):
-    remembered = Shapes(pull_signs)
-    for index_set in index_sets:
-        for expr in shapes_of(index_set):
-            assert sp.srepr(remembered(expr)) == sp.srepr(pull_signs(expr)), expr
+            assert sp.srepr(remembered(expr)) == sp.srepr(tidy(expr)), expr
 
 
 def test_display_tidy_by_shape_is_the_tree_tidied_directly(tmp_path):
