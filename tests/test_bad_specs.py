@@ -7,7 +7,6 @@ The check runs from inside that directory, so messages name the bare file.
 """
 from __future__ import annotations
 
-import time
 from pathlib import Path
 
 import pytest
@@ -15,23 +14,23 @@ from click.testing import CliRunner
 
 BAD = Path(__file__).parent / "data" / "bad"
 CASES = sorted(p for p in BAD.iterdir() if p.suffix in (".yaml", ".yml", ".toml"))
-TIME_LIMIT = 5.0  # seconds; hostile input must be refused quickly
+# hostile input must be refused quickly, never hang: a hang is caught by pytest-timeout
+# (a guard on the test run, not a timing assertion: see pytestmark)
+pytestmark = pytest.mark.timeout(120)
 
 
-def run_check(path: str) -> tuple:
-    """Run `lagcli check PATH`; return (result, seconds)."""
+def run_check(path: str):
+    """Run `lagcli check PATH`; return click's result."""
     from lagcli.cli import cli
 
     try:
         runner = CliRunner(mix_stderr=False)  # click < 8.2 keeps stderr apart only on request
     except TypeError:
         runner = CliRunner()
-    start = time.perf_counter()
-    result = runner.invoke(cli, ["check", path])
-    return result, time.perf_counter() - start
+    return runner.invoke(cli, ["check", path])
 
 
-def assert_refused(result, seconds: float, expected: list[str]) -> None:
+def assert_refused(result, expected: list[str]) -> None:
     shown = f"exit {result.exit_code}\nstdout:\n{result.stdout}\nstderr:\n{result.stderr}"
     assert result.exit_code == 2, shown
     assert isinstance(result.exception, SystemExit), repr(result.exception)
@@ -39,7 +38,6 @@ def assert_refused(result, seconds: float, expected: list[str]) -> None:
     assert result.stdout == "", "diagnostics belong on stderr"
     for line in expected:
         assert line in result.stderr, f"missing {line!r}\n{shown}"
-    assert seconds < TIME_LIMIT, f"took {seconds:.1f} s"
 
 
 def test_corpus_is_complete():
@@ -53,29 +51,29 @@ def test_corpus_is_complete():
 def test_bad_spec_is_refused(case: Path, monkeypatch):
     monkeypatch.chdir(BAD)
     expected = [line.strip() for line in case.with_suffix(".expected").read_text().splitlines()]
-    result, seconds = run_check(case.name)
-    assert_refused(result, seconds, [line for line in expected if line])
+    result = run_check(case.name)
+    assert_refused(result, [line for line in expected if line])
 
 
 def test_oversize_spec_is_refused(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     padding = "# " + "x" * (1 << 20) + "\n"  # a valid spec, just too big
     Path("big.yaml").write_text("coordinates: [x]\nkinetic: x_dot**2/2\n" + padding)
-    result, seconds = run_check("big.yaml")
-    assert_refused(result, seconds, ["big.yaml: spec file is too large (the limit is 1 MiB)"])
+    result = run_check("big.yaml")
+    assert_refused(result, ["big.yaml: spec file is too large (the limit is 1 MiB)"])
 
 
 def test_missing_file_is_refused(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
-    result, seconds = run_check("nowhere.yaml")
-    assert_refused(result, seconds, ["nowhere.yaml: cannot read the spec"])
+    result = run_check("nowhere.yaml")
+    assert_refused(result, ["nowhere.yaml: cannot read the spec"])
 
 
 def test_unknown_extension_is_refused(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     Path("spec.json").write_text("{}")
-    result, seconds = run_check("spec.json")
-    assert_refused(result, seconds, ["spec.json: unknown spec format '.json'"])
+    result = run_check("spec.json")
+    assert_refused(result, ["spec.json: unknown spec format '.json'"])
 
 
 @pytest.mark.parametrize("text, expected", [
@@ -85,5 +83,5 @@ def test_unknown_extension_is_refused(tmp_path, monkeypatch):
 def test_hostile_yaml_is_refused_quickly(tmp_path, monkeypatch, text, expected):
     monkeypatch.chdir(tmp_path)
     Path("hostile.yaml").write_text(text)
-    result, seconds = run_check("hostile.yaml")
-    assert_refused(result, seconds, ["hostile.yaml:1:", expected])
+    result = run_check("hostile.yaml")
+    assert_refused(result, ["hostile.yaml:1:", expected])

@@ -62,18 +62,17 @@ CORPUS = sorted(p for folder in ("bad", "warn", "fuzz") for p in (Path(__file__)
                 if p.suffix in (".yaml", ".toml"))
 
 
+@pytest.mark.timeout(300)
 @pytest.mark.parametrize("case", CORPUS, ids=lambda p: f"{p.parent.name}/{p.name}")
-def test_check_and_derive_json_refuse_or_work_within_ten_seconds(case):
+def test_check_and_derive_json_refuse_or_work(case):
     # every spec of the corpora (bad, warnings, fuzz findings and issue 25's reproductions):
     # `check` and `derive --json` end with a result or a LagcliError (exit 0 or 2), never
-    # another exception (a traceback), each within 10 s of CPU time
-    import time
+    # another exception (a traceback), and never hang (pytest-timeout guards the test run)
     import warnings
 
     from lagcli.commands import check_summary, derive_json
 
     for command in (check_summary, derive_json):
-        start = time.process_time()
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             try:
@@ -81,4 +80,3 @@ def test_check_and_derive_json_refuse_or_work_within_ten_seconds(case):
             except LagcliError as exc:
                 assert exc.exit_code == 2, exc.render()
                 exc.render()
-        assert time.process_time() - start < 10, f"{command.__name__} took more than 10 s"
