@@ -32,7 +32,7 @@ from lagcli.model.calculus import almost_everywhere
 from lagcli.model.products import product
 from lagcli.derive.result import Derivation
 from lagcli.render.shapes import Shapes
-from lagcli.render.tidy import DISPLAY_MAX_NODES, display_form, pull_signs, small
+from lagcli.render.tidy import DISPLAY_MAX_NODES, display_form, pull_signs, small, sum_of_symbols
 from lagcli.render.weighted import weighted_display_form
 
 TREE_MAX_NODES = 5000     # tidy the parts of expressions up to this size (tree nodes)
@@ -40,22 +40,33 @@ TREE_MAX_NODES = 5000     # tidy the parts of expressions up to this size (tree 
 Terms = list   # of sympy expressions, none of them a sum
 
 
-def signed_sum(terms: Sequence[sp.Expr], print_expr: Callable[[sp.Expr], str]) -> str:
-    """`a + b - c`: the terms in order, each printed by `print_expr` with its sign pulled out."""
+def signed_sum(terms: Sequence[sp.Expr], print_expr: Callable[[sp.Expr], str],
+               pieces: dict | None = None) -> str:
+    """`a + b - c`: the terms in order, each printed by `print_expr` with its sign pulled out.
+    `pieces` remembers each term's sign and printed body, for a printer that prints the
+    same terms in several sums (T, L, E and h share T2's terms)."""
     if not terms:
         return print_expr(sp.S.Zero)
+    pieces = {} if pieces is None else pieces
     out = []
     for i, term in enumerate(terms):
-        negative = term.could_extract_minus_sign()
-        shown = -term if negative else term
-        body = print_expr(shown)
-        if shown.is_Add:
-            body = f"({body})"
+        piece = pieces.get(term)
+        if piece is None:
+            piece = pieces[term] = _signed_piece(term, print_expr)
+        negative, body = piece
         if i == 0:
             out.append(f"-{body}" if negative else body)
         else:
             out.append(f" - {body}" if negative else f" + {body}")
     return "".join(out)
+
+
+def _signed_piece(term: sp.Expr, print_expr: Callable[[sp.Expr], str]) -> tuple[bool, str]:
+    """(negative, the term's magnitude printed, in parentheses when a sum)."""
+    negative = term.could_extract_minus_sign()
+    shown = -term if negative else term
+    body = print_expr(shown)
+    return negative, f"({body})" if shown.is_Add else body
 
 
 def split(expr: sp.Expr) -> Terms:
@@ -108,11 +119,18 @@ class Display:
         if not self._tidy_on:
             return expr
         if expr not in self._cache:
-            if expr.is_Add and not sized and small(expr, TREE_MAX_NODES) and _weighted_sum(expr) is None:
+            if expr.is_Add and not sized and self._by_shape(expr):
                 self._cache[expr] = self._tidy_by_shape(expr)   # the steps of the last sum of its shape
             else:
                 self._cache[expr] = self._tidy_tree(expr, sized)
         return self._cache[expr]
+
+    @staticmethod
+    def _by_shape(add) -> bool:
+        """Worth tidying by its shape: small, not a weighted sum (whose X is tidied by its
+        shape instead: renaming the whole sum costs as much as tidying it), not a sum of
+        symbols (display_form keeps it)."""
+        return small(add, TREE_MAX_NODES) and not sum_of_symbols(add) and _weighted_sum(add) is None
 
     def signs(self, expr) -> sp.Expr:
         """`pull_signs`, remembering every subexpression's result for this report."""
