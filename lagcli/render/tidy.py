@@ -336,6 +336,8 @@ def common_factor(expr) -> sp.Expr:
     if not expr.is_Add:    # factor_terms works inside: when that changes nothing, neither do we
         unchanged = all(common_factor(a) == a for a in expr.args)
         return expr if unchanged else sp.factor_terms(expr)
+    if sum_of_symbols(expr):
+        return expr        # distinct symbols, each times 1: nothing in common
     split = []
     for term in expr.args:
         number, rest = term.as_coeff_Mul()

@@ -24,9 +24,10 @@ from lagcli.render.tidy import (DISPLAY_MAX_NODES, MAX_POWER, _square_arguments,
                                 is_expanded, pull_signs)
 
 
-def weighted_display_form(weights, shared) -> sp.Expr | None:
+def weighted_display_form(weights, shared, signs=pull_signs) -> sp.Expr | None:
     """display_form(sum(w * shared for w in weights)), or None when the shortcut does not
-    apply (the caller then builds the sum)."""
+    apply (the caller then builds the sum). `signs`: pull_signs, or one remembering its
+    results (a chain's entries of one column share their sum of masses)."""
     split = _monomial(shared)
     if split is None or len(weights) < 2 or len(set(weights)) != len(weights) \
             or not all(w.is_Symbol for w in weights) or not shared.free_symbols.isdisjoint(weights):
@@ -34,7 +35,7 @@ def weighted_display_form(weights, shared) -> sp.Expr | None:
     number, powers, calls = split
     first = product(weights[0], shared)                            # every term counts as this one
     grouped = product(_keep_coeff(number, product(*powers, sp.Add(*weights)), clear=True, sign=True), product(*calls))
-    result = pull_signs(common_factor(grouped))
+    result = signs(common_factor(grouped))
     negative = number.is_negative
     whole = len(weights) * count_ops(-first if negative else first) + len(weights) - 1 + negative
     return result if count_ops(result) <= whole else None

@@ -151,7 +151,7 @@ class Display:
             return expr      # a huge expression is shown with named quantities instead
         weighted = _weighted_sum(expr)
         if weighted is not None:
-            found = weighted_display_form(weighted[0], self.tidy(weighted[1]))   # X by its shape
+            found = weighted_display_form(weighted[0], self.tidy(weighted[1]), self.signs)   # X by its shape
             if found is not None:
                 return found
         args = [self.tidy(a, sized=True) for a in expr.args]
