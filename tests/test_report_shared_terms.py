@@ -119,3 +119,12 @@ def test_remembering_printer_prints_what_the_plain_printer_prints(exprs):
     printer = remembering_spec_str()
     for expr in exprs + [sp.Mul(*exprs), -sp.Add(*exprs)] + [e ** 2 for e in exprs]:
         assert printer(expr) == spec_str(expr)
+
+
+@settings(max_examples=60, deadline=None)
+@given(chosen=st.lists(symbols, min_size=2, max_size=8, unique=True), signs=st.lists(st.booleans(), min_size=8, max_size=8))
+def test_a_sum_of_signed_symbols_has_the_common_factor_of_factor_terms(chosen, signs):
+    from lagcli.render.tidy import common_factor
+
+    add = sp.Add(*(-s if negative else s for s, negative in zip(chosen, signs)))
+    assert sp.srepr(common_factor(add)) == sp.srepr(sp.factor_terms(add))

@@ -235,11 +235,12 @@ class Display:
         out = {}
         for j, l in self._velocity_pairs(i):
             if j == l:
-                parts = (self._dM(i, j, q[j]), -self._dM(j, j, q[i]) / 2)
+                parts = (self._dM(i, j, q[j]), _negated(self._dM(j, j, q[i]), half=True))
             else:
-                parts = (self._dM(i, j, q[l]), self._dM(i, l, q[j]), -self._dM(j, l, q[i]))
-            if any(part is not zero for part in parts):
-                coefficient = sp.Add(*parts)
+                parts = (self._dM(i, j, q[l]), self._dM(i, l, q[j]), _negated(self._dM(j, l, q[i])))
+            nonzero = [part for part in parts if part is not zero]
+            if nonzero:      # sympy's Add drops zeros and returns a single term itself
+                coefficient = nonzero[0] if len(nonzero) == 1 else sp.Add(*nonzero)
                 if coefficient != 0:
                     out[qd[j] * qd[l]] = coefficient
         return out
@@ -351,6 +352,13 @@ def bucket_terms(monomial, coefficient, tidy: Callable, signs: Callable, sign: i
     if monomial == 1:
         return [signs(term) for term in split(coefficient)]
     return [signs(product(coefficient, monomial))]
+
+
+def _negated(expr, half: bool = False):
+    """-expr (-expr/2 with `half`) as sympy's operators build it; 0 stays 0 without them."""
+    if expr is sp.S.Zero:
+        return expr
+    return -expr / 2 if half else -expr
 
 
 def _weighted_sum(expr) -> tuple[list, sp.Expr] | None:
