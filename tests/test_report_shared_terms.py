@@ -128,3 +128,24 @@ def test_a_sum_of_signed_symbols_has_the_common_factor_of_factor_terms(chosen, s
 
     add = sp.Add(*(-s if negative else s for s, negative in zip(chosen, signs)))
     assert sp.srepr(common_factor(add)) == sp.srepr(sp.factor_terms(add))
+
+
+@settings(max_examples=60, deadline=None)
+@given(index_sets=indices, weights=st.lists(st.sampled_from(m + c), min_size=2, max_size=6, unique=True),
+       number=st.sampled_from([1, -1, 2, sp.Rational(-1, 2)]), power=st.integers(1, 3))
+def test_a_flat_weighted_sum_is_shown_as_display_form_shows_it(index_sets, weights, number, power):
+    """dV/dq_i of a chain, -g l_i m_i sin(q_i) - g l_i m_(i+1) sin(q_i) - ...: the sum rebuilt
+    from the weights and X is the sum itself, and the weighted form of it is display_form's."""
+    from lagcli.render.weighted import flat_weighted_sum, weighted_display_form
+
+    i, j, k = index_sets
+    for shared in (number * c[i] * q[j] ** power * sp.sin(q[k]), number * c[i] * sp.cos(q[i] - q[j]),
+                   number * q[k] ** power):
+        add = sp.Add(*(w * shared for w in weights))
+        found = flat_weighted_sum(add)
+        if found is None:
+            continue
+        assert sp.srepr(sp.Add(*(w * found[1] for w in found[0]))) == sp.srepr(add)
+        shown = weighted_display_form(*found)
+        if shown is not None:
+            assert sp.srepr(shown) == sp.srepr(display_form(add)), add
