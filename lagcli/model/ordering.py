@@ -32,7 +32,7 @@ class NoKey(Exception):
 
 
 @functools.lru_cache(maxsize=1 << 10)
-def _class_key(cls: type) -> tuple:
+def class_key(cls: type) -> tuple:
     """`_cmp_name` as a key: listed classes by their place, unlisted ones after them by name."""
     name = cls.__name__
     return (_PLACE.get(name, _UNKNOWN), name)
@@ -49,7 +49,7 @@ def _key(expr: Basic) -> tuple:
     are mostly sorted once (the 170 000 terms m_k X of a 100-link chain's mass matrix:
     remembering them pushed the shared X out of the cache)."""
     content = expr._hashable_content()
-    parts = [_class_key(type(expr)), len(content)]
+    parts = [class_key(type(expr)), len(content)]
     for item in content:
         if isinstance(item, Basic):
             parts.append(sort_key(item))
@@ -61,8 +61,28 @@ def _key(expr: Basic) -> tuple:
 
 
 def sort_args(args: list) -> None:
-    """Sort `args` in place into sympy's canonical order (what `_addsort`/`_mulsort` do)."""
+    """Sort `args` in place into sympy's canonical order (what `_addsort`/`_mulsort` do):
+    by class first, and by key only among arguments of one class. A product's factors
+    are mostly of different classes (m3*cos(q3)*(sum of 100 terms)): keying the sum
+    itself walked its terms at every product."""
     if len(args) < 3:      # one comparison: compare itself is cheaper than two keys
+        _sort_one_class(args)
+        return
+    classes = [class_key(type(a)) for a in args]
+    order = sorted(range(len(args)), key=classes.__getitem__)
+    result, start = [], 0
+    for end in range(1, len(order) + 1):
+        if end == len(order) or classes[order[end]] != classes[order[start]]:
+            run = [args[k] for k in order[start:end]]
+            _sort_one_class(run)
+            result += run
+            start = end
+    args[:] = result
+
+
+def _sort_one_class(args: list) -> None:
+    """`sort_args` of arguments of one class (or of two of any classes)."""
+    if len(args) < 3:
         if len(args) == 2 and args[1].compare(args[0]) < 0:
             args.reverse()
         return
