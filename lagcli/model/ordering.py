@@ -14,6 +14,11 @@ so sorting by either gives the same list (both sorts are stable). A node whose
 hashable content holds a frozenset (compared as `Basic(*set)`, in the set's order) has
 no key: `sort_args` then sorts with `Basic.compare` itself. tests/test_sums_and_ordering.py
 compares both on random expressions.
+
+`sort_args` follows the key's order without building whole keys: by class, then length,
+then item by item among the arguments still equal, each position's distinct expressions
+ordered by `sort_args` itself. Only the items that decide are looked at: the row sums of
+a 100-link chain's T2 (q1'*M_1j + q2'*M_2j + ...) keyed every 100-term M_ij whole.
 """
 from __future__ import annotations
 
@@ -87,9 +92,53 @@ def _sort_one_class(args: list) -> None:
             args.reverse()
         return
     try:
-        keys = [_key(a) for a in args]
-        order = sorted(range(len(args)), key=keys.__getitem__)
+        contents = [a._hashable_content() for a in args]
+        lengths = [len(c) for c in contents]
+        order = sorted(range(len(args)), key=lengths.__getitem__)
+        order = [k for run in _runs(order, lengths) for k in _by_items(run, contents, 0)]
     except (NoKey, TypeError):    # TypeError: items of different kinds at one place
         args.sort(key=_COMPARE_KEY)
         return
     args[:] = [args[k] for k in order]
+
+
+def _by_items(run: list, contents: list, position: int) -> list:
+    """`run` (indices of hashable contents of one length, equal before `position`) in the
+    order of their items from `position` on: by the place of each item among that
+    position's distinct items, then the next position among equal ones. Only the items
+    that decide are ordered (keying a sum whole walked every term: q1'*M_1j, q2'*M_2j...
+    keyed each 100-term M_ij; the terms of T2 all start with 1/2)."""
+    if len(run) < 2 or position == len(contents[run[0]]):
+        return run
+    items = [contents[k][position] for k in run]
+    places = _places(items)
+    ordered = sorted(range(len(run)), key=places.__getitem__)
+    ranked = [run[k] for k in ordered]
+    return [k for same in _runs(ranked, dict(zip(run, places))) for k in _by_items(same, contents, position + 1)]
+
+
+def _places(items: list) -> list:
+    """Values ordering `items` (of one position of hashable contents) as compare does;
+    equal items get equal values."""
+    if any(isinstance(item, frozenset) for item in items):
+        raise NoKey(items)
+    basic = [isinstance(item, Basic) for item in items]
+    if not any(basic):
+        return items
+    if not all(basic):
+        raise TypeError("expressions and other items at one place")
+    distinct = list(dict.fromkeys(items))
+    sort_args(distinct)
+    place = {item: k for k, item in enumerate(distinct)}
+    return [place[item] for item in items]
+
+
+def _runs(order: list, value) -> list[list]:
+    """`order` cut into runs of equal `value[k]`."""
+    runs: list[list] = []
+    for k in order:
+        if runs and value[runs[-1][-1]] == value[k]:
+            runs[-1].append(k)
+        else:
+            runs.append([k])
+    return runs
