@@ -94,8 +94,11 @@ def _sort_one_class(args: list) -> None:
     try:
         contents = [a._hashable_content() for a in args]
         lengths = [len(c) for c in contents]
-        order = sorted(range(len(args)), key=lengths.__getitem__)
-        order = [k for run in _runs(order, lengths) for k in _by_items(run, contents, 0)]
+        if min(lengths) == max(lengths):
+            order = _by_items(list(range(len(args))), contents, 0)
+        else:
+            order = sorted(range(len(args)), key=lengths.__getitem__)
+            order = [k for run in _runs(order, lengths) for k in _by_items(run, contents, 0)]
     except (NoKey, TypeError):    # TypeError: items of different kinds at one place
         args.sort(key=_COMPARE_KEY)
         return
@@ -114,6 +117,8 @@ def _by_items(run: list, contents: list, position: int) -> list:
     places = _places(items)
     ordered = sorted(range(len(run)), key=places.__getitem__)
     ranked = [run[k] for k in ordered]
+    if len(set(places)) == len(places):      # all different: decided here
+        return ranked
     return [k for same in _runs(ranked, dict(zip(run, places))) for k in _by_items(same, contents, position + 1)]
 
 
@@ -127,6 +132,8 @@ def _places(items: list) -> list:
         return items
     if not all(basic):
         raise TypeError("expressions and other items at one place")
+    if not any(item.args for item in items):        # symbols, numbers: small keys, remembered
+        return [sort_key(item) for item in items]
     distinct = list(dict.fromkeys(items))
     sort_args(distinct)
     place = {item: k for k, item in enumerate(distinct)}
