@@ -55,12 +55,14 @@ class Dag:
         if expr.is_Add:
             return self._sum([self.add_expr(a) for a in expr.args])
         if expr.is_Mul:
-            coefficient, factors = ONE, []
+            coefficient, factors, add_expr = ONE, [], self.add_expr
             for arg in expr.args:
                 if arg.is_Number:
                     coefficient = _times(coefficient, arg)
+                elif arg.is_Pow and arg.exp.is_Integer:
+                    factors.append((add_expr(arg.base), int(arg.exp)))
                 else:
-                    factors.append(self._power(arg))
+                    factors.append((add_expr(arg), 1))
             return self.product(coefficient, factors)
         if expr.is_Pow and expr.exp.is_Integer:
             return self.product(ONE, [self._power(expr)])
@@ -158,9 +160,11 @@ class Dag:
             common = {b: e for b, e in common.items() if e != 0}
         numbers = [number for number, _, _ in split]
         content = ONE if all(number is ONE for number in numbers) else numeric_content(numbers)
-        if content is not ONE or common:       # exponents 0 stay: they count in `_grouped`
+        if common:                 # exponents 0 stay: they count in `_grouped`
             split = [(number if content is ONE else number / content,
                       tuple([(b, e - common.get(b, 0)) for b, e in powers]), None) for number, powers, _ in split]
+        elif content is not ONE:
+            split = [(number / content, powers, None) for number, powers, _ in split]
         terms = self._grouped(split)
         inner = terms[0] if len(terms) == 1 else self._node(("add", tuple(sorted(terms))))
         if content is ONE and not common:
