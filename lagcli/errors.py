@@ -60,6 +60,13 @@ class Problem:
         return text + (f"\n  hint: {clip_message(self.hint)}" if self.hint else "")
 
 
+def in_reading_order(problems: list[Problem]) -> list[Problem]:
+    """`problems` as a reader meets them: by file (in order of first mention), then line and
+    column; a problem of a whole file (no line) first; ties keep the order they were found."""
+    files = {file: k for k, file in enumerate(dict.fromkeys(p.loc.file for p in problems))}
+    return sorted(problems, key=lambda p: (files[p.loc.file], p.loc.line or 0, p.loc.column or 0))
+
+
 class LagcliError(Exception):
     """Base class of every error lagcli reports to users. `exit_code` is what the CLI returns."""
 
@@ -77,7 +84,7 @@ class SpecError(LagcliError):
     exit_code = 2
 
     def __init__(self, problems: list[Problem] | Problem):
-        self.problems = [problems] if isinstance(problems, Problem) else list(problems)
+        self.problems = in_reading_order([problems] if isinstance(problems, Problem) else list(problems))
         super().__init__("\n".join(str(p) for p in self.problems))
 
     def render(self) -> str:

@@ -85,3 +85,16 @@ def test_hostile_yaml_is_refused_quickly(tmp_path, monkeypatch, text, expected):
     Path("hostile.yaml").write_text(text)
     result = run_check("hostile.yaml")
     assert_refused(result, ["hostile.yaml:1:", expected])
+
+
+def test_problems_are_listed_in_the_order_of_the_file(tmp_path, monkeypatch):
+    # the unknown key (line 7) is found before the expressions are read (lines 5, 6):
+    # a reader meets them top to bottom, and so does the message
+    monkeypatch.chdir(tmp_path)
+    Path("multi.yaml").write_text(
+        "coordinates: [x, y]\nparameters: {m: 1.0, k: 2.0}\nparticles:\n  P: {mass: m, position: [x, y]}\n"
+        "potential: k*z**2\ngeneralized_forces: {x: foo*2}\ndamping: {q: 1}\n")
+    result = run_check("multi.yaml")
+    assert_refused(result, ["unknown name 'z'", "unknown name 'foo'", "unknown key 'damping'"])
+    lines = [int(line.split(":")[1]) for line in result.stderr.splitlines() if line.startswith("multi.yaml:")]
+    assert lines == [5, 6, 7]

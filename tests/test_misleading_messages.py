@@ -16,7 +16,7 @@ BAD = Path(__file__).parent / "data" / "bad"
 
 def _stderr(case: str, monkeypatch) -> str:
     monkeypatch.chdir(BAD)
-    result, _ = run_check(case)
+    result = run_check(case)
     assert result.exit_code == 2, result.output
     return result.stderr
 

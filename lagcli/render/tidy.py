@@ -264,13 +264,23 @@ def display_form(expr) -> sp.Expr:
     over DISPLAY_MAX_NODES nodes or with a big expansion is returned as it is
     (reports assemble big expressions from tidied parts instead)."""
     expr = sp.sympify(expr)
-    if expr.is_Atom or not small(expr) or not expandable(expr):
-        return expr
+    if expr.is_Atom or sum_of_symbols(expr) or not small(expr) or not expandable(expr):
+        return expr      # a sum of symbols (a chain's m_k + ... + m_n): every step keeps it
+    return display_steps(expr)
+
+
+def display_steps(expr) -> sp.Expr:
+    """`display_form`'s steps on a small expr."""
     result = expr if is_expanded(expr) else sp.expand(expr)
     if result.has(sp.sin, sp.cos):
         result = fold_angle_sums(pythagorean(result))
     result = pull_signs(common_factor(group_by_calls(result)))
     return result if count_ops(result) <= count_ops(expr) else pull_signs(expr)
+
+
+def sum_of_symbols(expr) -> bool:
+    """expr is a sum of symbols, each with the coefficient 1."""
+    return expr.is_Add and all(term.is_Symbol for term in expr.args)
 
 
 LINEAR_CALLS = (sp.sin, sp.cos, sp.tan)   # expand leaves f(a - b) alone (no expand_trig)

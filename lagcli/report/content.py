@@ -50,7 +50,8 @@ def spec_printer() -> ReportPrinter:
     from lagcli.render.spec_printer import remembering_spec_str
 
     spec_str = remembering_spec_str()
-    return ReportPrinter(spec_str, lambda terms: signed_sum(terms, spec_str))
+    pieces: dict = {}      # each term printed once with its sign (`signed_sum`)
+    return ReportPrinter(spec_str, lambda terms: signed_sum(terms, spec_str, pieces))
 
 
 def report_content(d: Derivation, printer: ReportPrinter, simplify: bool = True,

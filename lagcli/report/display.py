@@ -32,7 +32,7 @@ from lagcli.model.calculus import almost_everywhere
 from lagcli.model.products import product
 from lagcli.derive.result import Derivation
 from lagcli.render.shapes import Shapes
-from lagcli.render.tidy import DISPLAY_MAX_NODES, display_form, pull_signs, small
+from lagcli.render.tidy import DISPLAY_MAX_NODES, display_form, pull_signs, small, sum_of_symbols
 from lagcli.render.weighted import weighted_display_form
 
 TREE_MAX_NODES = 5000     # tidy the parts of expressions up to this size (tree nodes)
@@ -40,22 +40,33 @@ TREE_MAX_NODES = 5000     # tidy the parts of expressions up to this size (tree 
 Terms = list   # of sympy expressions, none of them a sum
 
 
-def signed_sum(terms: Sequence[sp.Expr], print_expr: Callable[[sp.Expr], str]) -> str:
-    """`a + b - c`: the terms in order, each printed by `print_expr` with its sign pulled out."""
+def signed_sum(terms: Sequence[sp.Expr], print_expr: Callable[[sp.Expr], str],
+               pieces: dict | None = None) -> str:
+    """`a + b - c`: the terms in order, each printed by `print_expr` with its sign pulled out.
+    `pieces` remembers each term's sign and printed body, for a printer that prints the
+    same terms in several sums (T, L, E and h share T2's terms)."""
     if not terms:
         return print_expr(sp.S.Zero)
+    pieces = {} if pieces is None else pieces
     out = []
     for i, term in enumerate(terms):
-        negative = term.could_extract_minus_sign()
-        shown = -term if negative else term
-        body = print_expr(shown)
-        if shown.is_Add:
-            body = f"({body})"
+        piece = pieces.get(term)
+        if piece is None:
+            piece = pieces[term] = _signed_piece(term, print_expr)
+        negative, body = piece
         if i == 0:
             out.append(f"-{body}" if negative else body)
         else:
             out.append(f" - {body}" if negative else f" + {body}")
     return "".join(out)
+
+
+def _signed_piece(term: sp.Expr, print_expr: Callable[[sp.Expr], str]) -> tuple[bool, str]:
+    """(negative, the term's magnitude printed, in parentheses when a sum)."""
+    negative = term.could_extract_minus_sign()
+    shown = -term if negative else term
+    body = print_expr(shown)
+    return negative, f"({body})" if shown.is_Add else body
 
 
 def split(expr: sp.Expr) -> Terms:
@@ -77,6 +88,7 @@ class Display:
         self._free_symbols: dict = {}   # of every subexpression differentiated (calculus.free_symbols)
         self._differentiated: dict = {}  # (expr, var) -> d expr / d var
         self._merged: dict = {}          # (i, names) -> the parts `names` of equation i, by monomial
+        self._bucket_terms: dict = {}    # (monomial, coefficient, sign) -> its terms (`ordered_terms`)
         self._tidy_on = simplify
         self._tidy_by_shape = Shapes(functools.partial(self._tidy_tree, sized=True))
         n = self.n
@@ -107,11 +119,18 @@ class Display:
         if not self._tidy_on:
             return expr
         if expr not in self._cache:
-            if expr.is_Add and not sized and small(expr, TREE_MAX_NODES):
+            if expr.is_Add and not sized and self._by_shape(expr):
                 self._cache[expr] = self._tidy_by_shape(expr)   # the steps of the last sum of its shape
             else:
                 self._cache[expr] = self._tidy_tree(expr, sized)
         return self._cache[expr]
+
+    @staticmethod
+    def _by_shape(add) -> bool:
+        """Worth tidying by its shape: small, not a weighted sum (whose X is tidied by its
+        shape instead: renaming the whole sum costs as much as tidying it), not a sum of
+        symbols (display_form keeps it)."""
+        return small(add, TREE_MAX_NODES) and not sum_of_symbols(add) and _weighted_sum(add) is None
 
     def signs(self, expr) -> sp.Expr:
         """`pull_signs`, remembering every subexpression's result for this report."""
@@ -132,7 +151,7 @@ class Display:
             return expr      # a huge expression is shown with named quantities instead
         weighted = _weighted_sum(expr)
         if weighted is not None:
-            found = weighted_display_form(weighted[0], self.tidy(weighted[1], sized=True))
+            found = weighted_display_form(weighted[0], self.tidy(weighted[1]))   # X by its shape
             if found is not None:
                 return found
         args = [self.tidy(a, sized=True) for a in expr.args]
@@ -286,18 +305,22 @@ class Display:
 
     def _ordered(self, buckets: dict, sign: int) -> Terms:
         """Terms of degree 2 in q', then 1, then others depending on q', then free of q' (`ordered_terms`)."""
-        return ordered_terms(buckets, self.qd, self.tidy_assembled, self.signs, sign, self._free_symbols)
+        return ordered_terms(buckets, self.qd, self.tidy_assembled, self.signs, sign, self._free_symbols,
+                             self._bucket_terms)
 
 
 def ordered_terms(buckets: dict, velocities: Sequence, tidy: Callable, signs: Callable = pull_signs,
-                  sign: int = 1, memo: dict | None = None) -> Terms:
+                  sign: int = 1, memo: dict | None = None, made: dict | None = None) -> Terms:
     """The terms of an equation without its q'' terms, in the lecture notes' order, from
     {velocity monomial (1 for none): coefficient}: degree 2 in q', then 1 (by coordinate),
     then others depending on q', then free of q'. Each coefficient (times `sign`) is
     tidied by `tidy` and its sign pulled out by `signs`; the coefficient of 1 gives one
-    term per summand. The derive report's equations and the Routh reduction's use this."""
+    term per summand. The derive report's equations and the Routh reduction's use this.
+    `made` remembers the terms of each (monomial, coefficient, sign) (`bucket_terms`):
+    the equations, F and the explicit form's parts share their coefficients."""
     index = {v: k for k, v in enumerate(velocities)}
     memo = {} if memo is None else memo
+    made = {} if made is None else made
 
     def key(monomial):
         powers = monomial.as_powers_dict()
@@ -309,16 +332,25 @@ def ordered_terms(buckets: dict, velocities: Sequence, tidy: Callable, signs: Ca
 
     out: Terms = []
     for monomial in sorted(buckets, key=key):
-        coefficient = tidy(buckets[monomial] if sign == 1 else product(sp.Integer(sign), buckets[monomial]))
-        if coefficient == 0:
-            continue
-        if monomial == 1:
-            out.extend(signs(term) for term in split(coefficient))
-        else:
-            out.append(signs(product(coefficient, monomial)))
+        entry = (monomial, buckets[monomial], sign)
+        found = made.get(entry)
+        if found is None:
+            found = made[entry] = bucket_terms(monomial, buckets[monomial], tidy, signs, sign)
+        out.extend(found)
     moving_set = set(velocities)
     moving = [not calculus.free_symbols(term, memo).isdisjoint(moving_set) for term in out]
     return [term for term, m in zip(out, moving) if m] + [term for term, m in zip(out, moving) if not m]
+
+
+def bucket_terms(monomial, coefficient, tidy: Callable, signs: Callable, sign: int) -> Terms:
+    """The terms of coefficient * monomial in `ordered_terms`: the coefficient (times `sign`)
+    tidied, one term per summand for the monomial 1, none for 0."""
+    coefficient = tidy(coefficient if sign == 1 else product(sp.Integer(sign), coefficient))
+    if coefficient == 0:
+        return []
+    if monomial == 1:
+        return [signs(term) for term in split(coefficient)]
+    return [signs(product(coefficient, monomial))]
 
 
 def _weighted_sum(expr) -> tuple[list, sp.Expr] | None:
