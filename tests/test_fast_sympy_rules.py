@@ -48,6 +48,33 @@ def test_derivative_is_sympys_diff(expr):
         assert derivative(expr, var) == expr.diff(var)
 
 
+def _big_sums(count: int, seed: int) -> tuple[list[sp.Expr], list[sp.Symbol]]:
+    """Sums of 9 to 30 terms (indexed by symbol in `derivative`), alone and inside products
+    and powers, as a chain's potential holds them: g m_k (l_1 cos(q_1) + ... + l_k cos(q_k))."""
+    rng = random.Random(seed)
+    qs, ls = sp.symbols("q1:31"), sp.symbols("l1:31")
+    exprs = []
+    for _ in range(count):
+        k = rng.randint(9, 30)
+        terms = [rng.choice([1, -1, 2, sp.Rational(1, 2)]) * ls[i] * rng.choice([sp.cos, sp.sin])(qs[i])
+                 * (x if rng.random() < 0.2 else 1) for i in rng.sample(range(30), k)]
+        big = sp.Add(*terms, *(rng.sample(terms, 2)))     # like terms too
+        exprs.append(rng.choice([big, m1 * big, m2 * l1 * big ** 2, sp.cos(big) + big * y]))
+    return exprs, list(qs[:5]) + [x, y]
+
+
+@pytest.mark.parametrize("seed", range(20))
+def test_derivative_of_big_sums_is_sympys_diff(seed):
+    """One memo for every variable, as the derivation shares it: the index of a sum's
+    terms, built at the first derivative, serves the next ones."""
+    exprs, variables = _big_sums(3, seed)
+    memo: dict = {}
+    for expr in exprs:
+        for var in variables:
+            ours, theirs = derivative(expr, var, memo), expr.diff(var)
+            assert ours == theirs and ours.args == theirs.args
+
+
 def test_common_factor_is_sympys_factor_terms():
     exprs = _random_sums(120, 2) + [sum_ * l1 * sp.cos(x) for sum_ in _random_sums(20, 3)]
     exprs += [m1 * (x + y), 2 * l1 * (x + y) + 2 * l1 * z, sp.sqrt(x) + x / 2, x / y + z / y]

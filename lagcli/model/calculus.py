@@ -93,7 +93,7 @@ def derivative(expr: sp.Expr, var: sp.Symbol, memo: dict | None = None) -> sp.Ex
     if expr.is_Symbol:          # one whose free symbols hold var: var itself
         return sp.S.One
     if expr.is_Add:
-        return total([derivative(a, var, memo) for a in expr.args])
+        return total([derivative(a, var, memo) for a in _terms_mentioning(expr, var, memo)])
     if expr.is_Mul:
         args, terms = list(expr.args), []
         for i, a in enumerate(args):
@@ -119,6 +119,26 @@ def derivative(expr: sp.Expr, var: sp.Symbol, memo: dict | None = None) -> sp.Ex
                     return expr.diff(var)
         return sp.Add(*terms)
     return expr.diff(var)
+
+
+_BIG_SUM = 8     # sums of more terms than this are indexed by symbol (`_terms_mentioning`)
+
+
+def _terms_mentioning(expr: sp.Add, var: sp.Symbol, memo: dict) -> tuple:
+    """The terms of the sum `expr` that mention `var`, in order (the others differentiate to
+    0, which `total` drops). A big sum's terms are indexed by symbol once, kept in `memo`
+    under (expr, _BIG_SUM): a chain's potential holds g m_k (l_1 cos(q_1) + ... + l_k cos(q_k))
+    for every k, and differentiating it for each q_i walked the whole sum each time (n^3)."""
+    if len(expr.args) <= _BIG_SUM:
+        return expr.args
+    key = (expr, _BIG_SUM)
+    index = memo.get(key)
+    if index is None:
+        index = memo[key] = {}
+        for term in expr.args:
+            for symbol in free_symbols(term, memo):
+                index.setdefault(symbol, []).append(term)
+    return index.get(var, ())
 
 
 def jacobian(exprs, variables, memo: dict | None = None) -> sp.ImmutableMatrix:

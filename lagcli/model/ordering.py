@@ -14,6 +14,11 @@ so sorting by either gives the same list (both sorts are stable). A node whose
 hashable content holds a frozenset (compared as `Basic(*set)`, in the set's order) has
 no key: `sort_args` then sorts with `Basic.compare` itself. tests/test_sums_and_ordering.py
 compares both on random expressions.
+
+`sort_args` follows the key's order without building whole keys: by class, then length,
+then item by item among the arguments still equal, each position's distinct expressions
+ordered by `sort_args` itself. Only the items that decide are looked at: the row sums of
+a 100-link chain's T2 (q1'*M_1j + q2'*M_2j + ...) keyed every 100-term M_ij whole.
 """
 from __future__ import annotations
 
@@ -32,7 +37,7 @@ class NoKey(Exception):
 
 
 @functools.lru_cache(maxsize=1 << 10)
-def _class_key(cls: type) -> tuple:
+def class_key(cls: type) -> tuple:
     """`_cmp_name` as a key: listed classes by their place, unlisted ones after them by name."""
     name = cls.__name__
     return (_PLACE.get(name, _UNKNOWN), name)
@@ -49,7 +54,7 @@ def _key(expr: Basic) -> tuple:
     are mostly sorted once (the 170 000 terms m_k X of a 100-link chain's mass matrix:
     remembering them pushed the shared X out of the cache)."""
     content = expr._hashable_content()
-    parts = [_class_key(type(expr)), len(content)]
+    parts = [class_key(type(expr)), len(content)]
     for item in content:
         if isinstance(item, Basic):
             parts.append(sort_key(item))
@@ -61,15 +66,86 @@ def _key(expr: Basic) -> tuple:
 
 
 def sort_args(args: list) -> None:
-    """Sort `args` in place into sympy's canonical order (what `_addsort`/`_mulsort` do)."""
+    """Sort `args` in place into sympy's canonical order (what `_addsort`/`_mulsort` do):
+    by class first, and by key only among arguments of one class. A product's factors
+    are mostly of different classes (m3*cos(q3)*(sum of 100 terms)): keying the sum
+    itself walked its terms at every product."""
     if len(args) < 3:      # one comparison: compare itself is cheaper than two keys
+        _sort_one_class(args)
+        return
+    classes = [class_key(type(a)) for a in args]
+    order = sorted(range(len(args)), key=classes.__getitem__)
+    result, start = [], 0
+    for end in range(1, len(order) + 1):
+        if end == len(order) or classes[order[end]] != classes[order[start]]:
+            run = [args[k] for k in order[start:end]]
+            _sort_one_class(run)
+            result += run
+            start = end
+    args[:] = result
+
+
+def _sort_one_class(args: list) -> None:
+    """`sort_args` of arguments of one class (or of two of any classes)."""
+    if len(args) < 3:
         if len(args) == 2 and args[1].compare(args[0]) < 0:
             args.reverse()
         return
     try:
-        keys = [_key(a) for a in args]
-        order = sorted(range(len(args)), key=keys.__getitem__)
+        contents = [a._hashable_content() for a in args]
+        lengths = [len(c) for c in contents]
+        if min(lengths) == max(lengths):
+            order = _by_items(list(range(len(args))), contents, 0)
+        else:
+            order = sorted(range(len(args)), key=lengths.__getitem__)
+            order = [k for run in _runs(order, lengths) for k in _by_items(run, contents, 0)]
     except (NoKey, TypeError):    # TypeError: items of different kinds at one place
         args.sort(key=_COMPARE_KEY)
         return
     args[:] = [args[k] for k in order]
+
+
+def _by_items(run: list, contents: list, position: int) -> list:
+    """`run` (indices of hashable contents of one length, equal before `position`) in the
+    order of their items from `position` on: by the place of each item among that
+    position's distinct items, then the next position among equal ones. Only the items
+    that decide are ordered (keying a sum whole walked every term: q1'*M_1j, q2'*M_2j...
+    keyed each 100-term M_ij; the terms of T2 all start with 1/2)."""
+    if len(run) < 2 or position == len(contents[run[0]]):
+        return run
+    items = [contents[k][position] for k in run]
+    places = _places(items)
+    ordered = sorted(range(len(run)), key=places.__getitem__)
+    ranked = [run[k] for k in ordered]
+    if len(set(places)) == len(places):      # all different: decided here
+        return ranked
+    return [k for same in _runs(ranked, dict(zip(run, places))) for k in _by_items(same, contents, position + 1)]
+
+
+def _places(items: list) -> list:
+    """Values ordering `items` (of one position of hashable contents) as compare does;
+    equal items get equal values."""
+    if any(isinstance(item, frozenset) for item in items):
+        raise NoKey(items)
+    basic = [isinstance(item, Basic) for item in items]
+    if not any(basic):
+        return items
+    if not all(basic):
+        raise TypeError("expressions and other items at one place")
+    if not any(item.args for item in items):        # symbols, numbers: small keys, remembered
+        return [sort_key(item) for item in items]
+    distinct = list(dict.fromkeys(items))
+    sort_args(distinct)
+    place = {item: k for k, item in enumerate(distinct)}
+    return [place[item] for item in items]
+
+
+def _runs(order: list, value) -> list[list]:
+    """`order` cut into runs of equal `value[k]`."""
+    runs: list[list] = []
+    for k in order:
+        if runs and value[runs[-1][-1]] == value[k]:
+            runs[-1].append(k)
+        else:
+            runs.append([k])
+    return runs

@@ -17,7 +17,7 @@ from sympy.core.basic import Basic
 from sympy.core.sympify import _sympify
 from sympy.functions.elementary.exponential import ExpBase
 
-from lagcli.model.ordering import sort_args
+from lagcli.model.ordering import class_key, sort_args
 
 
 def product(*factors) -> sp.Expr:
@@ -26,7 +26,7 @@ def product(*factors) -> sp.Expr:
     if len(factors) == 2:
         a, b = factors
         if _symbol_and_sum(a, b) or _symbol_and_sum(b, a):     # a mass times a dot product, M_ij q''_j
-            return sp.Mul._from_args((b, a) if b.compare(a) < 0 else (a, b), True)
+            return sp.Mul._from_args((b, a) if class_key(type(b)) < class_key(type(a)) else (a, b), True)
         if _distributes(a, b):
             return sp.Mul(*factors)
     number, plain = sp.S.One, []
