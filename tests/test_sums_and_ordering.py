@@ -88,3 +88,13 @@ def test_scaled_sum_is_sympys_add_of_muls(seed, count):
     factor = rng.choice([_expression(rng) for _ in range(3)] + [sp.Add(*rng.sample(POOL, 3))] * 3)
     ours, theirs = scaled_sum(weights, factor), sp.Add(*(sp.Mul(w, factor) for w in weights))
     assert ours == theirs and ours.args == theirs.args and type(ours) is type(theirs), (weights, factor)
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.integers(0, 2**32 - 1))
+def test_difference_is_sympys_minus(seed):
+    """total([a, negative(b)]) is sympy's a - b (= Add(a, -b)): the equations' M q'' - F."""
+    rng = random.Random(seed)
+    a, b = (sp.Add(*(_expression(rng) for _ in range(rng.randint(1, 5)))) for _ in range(2))
+    ours, theirs = total([a, negative(b)]), a - b
+    assert ours == theirs and ours.args == theirs.args and type(ours) is type(theirs), (a, b)
