@@ -55,12 +55,14 @@ class Dag:
         if expr.is_Add:
             return self._sum([self.add_expr(a) for a in expr.args])
         if expr.is_Mul:
-            coefficient, factors = ONE, []
+            coefficient, factors, add_expr = ONE, [], self.add_expr
             for arg in expr.args:
                 if arg.is_Number:
                     coefficient = _times(coefficient, arg)
+                elif arg.is_Pow and arg.exp.is_Integer:
+                    factors.append((add_expr(arg.base), int(arg.exp)))
                 else:
-                    factors.append(self._power(arg))
+                    factors.append((add_expr(arg), 1))
             return self.product(coefficient, factors)
         if expr.is_Pow and expr.exp.is_Integer:
             return self.product(ONE, [self._power(expr)])
@@ -86,19 +88,26 @@ class Dag:
         products flattened, equal bases merged."""
         if coefficient is ONE and len(factors) == 1 and factors[0][1] == 1:
             return factors[0][0]
+        nodes = self.nodes
         powers: dict = {}
         for base, exponent in factors:
-            node = self.nodes[base]
-            if node[0] == "mul" and (exponent == 1 or node[1] is ONE):
-                coefficient = _times(coefficient, node[1] if exponent == 1 else node[1] ** exponent)
-                for inner, e in node[2]:
-                    powers[inner] = powers.get(inner, 0) + e * exponent
-            elif node[0] == "atom" and node[1].is_Number:
+            node = nodes[base]
+            kind = node[0]
+            if kind == "mul" and (exponent == 1 or node[1] is ONE):
+                if exponent == 1:
+                    coefficient = _times(coefficient, node[1])
+                    for inner, e in node[2]:
+                        powers[inner] = powers.get(inner, 0) + e
+                else:
+                    for inner, e in node[2]:
+                        powers[inner] = powers.get(inner, 0) + e * exponent
+            elif kind == "atom" and node[1].is_Number:
                 coefficient = _times(coefficient, node[1] ** exponent)
             else:
                 powers[base] = powers.get(base, 0) + exponent
-        powers = {b: e for b, e in powers.items() if e}
-        if not coefficient or not powers:
+        if 0 in powers.values():
+            powers = {b: e for b, e in powers.items() if e}
+        if not powers or not coefficient:
             return self.atom(coefficient)
         if coefficient is ONE and len(powers) == 1:
             (base, exponent), = powers.items()
@@ -117,38 +126,45 @@ class Dag:
 
     def _sum(self, terms) -> int:
         """The sum of the terms: like terms merged, common factors pulled out (`_factored`).
-        A term is worked on as [number, {base: exponent}, its node or None once changed]."""
+        A term is worked on as [number, ((base, exponent), ...) sorted, its node or None
+        once changed]."""
+        nodes, split = self.nodes, self.split
         merged: dict = {}
         for term in terms:
-            for t in self.nodes[term][1] if self.nodes[term][0] == "add" else (term,):
-                number, key = self.split(t)
+            node = nodes[term]
+            for t in node[1] if node[0] == "add" else (term,):
+                number, key = split(t)
                 found = merged.get(key)
                 if found is None:
                     merged[key] = [number, key, t]
                 else:
                     found[0], found[2] = found[0] + number, None
-        split = [(number, dict(key), node) for number, key, node in merged.values() if number]
-        if not split:
+        kept = [term for term in merged.values() if term[0]]
+        if not kept:
             return self.atom(sp.S.Zero)
-        if len(split) == 1:
-            return self._term(split[0])
-        return self._factored(split)
+        if len(kept) == 1:
+            return self._term(kept[0])
+        return self._factored(kept)
 
     def _term(self, term) -> int:
         number, powers, node = term
-        return node if node is not None else self.product(number, list(powers.items()))
+        return node if node is not None else self.product(number, powers)
 
     def _factored(self, split) -> int:
         common = dict(split[0][1])
         for _, powers, _ in split[1:]:
             if not common:
                 break
+            powers = dict(powers)
             common = {b: common_exponent(e, powers[b]) for b, e in common.items() if b in powers}
             common = {b: e for b, e in common.items() if e != 0}
-        content = numeric_content([number for number, _, _ in split])
-        if content is not ONE or common:
+        numbers = [number for number, _, _ in split]
+        content = ONE if all(number is ONE for number in numbers) else numeric_content(numbers)
+        if common:                 # exponents 0 stay: they count in `_grouped`
             split = [(number if content is ONE else number / content,
-                      {b: e - common.get(b, 0) for b, e in powers.items()}, None) for number, powers, _ in split]
+                      tuple([(b, e - common.get(b, 0)) for b, e in powers]), None) for number, powers, _ in split]
+        elif content is not ONE:
+            split = [(number / content, powers, None) for number, powers, _ in split]
         terms = self._grouped(split)
         inner = terms[0] if len(terms) == 1 else self._node(("add", tuple(sorted(terms))))
         if content is ONE and not common:
@@ -162,14 +178,14 @@ class Dag:
         joins the product most terms share."""
         if all(len(powers) < 2 for _, powers, _ in split):
             return [self._term(term) for term in split]
-        keys = [_products_less_one(powers) if len(powers) > 1 else [] for _, powers, _ in split]
+        keys = [_products_less_one(powers) if len(powers) > 1 else () for _, powers, _ in split]
         counts: dict = {}
         for options in keys:
             for key, _ in options:
                 counts[key] = counts.get(key, 0) + 1
         groups: dict = {}
         for k, (term, options) in enumerate(zip(split, keys)):
-            best = max(options, key=lambda option: (counts[option[0]], option[1]), default=None)
+            best = _most_shared(options, counts)
             key = best[0] if best is not None and counts[best[0]] > 1 else k
             groups.setdefault(key, []).append((term, best))
         terms = []
@@ -192,10 +208,21 @@ class Dag:
         return ()
 
 
-def _products_less_one(powers: dict) -> list:
-    """(the other factors, sorted, the factor) for each factor of exponent 1 of a term."""
-    factors = sorted(powers.items())
-    return [(tuple(f for f in factors if f[0] != b), b) for b, e in powers.items() if e == 1]
+def _products_less_one(powers: tuple) -> list:
+    """(the other factors, the factor) for each factor of exponent 1 of a term, whose
+    ((base, exponent), ...) `powers` are sorted by base."""
+    return [(powers[:i] + powers[i + 1:], b) for i, (b, e) in enumerate(powers) if e == 1]
+
+
+def _most_shared(options, counts: dict):
+    """The option (product, factor) whose product most terms share, the larger factor on a
+    tie (factors differ: no two options tie); None when there is none."""
+    best, best_key = None, None
+    for option in options:
+        key = (counts[option[0]], option[1])
+        if best_key is None or key > best_key:
+            best, best_key = option, key
+    return best
 
 
 def _times(a, b):

@@ -22,6 +22,7 @@ from sympy.printing.codeprinter import PrintMethodNotImplementedError
 from lagcli.derive.result import Derivation
 from lagcli.targets.cse import Reduced
 from lagcli.errors import EmitError
+from lagcli.targets.operator_printing import RememberedPrecedence
 
 CONSTANT_DIGITS = 21          # pi, E, ... as literals: 3.14159265358979323846
 MAX_PRODUCT_POWER = 4         # x**k, 2 <= |k| <= 4, prints as x*x*...; larger via pow
@@ -58,9 +59,11 @@ def check_slots(exprs, table: dict, free_symbols=lambda expr: sp.sympify(expr).f
                         "(only t, coordinates, velocities, parameters and inputs may appear)")
 
 
-class SlotPrinter:
+class SlotPrinter(RememberedPrecedence):
     """Mixin for a sympy code printer: symbols print as their slot, strictly.
 
+    Sums and products print as sympy prints them, each precedence found once
+    (`operator_printing.RememberedPrecedence`).
     A subclass sets `sqrt_function`, `power_format` and `literal`, overrides `imports`
     when the language imports functions by name, and lists this mixin first; a language
     whose arrays start at 1 or are subscripted otherwise sets `index_base` and
