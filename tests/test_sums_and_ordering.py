@@ -84,7 +84,7 @@ def test_scaled_sum_is_sympys_add_of_muls(seed, count):
     rng = random.Random(seed)
     weights = rng.sample(POOL[:8] + [sp.Symbol("m1", positive=True), sp.Dummy("w")], min(count, 10))
     if rng.random() < 0.2 and weights:
-        weights.append(rng.choice(weights + [sp.Integer(2), sp.Rational(-1, 2), x * y]))
+        weights.append(rng.choice(weights + [sp.Integer(2), sp.Rational(-1, 2), x * y, 1]))     # 1: a body's
     factor = rng.choice([_expression(rng) for _ in range(3)] + [sp.Add(*rng.sample(POOL, 3))] * 3)
     ours, theirs = scaled_sum(weights, factor), sp.Add(*(sp.Mul(w, factor) for w in weights))
     assert ours == theirs and ours.args == theirs.args and type(ours) is type(theirs), (weights, factor)

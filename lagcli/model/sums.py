@@ -62,8 +62,9 @@ def scaled_sum(weights: list, expr: sp.Expr) -> sp.Expr:
     and a commutative sum for expr, the products w*expr are distinct, have no number in
     front and hold no sum to open: `total` would only sort them, so they are only sorted
     (collecting the ~170 000 terms of a 100-link chain's M took a third of its time)."""
-    simple = (global_parameters.evaluate and expr.is_Add and expr.is_commutative is True
-              and all(w.is_Symbol and w.is_commutative is True for w in weights)
+    simple = (global_parameters.evaluate and isinstance(expr, Basic) and expr.is_Add
+              and expr.is_commutative is True
+              and all(isinstance(w, Basic) and w.is_Symbol and w.is_commutative is True for w in weights)
               and len(set(weights)) == len(weights))
     if not simple:
         return total([product(w, expr) for w in weights])
