@@ -87,3 +87,65 @@ def test_display_sections_sharing_terms_are_the_sections_made_alone(tmp_path):
             shared = getattr(shown, name)(i, *extra)
             alone = getattr(Display(d), name)(i, *extra)
             assert [sp.srepr(t) for t in shared] == [sp.srepr(t) for t in alone], (name, i)
+
+
+@settings(max_examples=60, deadline=None)
+@given(chosen=st.lists(symbols, min_size=2, max_size=12, unique=True))
+def test_a_sum_of_symbols_has_no_common_factor(chosen):
+    from lagcli.render.tidy import common_factor
+
+    add = sp.Add(*chosen)
+    assert sp.srepr(common_factor(add)) == sp.srepr(sp.factor_terms(add))
+
+
+def _expressions():
+    leaves = st.sampled_from([*q[:4], *m[:4], *c[:4], sp.Rational(1, 2), sp.Integer(-3), sp.Integer(2)])
+
+    def grow(children):
+        pair = st.tuples(children, children)
+        return st.one_of(pair.map(lambda ab: ab[0] + ab[1]), pair.map(lambda ab: ab[0] * ab[1]),
+                         pair.map(lambda ab: ab[0] - ab[1]), children.map(sp.sin), children.map(sp.cos),
+                         st.tuples(children, st.integers(-3, 3)).map(lambda be: be[0] ** be[1]),
+                         pair.map(lambda ab: ab[0] / ab[1] if ab[1] != 0 else ab[0]))
+
+    return st.recursive(leaves, grow, max_leaves=12)
+
+
+@settings(max_examples=60, deadline=None)
+@given(exprs=st.lists(_expressions(), min_size=2, max_size=8))
+def test_remembering_printer_prints_what_the_plain_printer_prints(exprs):
+    """The remembering spec printer (printed parts and parenthesized factors kept) on
+    expressions sharing parts, each printed again in products and powers."""
+    printer = remembering_spec_str()
+    for expr in exprs + [sp.Mul(*exprs), -sp.Add(*exprs)] + [e ** 2 for e in exprs]:
+        assert printer(expr) == spec_str(expr)
+
+
+@settings(max_examples=60, deadline=None)
+@given(chosen=st.lists(symbols, min_size=2, max_size=8, unique=True), signs=st.lists(st.booleans(), min_size=8, max_size=8))
+def test_a_sum_of_signed_symbols_has_the_common_factor_of_factor_terms(chosen, signs):
+    from lagcli.render.tidy import common_factor
+
+    add = sp.Add(*(-s if negative else s for s, negative in zip(chosen, signs)))
+    assert sp.srepr(common_factor(add)) == sp.srepr(sp.factor_terms(add))
+
+
+@settings(max_examples=60, deadline=None)
+@given(index_sets=indices, weights=st.lists(st.sampled_from(m + c), min_size=2, max_size=6, unique=True),
+       number=st.sampled_from([1, -1, 2, sp.Rational(-1, 2)]), power=st.integers(1, 3))
+def test_a_flat_weighted_sum_is_shown_as_display_form_shows_it(index_sets, weights, number, power):
+    """dV/dq_i of a chain, -g l_i m_i sin(q_i) - g l_i m_(i+1) sin(q_i) - ...: the sum rebuilt
+    from the weights and X is the sum itself, and the weighted form of it is display_form's."""
+    from lagcli.render.weighted import flat_weighted_sum, weighted_display_form
+
+    i, j, k = index_sets
+    for shared in (number * c[i] * q[j] ** power * sp.sin(q[k]), number * c[i] * sp.cos(q[i] - q[j]),
+                   number * q[k] ** power):
+        add = sp.Add(*(w * shared for w in weights))
+        found = flat_weighted_sum(add)
+        if found is None:
+            continue
+        assert sp.srepr(sp.Add(*(w * found[1] for w in found[0]))) == sp.srepr(add)
+        shown = weighted_display_form(*found)
+        if shown is not None:
+            assert sp.srepr(shown) == sp.srepr(display_form(add)), add

@@ -24,6 +24,7 @@ class SpecPrinter(StrPrinter):
     def __init__(self, settings=None, remember: bool = False):
         super().__init__(settings)
         self._memo: dict | None = {} if remember else None
+        self._parenthesized: dict | None = {} if remember else None   # (expr, level, strict) -> text
 
     def _print(self, expr, **kwargs) -> str:
         memo = self._memo
@@ -32,6 +33,19 @@ class SpecPrinter(StrPrinter):
         found = memo.get(expr)
         if found is None:
             found = memo[expr] = super()._print(expr)
+        return found
+
+    def parenthesize(self, item, level, strict=False) -> str:
+        """StrPrinter's, remembered with `remember`: a product's factors (the sums of masses,
+        the angles' cosines) recur in thousands of terms, and finding their precedence
+        again was a third of printing them."""
+        memo = self._parenthesized
+        if memo is None or not isinstance(item, sp.Basic):
+            return super().parenthesize(item, level, strict)
+        key = (item, level, strict)
+        found = memo.get(key)
+        if found is None:
+            found = memo[key] = super().parenthesize(item, level, strict)
         return found
 
     def _print_Abs(self, expr):

@@ -336,6 +336,8 @@ def common_factor(expr) -> sp.Expr:
     if not expr.is_Add:    # factor_terms works inside: when that changes nothing, neither do we
         unchanged = all(common_factor(a) == a for a in expr.args)
         return expr if unchanged else sp.factor_terms(expr)
+    if _signed_symbols(expr):
+        return expr        # distinct symbols, each times 1 or -1, not all -1: nothing in common
     split = []
     for term in expr.args:
         number, rest = term.as_coeff_Mul()
@@ -362,6 +364,18 @@ def common_factor(expr) -> sp.Expr:
                          for number, powers in split))
     return _keep_coeff(content, product(product(*(_power(b, e) for b, e in common.items())), primitive),
                        clear=True, sign=True)
+
+
+def _signed_symbols(add) -> bool:
+    """add is a sum of symbols and negated symbols (q1 - q2), not all negated."""
+    positive = False
+    for term in add.args:
+        if term.is_Symbol:
+            positive = True
+        elif not (term.is_Mul and len(term.args) == 2 and term.args[0] is sp.S.NegativeOne
+                  and term.args[1].is_Symbol):
+            return False
+    return positive
 
 
 def _power(base, exponent: int) -> sp.Expr:

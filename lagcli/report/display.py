@@ -32,8 +32,8 @@ from lagcli.model.calculus import almost_everywhere
 from lagcli.model.products import product
 from lagcli.derive.result import Derivation
 from lagcli.render.shapes import Shapes
-from lagcli.render.tidy import DISPLAY_MAX_NODES, display_form, pull_signs, small, sum_of_symbols
-from lagcli.render.weighted import weighted_display_form
+from lagcli.render.tidy import DISPLAY_MAX_NODES, display_form, expandable, pull_signs, small, sum_of_symbols
+from lagcli.render.weighted import flat_weighted_sum, weighted_display_form, weighted_sum
 
 TREE_MAX_NODES = 5000     # tidy the parts of expressions up to this size (tree nodes)
 
@@ -128,9 +128,11 @@ class Display:
     @staticmethod
     def _by_shape(add) -> bool:
         """Worth tidying by its shape: small, not a weighted sum (whose X is tidied by its
-        shape instead: renaming the whole sum costs as much as tidying it), not a sum of
-        symbols (display_form keeps it)."""
-        return small(add, TREE_MAX_NODES) and not sum_of_symbols(add) and _weighted_sum(add) is None
+        shape instead: renaming the whole sum costs as much as tidying it; nor one written
+        flat, dV/dq_i = -g l_i m_i sin(q_i) - ... of a chain), not a sum of symbols
+        (display_form keeps it)."""
+        return small(add, TREE_MAX_NODES) and not sum_of_symbols(add) and weighted_sum(add) is None \
+            and flat_weighted_sum(add) is None
 
     def signs(self, expr) -> sp.Expr:
         """`pull_signs`, remembering every subexpression's result for this report."""
@@ -149,14 +151,21 @@ class Display:
         (the children of a small expression are small)."""
         if expr.is_Atom or not (expr.is_Add or expr.is_Mul) or not (sized or small(expr, TREE_MAX_NODES)):
             return expr      # a huge expression is shown with named quantities instead
-        weighted = _weighted_sum(expr)
+        weighted = weighted_sum(expr)
         if weighted is not None:
-            found = weighted_display_form(weighted[0], self.tidy(weighted[1]))   # X by its shape
+            found = weighted_display_form(weighted[0], self.tidy(weighted[1]), self.signs)   # X by its shape
             if found is not None:
                 return found
         args = [self.tidy(a, sized=True) for a in expr.args]
         rebuilt = expr if all(new is old for new, old in zip(args, expr.args)) else expr.func(*args)
-        return display_form(rebuilt) if rebuilt.is_Add else rebuilt
+        if not rebuilt.is_Add:
+            return rebuilt
+        flat = flat_weighted_sum(rebuilt)
+        if flat is not None and small(rebuilt) and expandable(rebuilt):   # display_form's own terms
+            found = weighted_display_form(*flat, self.signs)
+            if found is not None:
+                return found
+        return display_form(rebuilt)
 
     # -- energies and integrals ---------------------------------------------------------
 
@@ -235,11 +244,12 @@ class Display:
         out = {}
         for j, l in self._velocity_pairs(i):
             if j == l:
-                parts = (self._dM(i, j, q[j]), -self._dM(j, j, q[i]) / 2)
+                parts = (self._dM(i, j, q[j]), _negated(self._dM(j, j, q[i]), half=True))
             else:
-                parts = (self._dM(i, j, q[l]), self._dM(i, l, q[j]), -self._dM(j, l, q[i]))
-            if any(part is not zero for part in parts):
-                coefficient = sp.Add(*parts)
+                parts = (self._dM(i, j, q[l]), self._dM(i, l, q[j]), _negated(self._dM(j, l, q[i])))
+            nonzero = [part for part in parts if part is not zero]
+            if nonzero:      # sympy's Add drops zeros and returns a single term itself
+                coefficient = nonzero[0] if len(nonzero) == 1 else sp.Add(*nonzero)
                 if coefficient != 0:
                     out[qd[j] * qd[l]] = coefficient
         return out
@@ -353,21 +363,11 @@ def bucket_terms(monomial, coefficient, tidy: Callable, signs: Callable, sign: i
     return [signs(product(coefficient, monomial))]
 
 
-def _weighted_sum(expr) -> tuple[list, sp.Expr] | None:
-    """([m_1, ..., m_n], X) when expr = m_1 X + ... + m_n X (symbols m_k, one X)."""
-    if not expr.is_Add:
-        return None
-    weights, shared = [], None
-    for term in expr.args:
-        if not (term.is_Mul and len(term.args) == 2):
-            return None
-        first, second = term.args
-        weight, rest = (first, second) if first.is_Symbol else (second, first)
-        if not weight.is_Symbol or rest.is_Symbol or (shared is not None and rest != shared):
-            return None
-        weights.append(weight)
-        shared = rest
-    return weights, shared
+def _negated(expr, half: bool = False):
+    """-expr (-expr/2 with `half`) as sympy's operators build it; 0 stays 0 without them."""
+    if expr is sp.S.Zero:
+        return expr
+    return -expr / 2 if half else -expr
 
 
 PARTS = ("velocity", "mass_rate", "gyroscopic", "t1_rate", "position", "forces")
