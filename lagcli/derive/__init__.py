@@ -42,7 +42,8 @@ def derive(model: Model) -> Derivation:
     F = almost_everywhere(forcing(model, D, Q_applied, dV))
     Q_minus_dV = [total([Q, negative(dV_i)]) for Q, dV_i in zip(Q_applied, dV)]
 
-    lhs = [total([product(M_ij, qdd[j]) for j, M_ij in nonzero[i]]) - F[i] for i in range(n)]   # M q'' - F
+    # M q'' - F, as sympy's `-` builds it (Add(a, -b)), its F summed anew by `total`
+    lhs = [total([total([product(M_ij, qdd[j]) for j, M_ij in nonzero[i]]), negative(F[i])]) for i in range(n)]
     rows = constraint_rows(model)
     A = constraint_matrix(model, rows)
     multipliers = tuple(r.multiplier for r in rows)

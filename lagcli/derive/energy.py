@@ -20,7 +20,7 @@ import sympy as sp
 from lagcli.model.calculus import TimeDerivative, almost_everywhere, derivative, jacobian_columns
 from lagcli.model.model_types import Model, RigidBody, elementary_rotation
 from lagcli.model.products import product
-from lagcli.model.sums import total
+from lagcli.model.sums import scaled_sum, total
 
 AXES = {"x": 0, "y": 1, "z": 2}
 
@@ -49,7 +49,7 @@ def kinetic_parts(model: Model, D: TimeDerivative) -> tuple[sp.Matrix, sp.Matrix
     """The terms of M, a and T0 from every point and body, each entry summed once at the
     end (adding n x n matrices point by point rebuilt every growing sum n times)."""
     n = len(model.q)
-    M: dict = defaultdict(list)     # (i, j) -> terms, upper triangle (J^T J is symmetric)
+    M: dict = defaultdict(list)     # (i, j) -> (mass, dot product) pairs, upper triangle (J^T J is symmetric)
     a, T0 = [[] for _ in range(n)], []
     dots = _DotProducts()
     for mass, r in model.mass_points:
@@ -62,12 +62,21 @@ def kinetic_parts(model: Model, D: TimeDerivative) -> tuple[sp.Matrix, sp.Matrix
         _add_products(M, a, T0, J_w, body.inertia, w_t, 1, dots)
     entries = {}
     for (i, j), terms in sorted(M.items()):
-        entries[i, j] = entries[j, i] = total(terms)
+        entries[i, j] = entries[j, i] = _entry(terms)
     M, a, T0 = sp.Matrix(sp.SparseMatrix(n, n, entries)), sp.Matrix([total(terms) for terms in a]), total(T0)
     if model.kinetic == 0:
         return M, a, T0
     extra_M, extra_a, extra_T0 = _split_extra_kinetic(model)
     return M + extra_M, a + extra_a, T0 + extra_T0
+
+
+def _entry(terms: list) -> sp.Expr:
+    """The sum of the (mass, dot product) pairs of one entry of M: a chain's points share
+    their Jacobian columns, so an entry is mostly one dot product X times every mass."""
+    first = terms[0][1]
+    if all(entry is first for _, entry in terms):
+        return scaled_sum([mass for mass, _ in terms], first)
+    return total([product(mass, entry) for mass, entry in terms])
 
 
 class _DotProducts:
@@ -109,7 +118,7 @@ def _add_products(M, a, T0, J, inertia, v_t, mass, dots: _DotProducts) -> None:
         for (j, _), other in zip(J[k:], weighted[k:]):
             entry = dots(column, other)
             if entry is not None:
-                M[i, j].append(product(mass, entry))
+                M[i, j].append((mass, entry))
         if moving:
             entry = dots(column, I_v)
             if entry is not None:

@@ -41,6 +41,7 @@ class Dag:
         self.nodes: list[tuple] = []
         self._ids: dict = {}
         self._converted: dict = {}
+        self._plain: list[bool] = []      # per node: neither a product nor a number (`product` keeps it whole)
 
     def add_expr(self, expr) -> int:
         """The node of a sympy expression, each distinct subexpression converted once."""
@@ -78,6 +79,7 @@ class Dag:
         if found is None:
             found = self._ids[key] = len(self.nodes)
             self.nodes.append(key)
+            self._plain.append(key[0] != "mul" and not (key[0] == "atom" and key[1].is_Number))
         return found
 
     def atom(self, expr) -> int:
@@ -88,9 +90,12 @@ class Dag:
         products flattened, equal bases merged."""
         if coefficient is ONE and len(factors) == 1 and factors[0][1] == 1:
             return factors[0][0]
-        nodes = self.nodes
+        nodes, plain = self.nodes, self._plain
         powers: dict = {}
         for base, exponent in factors:
+            if plain[base]:
+                powers[base] = powers.get(base, 0) + exponent
+                continue
             node = nodes[base]
             kind = node[0]
             if kind == "mul" and (exponent == 1 or node[1] is ONE):
