@@ -40,6 +40,19 @@ _DERIVED: dict[str, object] = {}
 _SIMPLIFY_MAX_OPS = 600
 
 
+def nlink_spec(folder: Path, n: int) -> Path:
+    """bench/nlink.py's planar N-link pendulum (positions as flat sums), written to
+    folder/nlinkN.yaml: the chain the scale tests and the benchmarks share."""
+    import sys
+
+    sys.path.insert(0, str(ROOT / "bench"))
+    from nlink import nlink_spec_text
+
+    path = folder / f"nlink{n}.yaml"
+    path.write_text(nlink_spec_text(n))
+    return path
+
+
 def spec_path(name: str) -> Path:
     """`specs/<name>.yaml` (or the name as given when it has a suffix)."""
     path = SPECS / name

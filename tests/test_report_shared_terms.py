@@ -70,16 +70,9 @@ def test_display_sections_sharing_terms_are_the_sections_made_alone(tmp_path):
     bucket terms) in report order, are those made by a fresh Display each."""
     import lagcli
 
-    links = range(1, 7)
-    lines = ["name: chain6", f"coordinates: [{', '.join(f'q{k}' for k in links)}]", "parameters:"]
-    lines += [f"  {p}{k}: 1.0" for k in links for p in "ml"] + ["  g: 9.81", "gravity: [0, -g]", "particles:"]
-    for k in links:
-        x = " + ".join(f"l{j}*sin(q{j})" for j in range(1, k + 1))
-        y = " + ".join(f"l{j}*cos(q{j})" for j in range(1, k + 1))
-        lines.append(f"  P{k}: {{mass: m{k}, position: [{x}, -({y})]}}")
-    path = tmp_path / "chain6.yaml"
-    path.write_text("\n".join(lines) + "\n")
-    d = lagcli.load(str(path)).derivation
+    from conftest import nlink_spec
+
+    d = lagcli.load(str(nlink_spec(tmp_path, 6))).derivation
     shown = Display(d)
     sections = [("equation", ()), ("forcing", ()), ("part_terms", (["velocity"],)), ("part_terms", (["position"],))]
     for i in range(len(d.model.q)):

@@ -56,16 +56,9 @@ def test_display_tidy_by_shape_is_the_tree_tidied_directly(tmp_path):
     import lagcli
     from lagcli.report.display import Display
 
-    links = range(1, 13)
-    lines = ["name: chain12", f"coordinates: [{', '.join(f'q{k}' for k in links)}]", "parameters:"]
-    lines += [f"  {p}{k}: 1.0" for k in links for p in "ml"] + ["  g: 9.81", "gravity: [0, -g]", "particles:"]
-    for k in links:
-        x = " + ".join(f"l{j}*sin(q{j})" for j in range(1, k + 1))
-        y = " + ".join(f"l{j}*cos(q{j})" for j in range(1, k + 1))
-        lines.append(f"  P{k}: {{mass: m{k}, position: [{x}, -({y})]}}")
-    path = tmp_path / "chain12.yaml"
-    path.write_text("\n".join(lines) + "\n")
-    d = lagcli.load(str(path)).derivation
+    from conftest import nlink_spec
+
+    d = lagcli.load(str(nlink_spec(tmp_path, 12))).derivation
     shown, direct = Display(d), Display(d)
     direct._tidy_by_shape = functools.partial(direct._tidy_tree, sized=True)    # no shapes
     n = len(d.model.q)

@@ -6,9 +6,7 @@ asks, the programs lagcli runs itself always have them, and code without them re
 budget lowered to 0 (a real big system takes tens of seconds to generate)."""
 from __future__ import annotations
 
-import sys
 import types
-from pathlib import Path
 
 import pytest
 from click.testing import CliRunner
@@ -18,9 +16,7 @@ from lagcli.derive import derive
 from lagcli.derive.pipeline import load_model
 from lagcli.targets import discrete_code, generate, program_sources
 
-from conftest import SPECS
-
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "bench"))
+from conftest import SPECS, nlink_spec
 
 HINT = "lagcli generate --variational"
 
@@ -36,11 +32,8 @@ def everything_big(monkeypatch):
 
 
 def test_small_systems_have_them_and_the_20_link_chain_does_not(tmp_path):
-    from nlink import nlink_spec_text
-
     assert discrete_code.included(derive(load_model(SPECS / "double_pendulum.yaml")))
-    (tmp_path / "chain.yaml").write_text(nlink_spec_text(20))
-    assert not discrete_code.included(derive(load_model(tmp_path / "chain.yaml")))
+    assert not discrete_code.included(derive(load_model(nlink_spec(tmp_path, 20))))
 
 
 def test_c_without_them_refuses_with_the_hint(pendulum, everything_big):
