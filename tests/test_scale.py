@@ -78,3 +78,20 @@ def test_check_of_1000_uncoupled_coordinates_finishes(tmp_path):
     done = subprocess.run([sys.executable, "-m", "lagcli", "check", str(path)], capture_output=True, text=True)
     assert done.returncode == 0, done.stderr
     assert "DOF         : 1000" in done.stdout
+
+
+def test_a_chains_mass_matrix_grows_as_its_entries(tmp_path):
+    """Each entry of the n-link chain's M is l_i l_j cos(q_i - q_j) (m_max(i,j) + ... + m_n)
+    (its closed form, checked here at n = 12): one product holding one sum of masses, so M
+    holds ~n^3/6 mass symbols in all, not the ~n^3/6 products m_k X an expanded sum holds."""
+    from conftest import nlink_spec
+    n = 12
+    model = load_model(nlink_spec(tmp_path, n))
+    M = derive(model).mass_matrix
+    sym = {s.name: s for s in M.free_symbols}
+    for i in range(1, n + 1):
+        for j in range(i, n + 1):
+            masses = sum(sym[f"m{k}"] for k in range(j, n + 1))
+            closed = sym[f"l{i}"] * sym[f"l{j}"] * masses * sp.cos(model.q[i - 1] - model.q[j - 1])
+            assert sp.simplify(sp.expand_trig(M[i - 1, j - 1] - closed)) == 0, (i, j)
+            assert not M[i - 1, j - 1].is_Add, "an entry is one product, not a sum of m_k X"

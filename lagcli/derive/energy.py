@@ -20,7 +20,7 @@ import sympy as sp
 from lagcli.model.calculus import TimeDerivative, almost_everywhere, derivative, jacobian_columns
 from lagcli.model.model_types import Model, RigidBody, elementary_rotation
 from lagcli.model.products import product
-from lagcli.model.sums import scaled_sum, total
+from lagcli.model.sums import total
 
 AXES = {"x": 0, "y": 1, "z": 2}
 
@@ -72,10 +72,11 @@ def kinetic_parts(model: Model, D: TimeDerivative) -> tuple[sp.Matrix, sp.Matrix
 
 def _entry(terms: list) -> sp.Expr:
     """The sum of the (mass, dot product) pairs of one entry of M: a chain's points share
-    their Jacobian columns, so an entry is mostly one dot product X times every mass."""
+    their Jacobian columns, so an entry is mostly one dot product X times every mass,
+    built as X (m_k + ... + m_n): one product, not n (the n^3 terms of a chain's M)."""
     first = terms[0][1]
     if all(entry is first for _, entry in terms):
-        return scaled_sum([mass for mass, _ in terms], first)
+        return product(total([mass for mass, _ in terms]), first)
     return total([product(mass, entry) for mass, entry in terms])
 
 

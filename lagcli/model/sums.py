@@ -56,25 +56,6 @@ def total(terms) -> sp.Expr:
     return sp.Add._from_args(result, True)   # no constructor postprocessor: those are MatrixExpr's
 
 
-def scaled_sum(weights: list, expr: sp.Expr) -> sp.Expr:
-    """`total([product(w, expr) for w in weights])`, the same expression: an entry of a
-    chain's mass matrix, m_k X + ... + m_n X. With distinct commutative symbols for weights
-    and a commutative sum for expr, the products w*expr are distinct, have no number in
-    front and hold no sum to open: `total` would only sort them, so they are only sorted
-    (collecting the ~170 000 terms of a 100-link chain's M took a third of its time)."""
-    simple = (global_parameters.evaluate and isinstance(expr, Basic) and expr.is_Add
-              and expr.is_commutative is True
-              and all(isinstance(w, Basic) and w.is_Symbol and w.is_commutative is True for w in weights)
-              and len(set(weights)) == len(weights))
-    if not simple:
-        return total([product(w, expr) for w in weights])
-    terms = [product(w, expr) for w in weights]      # each sympy's Mul(w, expr)
-    sort_args(terms)
-    if len(terms) < 2:
-        return terms[0] if terms else _ZERO
-    return sp.Add._from_args(terms, True)
-
-
 def negative(expr: sp.Expr) -> sp.Expr:
     """`-expr`, the same expression: a sum's terms negated one by one (as `Mul(-1, sum)`
     distributes) and summed by `total`."""
