@@ -122,12 +122,13 @@ def _random_state(model: Model, rng: random.Random) -> dict:
     return values
 
 
-def _real(expr: sp.Expr, values: dict) -> float | None:
+def _real(expr: sp.Expr, values: dict, memo: dict | None = None) -> float | None:
     """`expr` at `values` as a finite real; None when it is not one there. Evaluated in
     double precision node by node (`constants.value_at`): a tower like exp(exp(exp(x)))
-    overflows instead of sending mpmath after millions of digits."""
+    overflows instead of sending mpmath after millions of digits. `memo`: `_memo_at(values)`
+    when the caller has it (finding it compares the values)."""
     try:
-        return value_at(sp.sympify(expr), values, _memo_at(values))
+        return value_at(sp.sympify(expr), values, _memo_at(values) if memo is None else memo)
     except (ConstantError, TypeError, ValueError, ArithmeticError):   # complex, undefined, overflow
         return None
 
@@ -145,10 +146,17 @@ def _memo_at(values: dict) -> dict:
     return _LAST_MEMO[1]
 
 
+def _nonzero_values(matrix, values: dict) -> dict:
+    """(i, j) -> the nonzero entry M_ij at `values` (None: not a finite real there)."""
+    memo = _memo_at(values)
+    return {key: _real(expr, values, memo) for key, expr in matrix.todok().items()}
+
+
 def _matrix(matrix, values: dict) -> np.ndarray | None:
     import numpy as np    # here, not at the top: most derives never need it (`_clearly_regular`)
 
-    entries = [_real(e, values) for e in matrix]
+    memo = _memo_at(values)
+    entries = [_real(e, values, memo) for e in matrix]
     if any(e is None for e in entries):
         return None
     return np.array(entries, dtype=float).reshape(matrix.shape)
@@ -275,15 +283,15 @@ def _singular_directions(derivation, values: dict) -> list[str]:
 def _not_finite_mass_matrix(derivation, values: dict) -> Problem | None:
     """The problem of a mass matrix with an entry that is not a finite double at `values`
     (parameters of 1e299 multiplied: m s^2 = 1e897), located at its row's coordinate."""
-    model, M = derivation.model, derivation.mass_matrix
-    for i, q in enumerate(model.q):
-        entry = next((e for e in M.row(i) if e != 0 and _real(e, values) is None), None)
-        if entry is not None:
-            return Problem(model.loc(f"coordinates[{i}]"), f"the mass matrix's row of {q.name} is not a finite "
-                           "number at the initial state (an entry is infinite or undefined there, e.g. products of "
-                           "parameters beyond 1e300)", "a simulation cannot start there: choose units that keep "
-                           "the parameters' products within the double range, or another initial state")
-    return None
+    model = derivation.model
+    rows = [i for (i, _), value in _nonzero_values(derivation.mass_matrix, values).items() if value is None]
+    if not rows:
+        return None
+    i = min(rows)
+    return Problem(model.loc(f"coordinates[{i}]"), f"the mass matrix's row of {model.q[i].name} is not a finite "
+                   "number at the initial state (an entry is infinite or undefined there, e.g. products of "
+                   "parameters beyond 1e300)", "a simulation cannot start there: choose units that keep "
+                   "the parameters' products within the double range, or another initial state")
 
 
 def _clearly_regular(matrix, values: dict) -> bool:
@@ -294,11 +302,9 @@ def _clearly_regular(matrix, values: dict) -> bool:
     (numpy's import was a tenth of a small `derive`); beyond SMALL_MATRIX rows with numpy
     (mpmath's O(n^3) loop in Python took 18 s at n = 300). False also when it cannot tell
     (then numpy's eigenvalues decide)."""
-    entries = {}
-    for (i, j), expr in matrix.todok().items():
-        entries[i, j] = _real(expr, values)
-        if entries[i, j] is None:
-            return False
+    entries = _nonzero_values(matrix, values)
+    if any(entry is None for entry in entries.values()):
+        return False
     n = matrix.shape[0]
     scale = max((abs(e) for e in entries.values()), default=0.0)
     if scale == 0:
