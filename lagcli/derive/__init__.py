@@ -20,7 +20,7 @@ from lagcli.derive.result import Derivation, Equation
 from lagcli.derive.event_functions import event_functions
 from lagcli.model.model_types import Model
 from lagcli.model.products import product
-from lagcli.model.sums import negative, total
+from lagcli.model.sums import dot, negative, total
 
 __all__ = ["derive", "Derivation"]
 
@@ -34,7 +34,7 @@ def derive(model: Model) -> Derivation:
     nonzero = _rows_of(M)       # the nonzero entries (M of n uncoupled coordinates has n of n^2)
     row_sums = [total([product(qd[i], M_ij) for i, M_ij in nonzero[j]]) for j in range(n)]   # (q'^T M)_j
     T2 = total([product(row_sums[j], qd[j]) for j in range(n)]) / 2                          # q'^T M q' / 2
-    T1 = a.dot(qd)
+    T1 = dot(a, qd)
     T = total([total([T2, T1]), e.T0])       # T2 + T1 + T0 (sympy's `+` sorted V's terms anew)
     L = total([T, -e.V])
     Q_applied = almost_everywhere(applied_generalized_forces(model, D))

@@ -20,7 +20,7 @@ import sympy as sp
 from lagcli.model.calculus import TimeDerivative, almost_everywhere, derivative, jacobian_columns
 from lagcli.model.model_types import Model, RigidBody, elementary_rotation
 from lagcli.model.products import product
-from lagcli.model.sums import total
+from lagcli.model.sums import dot, total
 
 AXES = {"x": 0, "y": 1, "z": 2}
 
@@ -148,7 +148,7 @@ def potential_energy(model: Model) -> sp.Expr:
     (adding term by term rebuilt the growing sum: n^2 for n springs)."""
     terms = [model.potential]
     if model.gravity is not None:
-        terms += [-(mass * model.gravity.dot(r)) for mass, r in model.mass_points]
+        terms += [-(mass * dot(model.gravity, r)) for mass, r in model.mass_points]
     for spring in model.springs:
         delta = spring.end_a - spring.end_b
         squared = delta.dot(delta)

@@ -88,7 +88,7 @@ def sort_args(args: list) -> None:
 def _sort_one_class(args: list) -> None:
     """`sort_args` of arguments of one class (or of two of any classes)."""
     if len(args) < 3:
-        if len(args) == 2 and args[1].compare(args[0]) < 0:
+        if len(args) == 2 and _pair_out_of_order(*args):
             args.reverse()
         return
     try:
@@ -103,6 +103,24 @@ def _sort_one_class(args: list) -> None:
         args.sort(key=_COMPARE_KEY)
         return
     args[:] = [args[k] for k in order]
+
+
+def _pair_out_of_order(a: Basic, b: Basic) -> bool:
+    """b before a in compare's order. Expressions of leaves (m3, cos(q3)) by their keys,
+    remembered (`sort_key`: compare walked them anew at every product of a chain's dot
+    products); bigger ones by compare, which stops at the first difference where a key
+    of a new sum walks it whole."""
+    if _shallow(a) and _shallow(b):
+        try:
+            return sort_key(b) < sort_key(a)
+        except (NoKey, TypeError):    # TypeError: items of different kinds at one place
+            pass
+    return b.compare(a) < 0
+
+
+def _shallow(expr: Basic) -> bool:
+    """A leaf, or a node of leaves."""
+    return all(not arg.args for arg in expr.args)
 
 
 def _by_items(run: list, contents: list, position: int) -> list:

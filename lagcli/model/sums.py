@@ -56,6 +56,13 @@ def total(terms) -> sp.Expr:
     return sp.Add._from_args(result, True)   # no constructor postprocessor: those are MatrixExpr's
 
 
+def dot(u, w) -> sp.Expr:
+    """`Matrix(u).dot(Matrix(w))`, the same expression, of two vectors of plain terms: the
+    sum of the nonzero products. (sympy's matrix product asked each term of the chain's
+    positions whether it is zero, through the assumptions: most of the time of V.)"""
+    return total([product(a, b) for a, b in zip(u, w) if a != 0 and b != 0])
+
+
 def negative(expr: sp.Expr) -> sp.Expr:
     """`-expr`, the same expression: a sum's terms negated one by one (as `Mul(-1, sum)`
     distributes) and summed by `total`."""

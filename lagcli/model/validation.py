@@ -18,9 +18,11 @@ Warnings go through `lagcli.errors.warn_spec`, errors are collected into one `Sp
 """
 from __future__ import annotations
 
+import math
+import operator
 import random
+import sys
 
-import mpmath
 import sympy as sp
 
 from lagcli.model.constants import ConstantError, value_at
@@ -31,7 +33,7 @@ TOLERANCE = 1e-9          # relative: an eigenvalue or a moment this far below z
 SINGULAR = 1e-10          # smallest / largest singular value below this: singular
 RANDOM_STATES = 3         # seeded states that decide "singular everywhere"
 SEED = 20240611
-SMALL_MATRIX = 30         # mass matrices up to this size are told regular without importing numpy
+SMALL_MATRIX = 150        # mass matrices up to this size are told regular without importing numpy
 
 
 def check_model(model: Model) -> None:
@@ -298,10 +300,10 @@ def _clearly_regular(matrix, values: dict) -> bool:
     """True when the symmetric `matrix` at `values` is positive definite with its smallest
     eigenvalue above SINGULAR times its largest entry: M - SINGULAR*scale*I has a Cholesky
     factor. Only the nonzero entries are evaluated (a system of many uncoupled coordinates
-    has n of n^2). Small matrices are factored with mpmath, which sympy has loaded already
-    (numpy's import was a tenth of a small `derive`); beyond SMALL_MATRIX rows with numpy
-    (mpmath's O(n^3) loop in Python took 18 s at n = 300). False also when it cannot tell
-    (then numpy's eigenvalues decide)."""
+    has n of n^2). Up to SMALL_MATRIX rows factored in plain Python floats (numpy's import
+    was a tenth of a 40-link `derive`, and the only use of numpy there), beyond with numpy
+    (the factorization is n^3/6 multiplications). False also when it cannot tell (then
+    numpy's eigenvalues decide)."""
     entries = _nonzero_values(matrix, values)
     if any(entry is None for entry in entries.values()):
         return False
@@ -309,32 +311,36 @@ def _clearly_regular(matrix, values: dict) -> bool:
     scale = max((abs(e) for e in entries.values()), default=0.0)
     if scale == 0:
         return False
-    shifted = _dense(n, entries, SINGULAR * scale)
-    try:
-        if n <= SMALL_MATRIX:
-            mpmath.fp.cholesky(shifted)
-            return True
-        import numpy as np
+    shifted = [[0.0] * n for _ in range(n)]
+    for (i, j), entry in entries.items():
+        shifted[i][j] = entry
+    for k in range(n):
+        shifted[k][k] -= SINGULAR * scale
+    if n <= SMALL_MATRIX:
+        return _has_cholesky_factor(shifted)
+    import numpy as np
 
-        np.linalg.cholesky(shifted)
-    except (ValueError, ZeroDivisionError):     # numpy's LinAlgError is a ValueError
+    try:
+        np.linalg.cholesky(np.array(shifted))
+    except ValueError:     # numpy's LinAlgError is a ValueError
         return False
     return True
 
 
-def _dense(n: int, entries: dict, shift: float):
-    """The n x n matrix of `entries` minus shift * I: mpmath's for small n, numpy's beyond."""
-    if n <= SMALL_MATRIX:
-        shifted = mpmath.fp.matrix(n, n)
-    else:
-        import numpy as np
-
-        shifted = np.zeros((n, n))
-    for (i, j), entry in entries.items():
-        shifted[i, j] = entry
-    for k in range(n):
-        shifted[k, k] = shifted[k, k] - shift
-    return shifted
+def _has_cholesky_factor(a: list[list[float]]) -> bool:
+    """The symmetric `a` = L L^T with every pivot of L at least the double's epsilon (as
+    mpmath's `cholesky` requires), by the Cholesky-Banachiewicz rows."""
+    n = len(a)
+    L = [[0.0] * n for _ in range(n)]
+    for j in range(n):
+        row = L[j]
+        pivot = a[j][j] - sum(x * x for x in row[:j])
+        if not pivot >= sys.float_info.epsilon:       # also NaN
+            return False
+        row[j] = math.sqrt(pivot)
+        for i in range(j + 1, n):
+            L[i][j] = (a[i][j] - sum(map(operator.mul, L[i][:j], row[:j]))) / row[j]
+    return True
 
 
 def _null_space(A: np.ndarray) -> np.ndarray:
