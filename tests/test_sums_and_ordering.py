@@ -8,7 +8,7 @@ from hypothesis import given, settings, strategies as st
 
 from lagcli.model.ordering import sort_args, sort_key
 from lagcli.model.products import product
-from lagcli.model.sums import dot, negative, total
+from lagcli.model.sums import dot, negated_terms, negative, total
 
 x, y, z = sp.symbols("x y z", real=True)
 m1, m10, m2, q1, q10 = sp.symbols("m1 m10 m2 q1 q10")
@@ -114,3 +114,22 @@ def test_dot_is_sympys_matrix_dot(seed, n):
     u, w = [entry() for _ in range(n)], [entry() for _ in range(n)]
     ours, theirs = dot(u, w), sp.Matrix(u).dot(sp.Matrix(w))
     assert ours == theirs and ours.args == theirs.args and type(ours) is type(theirs), (u, w)
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.integers(0, 2**32 - 1))
+def test_negated_terms_sum_to_sympys_minus(seed):
+    """total([*terms of a, *negated_terms(b)]) is sympy's a - b, like terms and all (the
+    equations' M q'' - F and F's -dV, each sorted once)."""
+    rng = random.Random(seed)
+    commutative = [e for e in POOL if e.is_commutative]
+
+    def term():      # evaluated products and powers (sympy's own canonical forms)
+        factors = [rng.choice(NUMBERS[:5])] + [rng.choice(commutative) for _ in range(rng.randint(0, 3))]
+        if rng.random() < 0.3:
+            factors.append(sp.Add(*(rng.choice(commutative) for _ in range(3))))
+        return sp.Mul(*factors)
+    a = [term() for _ in range(rng.randint(0, 5))]
+    b = sp.Add(*(term() for _ in range(rng.randint(0, 6))))
+    ours, theirs = total([*a, *negated_terms(b)]), sp.Add(*a) - b
+    assert ours == theirs and ours.args == theirs.args and type(ours) is type(theirs), (a, b)

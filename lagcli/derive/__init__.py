@@ -20,7 +20,7 @@ from lagcli.derive.result import Derivation, Equation
 from lagcli.derive.event_functions import event_functions
 from lagcli.model.model_types import Model
 from lagcli.model.products import product
-from lagcli.model.sums import dot, negative, total
+from lagcli.model.sums import dot, negated_terms, negative, total
 
 __all__ = ["derive", "Derivation"]
 
@@ -42,8 +42,8 @@ def derive(model: Model) -> Derivation:
     F = almost_everywhere(forcing(model, D, Q_applied, dV))
     Q_minus_dV = [total([Q, negative(dV_i)]) for Q, dV_i in zip(Q_applied, dV)]
 
-    # M q'' - F, as sympy's `-` builds it (Add(a, -b)), its F summed anew by `total`
-    lhs = [total([total([product(M_ij, qdd[j]) for j, M_ij in nonzero[i]]), negative(F[i])]) for i in range(n)]
+    # M q'' - F, as sympy's `-` builds it (Add(a, -b)), its terms sorted once (`negated_terms`)
+    lhs = [total([*(product(M_ij, qdd[j]) for j, M_ij in nonzero[i]), *negated_terms(F[i])]) for i in range(n)]
     rows = constraint_rows(model)
     A = constraint_matrix(model, rows)
     multipliers = tuple(r.multiplier for r in rows)

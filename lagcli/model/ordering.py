@@ -26,6 +26,7 @@ import functools
 
 from sympy.core.basic import Basic, _args_sortkey as _COMPARE_KEY, ordering_of_classes
 
+_FEW = 8       # lists up to this long of leaf-like expressions are sorted by their keys at once
 _UNKNOWN = len(ordering_of_classes) + 1        # `_cmp_name`'s place of an unlisted class
 _PLACE: dict = {}
 for _k, _name in enumerate(ordering_of_classes):
@@ -70,9 +71,15 @@ def sort_args(args: list) -> None:
     by class first, and by key only among arguments of one class. A product's factors
     are mostly of different classes (m3*cos(q3)*(sum of 100 terms)): keying the sum
     itself walked its terms at every product."""
-    if len(args) < 3:      # one comparison: compare itself is cheaper than two keys
+    if len(args) < 3:      # one comparison (`_pair_out_of_order`)
         _sort_one_class(args)
         return
+    if len(args) <= _FEW and all(_shallow(a) for a in args):   # the factors of a term: m3, l3, cos(q3)
+        try:
+            args[:] = sorted(args, key=sort_key)
+            return
+        except (NoKey, TypeError):
+            pass
     classes = [class_key(type(a)) for a in args]
     order = sorted(range(len(args)), key=classes.__getitem__)
     result, start = [], 0

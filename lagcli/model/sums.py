@@ -67,8 +67,17 @@ def negative(expr: sp.Expr) -> sp.Expr:
     """`-expr`, the same expression: a sum's terms negated one by one (as `Mul(-1, sum)`
     distributes) and summed by `total`."""
     if expr.is_Add and expr.is_commutative and global_parameters.distribute:
-        return total([_keep_coeff(sp.S.NegativeOne, term) for term in expr.args])
+        return total(negated_terms(expr))
     return -expr
+
+
+def negated_terms(expr: sp.Expr) -> list:
+    """Terms whose `total` is `negative(expr)`: a sum's terms negated one by one, not
+    sorted (a caller adding them to other terms sorts once: `total([a, *negated_terms(b)])`
+    is `total([a, negative(b)])`, each sum flattened into the other's terms anyway)."""
+    if expr.is_Add and expr.is_commutative and global_parameters.distribute:
+        return [_keep_coeff(sp.S.NegativeOne, term) for term in expr.args]
+    return [-expr]
 
 
 def _collect(args: list):
