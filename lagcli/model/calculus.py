@@ -16,7 +16,7 @@ import sympy as sp
 from sympy.core.function import ArgumentIndexError
 
 from lagcli.model.angle_calls import TRIG, trig_call
-from lagcli.model.constants import ConstantError, value_at
+from lagcli.model.constants import ConstantError, value_at, value_from_arguments
 from lagcli.model.products import product
 from lagcli.model.sums import total
 
@@ -267,9 +267,11 @@ class DependenceProbe:
     n coordinates would otherwise draw and evaluate n points of n symbols: quadratic in a
     system of many coordinates). Evaluated node by node in double precision
     (`constants.value_at`, as `numerically_zero`), each shared subexpression once; at a
-    moved point only the subexpressions that mention the moved symbol are evaluated again
-    (`_MovedValues`). (Compiling the expressions with sympy's lambdify printed them whole
-    first: most of the cost for a chain's V.) `free`: a `free_symbols` memo.
+    moved point only the nodes that mention the moved symbol are evaluated again, a sum
+    from its terms' values at the base point with those that mention it replaced
+    (`_Moved`): the same values as evaluating everything anew. (Compiling the expressions
+    with sympy's lambdify printed them whole: most of the cost for a chain's V; evaluating
+    all of V again for each coordinate was n^3.) `free`: a `free_symbols` memo.
     """
 
     def __init__(self, exprs: Sequence[sp.Expr], seed: int = 20261121, free: dict | None = None):
@@ -278,17 +280,16 @@ class DependenceProbe:
         self.symbols = sorted(set().union(*(free_symbols(e, self.free) for e in self.exprs)), key=str)
         self.rng = random.Random(seed)
         self.points: list[tuple[dict, list[float] | None, dict]] = []   # (point, values, memo), in draw order
-
-    def _evaluate(self, point: dict, memo: dict) -> list[float] | None:
-        try:
-            return [value_at(e, point, memo) for e in self.exprs]
-        except (ConstantError, TypeError, ValueError, ArithmeticError):   # complex, undefined, overflow
-            return None
+        self.mentions: dict = {}      # sum -> {symbol: the places of its terms that mention it}
 
     def _point(self, k: int) -> tuple[dict, list[float] | None, dict]:
         while len(self.points) <= k:
             point, memo = {s: self.rng.uniform(0.3, 1.3) for s in self.symbols}, {}
-            self.points.append((point, self._evaluate(point, memo), memo))
+            try:
+                values = [value_at(e, point, memo) for e in self.exprs]
+            except _UNDEFINED:
+                values = None
+            self.points.append((point, values, memo))
         return self.points[k]
 
     def depends_on(self, symbol: sp.Symbol, trials: int = 3) -> bool:
@@ -300,9 +301,10 @@ class DependenceProbe:
             attempts += 1
             if first is None:
                 continue
-            moved = {**base, symbol: base[symbol] + self.rng.uniform(0.5, 1.5)}
-            second = self._evaluate(moved, _MovedValues(memo, symbol, self.free))
-            if second is None:
+            moved = _Moved(self, memo, symbol, base[symbol] + self.rng.uniform(0.5, 1.5))
+            try:
+                second = [moved.value(e) for e in self.exprs]
+            except _UNDEFINED:
                 continue
             done += 1
             scale = 1 + max(abs(v) for v in first + second)
@@ -310,22 +312,44 @@ class DependenceProbe:
                 return True
         return done == 0  # no point could be evaluated: undecided, so assume dependence
 
+    def places(self, expr: sp.Add, symbol: sp.Symbol) -> list[int]:
+        """The places of the terms of the sum `expr` that mention `symbol` (indexed once)."""
+        index = self.mentions.get(expr)
+        if index is None:
+            index = self.mentions[expr] = {}
+            for k, term in enumerate(expr.args):
+                for s in free_symbols(term, self.free):
+                    index.setdefault(s, []).append(k)
+        return index.get(symbol, [])
 
-class _MovedValues(dict):
-    """The memo of `value_at` at a point that differs from a base point in `symbol` only:
-    a subexpression free of `symbol` has its value at the base point (`base`, the memo of a
-    complete evaluation there). Were `value_at` to look values up otherwise than by `get`,
-    everything would be evaluated anew: slower, the same values."""
 
-    def __init__(self, base: dict, symbol: sp.Symbol, free: dict):
-        super().__init__()
-        self.base, self.symbol, self.free = base, symbol, free
+_UNDEFINED = (ConstantError, TypeError, ValueError, ArithmeticError)   # complex, undefined, overflow
 
-    def get(self, expr, default=None):
-        found = dict.get(self, expr)
-        if found is None and self.symbol not in free_symbols(expr, self.free):
-            found = self.base.get(expr)
-        return default if found is None else found
+
+class _Moved:
+    """Values at a point that differs from a base point (`base`: the values of every node
+    there) in `symbol` only, which has the value `at`."""
+
+    def __init__(self, probe: DependenceProbe, base: dict, symbol: sp.Symbol, at: float):
+        self.probe, self.base, self.symbol, self.at = probe, base, symbol, at
+        self.values: dict = {}
+
+    def value(self, expr: sp.Expr) -> float:
+        if self.symbol not in free_symbols(expr, self.probe.free):
+            return self.base[expr]
+        found = self.values.get(expr)
+        if found is None:
+            if not expr.args:        # a leaf that mentions the symbol: the symbol
+                found = value_at(expr, {expr: self.at})
+            elif expr.is_Add:
+                args = [self.base[term] for term in expr.args]
+                for k in self.probe.places(expr, self.symbol):
+                    args[k] = self.value(expr.args[k])
+                found = value_from_arguments(expr, args)
+            else:
+                found = value_from_arguments(expr, [self.value(arg) for arg in expr.args])
+            self.values[expr] = found
+        return found
 
 
 @functools.lru_cache(maxsize=1 << 16)

@@ -140,6 +140,7 @@ class Scope:
         self.builder = builder or _Builder
         self.elsewhere = dict(elsewhere or {})
         self.built: dict = {}    # (builder, a sum's term as written) -> (names, their values, the term)
+        self.memo: dict = {}     # the builders' memos of expressions (`_Builder`)
 
     def with_name(self, name: str, value: sp.Expr) -> "Scope":
         return Scope({**self.names, name: value}, self.t, self.time_derivative, self.builder, self.elsewhere)
@@ -210,7 +211,7 @@ def _check_size(tree: ast.AST, text: str, loc: Loc, limits: Limits) -> None:
             _fail(loc, f"expression is too large (more than {limits.nodes} terms)")
         if depth > limits.depth:
             _fail(loc, f"expression is nested too deeply (more than {limits.depth} levels): {_short(text)!r}")
-        summing = _is_sum(node)
+        summing = isinstance(node, ast.BinOp) and isinstance(node.op, _SUM_OPERATORS)     # `_is_sum`
         for name in node._fields:      # the children in `ast.iter_child_nodes`'s order
             child = getattr(node, name, None)
             if isinstance(child, ast.AST):
@@ -220,8 +221,11 @@ def _check_size(tree: ast.AST, text: str, loc: Loc, limits: Limits) -> None:
                 stack.extend((item, depth + 1) for item in child if isinstance(item, ast.AST))
 
 
+_SUM_OPERATORS = (ast.Add, ast.Sub)
+
+
 def _is_sum(node: ast.AST) -> bool:
-    return isinstance(node, ast.BinOp) and isinstance(node.op, (ast.Add, ast.Sub))
+    return isinstance(node, ast.BinOp) and isinstance(node.op, _SUM_OPERATORS)
 
 
 class _Builder:
@@ -230,9 +234,11 @@ class _Builder:
     def __init__(self, scope: Scope, loc: Loc, text: str):
         self.scope, self.loc, self.text = scope, loc, text
         self.source = text.replace("^", "**").strip()  # what `ast` parsed: node positions refer to it
-        self.values: dict[sp.Expr, float] = {}      # constant -> its value
-        self.constant: dict[sp.Expr, bool] = {}     # expression -> has no free symbols
-        self.depths: dict[sp.Expr, int] = {}        # expression -> nesting depth
+        # what is known of the values built (pure functions of an expression, so kept in the
+        # scope: a chain's positions share their terms, each walked once, not once a position)
+        self.values: dict[sp.Expr, float] = scope.memo.setdefault("values", {})      # constant -> its value
+        self.constant: dict[sp.Expr, bool] = scope.memo.setdefault("constant", {})   # expression -> no free symbols
+        self.depths: dict[sp.Expr, int] = scope.memo.setdefault("depths", {})        # expression -> nesting depth
 
     def fail(self, message: str, hint: str = "") -> None:
         raise SpecError(Problem(self.loc, f"in {_short(self.text)!r}: {message}", hint))
