@@ -119,19 +119,20 @@ class Display:
         if not self._tidy_on:
             return expr
         if expr not in self._cache:
-            if expr.is_Add and not sized and self._by_shape(expr):
+            if expr.is_Add and self._by_shape(expr, sized):
                 self._cache[expr] = self._tidy_by_shape(expr)   # the steps of the last sum of its shape
             else:
                 self._cache[expr] = self._tidy_tree(expr, sized)
         return self._cache[expr]
 
     @staticmethod
-    def _by_shape(add) -> bool:
-        """Worth tidying by its shape: small, not a weighted sum (whose X is tidied by its
+    def _by_shape(add, sized: bool = False) -> bool:
+        """Worth tidying by its shape (a whole sum, or one inside a product: the dot
+        product X of a chain's M entry X (m_k + ... + m_n)): small, not a weighted sum (whose X is tidied by its
         shape instead: renaming the whole sum costs as much as tidying it; nor one written
         flat, dV/dq_i = -g l_i m_i sin(q_i) - ... of a chain), not a sum of symbols
         (display_form keeps it)."""
-        return small(add, TREE_MAX_NODES) and not sum_of_symbols(add) and weighted_sum(add) is None \
+        return (sized or small(add, TREE_MAX_NODES)) and not sum_of_symbols(add) and weighted_sum(add) is None \
             and flat_weighted_sum(add) is None
 
     def signs(self, expr) -> sp.Expr:
