@@ -6,6 +6,7 @@ fresh object (no memo shared), on chain-like expressions whose names sort in eve
 ("q10" < "q2" as names) and with mixed assumptions."""
 from __future__ import annotations
 
+import pytest
 import sympy as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -169,3 +170,29 @@ def test_one_factor_derivative_of_chain_entries():
                 found = _one_factor_derivative(entry, var, {})
                 direct = calculus.derivative(entry, var, {})
                 assert found is None or sp.srepr(found) == sp.srepr(direct), (entry, var)
+
+
+@pytest.mark.parametrize("spec", ["chain6", "specs/double_pendulum.yaml", "specs/heavy_symmetric_top.yaml",
+                                  "specs/ex20_spinning_disk_double_pendulum.yaml", "specs/cart_pole.yaml"])
+def test_velocity_buckets_are_the_christoffel_sums_by_sympy(spec, tmp_path):
+    """c_i by monomial (pairs whose terms cancel skipped without sympy arithmetic) is the
+    notes' sum of sympy derivatives of the tidied M, over every pair j <= l."""
+    import lagcli
+
+    from conftest import ROOT, nlink_spec
+
+    path = nlink_spec(tmp_path, 6) if spec == "chain6" else ROOT / spec
+    d = lagcli.load(str(path)).derivation
+    shown = Display(d)
+    M, q, qd, n = shown.M, shown.q, shown.qd, shown.n
+    for i in range(n):
+        expected = {}
+        for j in range(n):
+            for l in range(j, n):
+                if j == l:
+                    c = sp.diff(M[i][j], q[j]) - sp.diff(M[j][j], q[i]) / 2
+                else:
+                    c = sp.diff(M[i][j], q[l]) + sp.diff(M[i][l], q[j]) - sp.diff(M[j][l], q[i])
+                if c != 0:
+                    expected[qd[j] * qd[l]] = c
+        assert shown.velocity_buckets(i) == expected, (spec, i)

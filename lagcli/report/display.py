@@ -89,6 +89,7 @@ class Display:
         self._differentiated: dict = {}  # (expr, var) -> d expr / d var
         self._merged: dict = {}          # (i, names) -> the parts `names` of equation i, by monomial
         self._bucket_terms: dict = {}    # (monomial, coefficient, sign) -> its terms (`ordered_terms`)
+        self._monomials: dict = {}       # (j, l) -> q'_j q'_l
         self._tidy_on = simplify
         self._tidy_by_shape = Shapes(functools.partial(self._tidy_tree, sized=True))
         n = self.n
@@ -241,19 +242,27 @@ class Display:
     def velocity_buckets(self, i: int) -> dict:
         """c_i grouped by monomial: {q'_j q'_l: C_ijl} (see the module docstring), over
         the pairs (j, l) where a derivative in C_ijl can be nonzero (`_velocity_pairs`)."""
-        q, qd, zero = self.q, self.qd, sp.S.Zero
+        q, zero = self.q, sp.S.Zero
         out = {}
         for j, l in self._velocity_pairs(i):
             if j == l:
                 parts = (self._dM(i, j, q[j]), _negated(self._dM(j, j, q[i]), half=True))
             else:
-                parts = (self._dM(i, j, q[l]), self._dM(i, l, q[j]), _negated(self._dM(j, l, q[i])))
+                parts = _cancelled(self._dM(i, j, q[l]), self._dM(i, l, q[j]), self._dM(j, l, q[i]))
             nonzero = [part for part in parts if part is not zero]
             if nonzero:      # sympy's Add drops zeros and returns a single term itself
                 coefficient = nonzero[0] if len(nonzero) == 1 else sp.Add(*nonzero)
                 if coefficient != 0:
-                    out[qd[j] * qd[l]] = coefficient
+                    out[self._monomial(j, l)] = coefficient
         return out
+
+    def _monomial(self, j: int, l: int) -> sp.Expr:
+        """q'_j q'_l, one object for each pair (the buckets of every equation share them)."""
+        key = (j, l)
+        found = self._monomials.get(key)
+        if found is None:
+            found = self._monomials[key] = self.qd[j] * self.qd[l]
+        return found
 
     def _velocity_pairs(self, i: int) -> list[tuple[int, int]]:
         """The pairs j <= l, in order, for which d_l M_ij, d_j M_il or d_i M_jl may be nonzero
@@ -362,6 +371,19 @@ def bucket_terms(monomial, coefficient, tidy: Callable, signs: Callable, sign: i
     if monomial == 1:
         return [signs(term) for term in split(coefficient)]
     return [signs(product(coefficient, monomial))]
+
+
+def _cancelled(first, second, subtracted) -> tuple:
+    """The terms of first + second - subtracted (C_ijl, j < l), where `subtracted` is often
+    one of the others itself (d_i M_il twice in C_iil): those two cancel, and when the
+    remaining one is 0 the sum is 0 with no sympy arithmetic (x - x is 0 exactly, floats
+    too; a nonzero remainder is summed by sympy as before, whose float sums may round)."""
+    zero = sp.S.Zero
+    if subtracted is not zero and (subtracted is first or subtracted is second):
+        other = second if subtracted is first else first
+        if other is zero:
+            return ()
+    return first, second, _negated(subtracted)
 
 
 def _negated(expr, half: bool = False):
