@@ -1,4 +1,4 @@
-"""Sums and products printed with each precedence found once (lagcli/targets/operator_printing.py).
+"""Sums and products printed with each precedence found once (lagcli/render/operator_printing.py).
 
 Every target's printer prints random expressions (sums, products, integer and half powers,
 negative and rational coefficients, floats, functions; evaluated or built unevaluated as
@@ -17,7 +17,7 @@ from lagcli.targets.c import CPrinter
 from lagcli.targets.casadi import CasadiPrinter
 from lagcli.targets.jax import JaxPrinter
 from lagcli.targets.octave import OctavePrinter
-from lagcli.targets.operator_printing import RememberedPrecedence, _generic
+from lagcli.render.operator_printing import RememberedPrecedence, _generic
 from lagcli.targets.python import PythonPrinter
 from lagcli.targets.rust import RustPrinter
 

@@ -150,24 +150,24 @@ def test_a_flat_weighted_sum_is_shown_as_display_form_shows_it(index_sets, weigh
 def test_one_factor_derivative_is_calculus_derivative(factors, var):
     """The report's derivative of a product with one varying factor is the derivation's."""
     from lagcli.model import calculus
-    from lagcli.report.display import _one_factor_derivative
+    from lagcli.report.derivatives import one_factor_derivative
 
     expr = sp.Mul(*factors)
-    found = _one_factor_derivative(expr, var, {})
+    found = one_factor_derivative(expr, var, {})
     if found is not None:
         assert sp.srepr(found) == sp.srepr(calculus.derivative(expr, var, {})), expr
 
 
 def test_one_factor_derivative_of_chain_entries():
     from lagcli.model import calculus
-    from lagcli.report.display import _one_factor_derivative
+    from lagcli.report.derivatives import one_factor_derivative
 
     for i, j, k in [(0, 3, 5), (2, 7, 1), (9, 10, 11)]:
         mass = sp.Add(*m[k:])
         for entry in (c[i] * c[j] * mass * sp.cos(q[i] - q[j]), -c[i] * mass * sp.sin(q[j]) * qd[i],
                       c[i] * c[j] * mass * sp.cos(q[j] - q[i] + q[k])):
             for var in (q[i], q[j], q[k]):
-                found = _one_factor_derivative(entry, var, {})
+                found = one_factor_derivative(entry, var, {})
                 direct = calculus.derivative(entry, var, {})
                 assert found is None or sp.srepr(found) == sp.srepr(direct), (entry, var)
 

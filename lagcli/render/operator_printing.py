@@ -4,12 +4,14 @@ sympy's printers ask `precedence(x)` of a product up to three times (its own
 `_print_Mul`, the parent's `parenthesize`, the parent sum's `_print_Add`), and each
 answer builds `-x` (`Mul.could_extract_minus_sign`): half of the printing of the 40-link
 chain's code (bench/README.md, issue 24). `RememberedPrecedence` is a mixin placed before
-sympy's printer class (`slots.SlotPrinter` starts from it): its `parenthesize`,
-`_print_Add` and `_print_Mul` are sympy's (`StrPrinter.parenthesize`,
-`StrPrinter._print_Add`, `CodePrinter._print_Mul`, sympy 1.14) with `precedence` replaced
-by `precedence_of`, which remembers the answer per expression and gives the answer of a
-product without a leading number directly (it cannot be negative). A language whose sympy
-printer prints sums or products its own way (Octave's `_print_Mul`, Rust's both) keeps
+sympy's printer class (the code targets' `slots.SlotPrinter` and the reports' spec-language
+`spec_printer.SpecPrinter` start from it): its `parenthesize`, `_print_Add` and
+`_print_Mul` are sympy's (`StrPrinter.parenthesize`, `StrPrinter._print_Add`,
+`CodePrinter._print_Mul`, sympy 1.14) with `precedence` replaced by `precedence_of`, which
+remembers the answer per expression (unless the printer sets `_precedences` to None: a
+printer kept for the whole process) and gives the answer of a product without a leading
+number directly (it cannot be negative). A printer whose sympy class prints sums or
+products its own way (Octave's `_print_Mul`, Rust's both, StrPrinter's `_print_Mul`) keeps
 that: the mixin defers to it (`_generic`). tests/test_operator_printing.py compares the
 text with sympy's printers on random expressions.
 """
@@ -40,16 +42,13 @@ class RememberedPrecedence:
         self._precedences: dict = {}
 
     def precedence_of(self, item) -> int:
-        """`sympy.printing.precedence.precedence(item)`, remembered."""
+        """`sympy.printing.precedence.precedence(item)`, remembered (with a memo)."""
         memo = self._precedences
+        if memo is None:
+            return _precedence(item)
         found = memo.get(item)
         if found is None:
-            if type(item) is Mul and not item.args[0].is_Number \
-                    and not any(hasattr(arg, "precedence") for arg in item.args):
-                found = MUL          # precedence_Mul: no function of low precedence, no minus sign
-            else:
-                found = precedence(item)
-            memo[item] = found
+            found = memo[item] = _precedence(item)
         return found
 
     def parenthesize(self, item, level, strict=False):
@@ -114,6 +113,14 @@ class RememberedPrecedence:
         if len(b) == 1:
             return sign + '*'.join(a_str) + "/" + b_str[0]
         return sign + '*'.join(a_str) + "/(%s)" % '*'.join(b_str)
+
+
+def _precedence(item) -> int:
+    """`precedence(item)`; a product without a leading number is MUL at once (precedence_Mul:
+    no function of low precedence, no minus sign to find)."""
+    if type(item) is Mul and not item.args[0].is_Number and not any(hasattr(arg, "precedence") for arg in item.args):
+        return MUL
+    return precedence(item)
 
 
 @cache
