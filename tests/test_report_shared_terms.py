@@ -172,6 +172,36 @@ def test_one_factor_derivative_of_chain_entries():
                 assert found is None or sp.srepr(found) == sp.srepr(direct), (entry, var)
 
 
+@settings(max_examples=60, deadline=None)
+@given(exprs=st.lists(_expressions(), min_size=2, max_size=6), var=st.sampled_from(q[:4]))
+def test_remembered_rates_are_calculus_derivatives(exprs, var):
+    """Derivatives of expressions sharing parts, taken with one memo of the sums' and products'
+    rates (each expression, sums and products of them, weighted sums of growing sums like a
+    chain's potential), are the derivation's, each taken afresh."""
+    from lagcli.model import calculus
+    from lagcli.report.derivatives import derivative
+
+    memo, rates = {}, {}
+    growing = sp.Add(*(m[k] * c[0] * sp.Add(*exprs[:k + 1]) for k in range(len(exprs))))
+    for expr in [*exprs, sp.Add(*exprs), sp.Mul(*exprs), *(m[k] * e for k, e in enumerate(exprs)), growing]:
+        for v in (var, q[5]):
+            assert sp.srepr(derivative(expr, v, memo, rates)) == sp.srepr(calculus.derivative(expr, v, {})), (expr, v)
+
+
+def test_remembered_rates_of_a_chains_potential(tmp_path):
+    """dV/dq_i of a 12-link chain (its sums share their terms), one memo for all i."""
+    import lagcli
+    from lagcli.model import calculus
+    from lagcli.report.derivatives import derivative
+
+    from conftest import nlink_spec
+
+    d = lagcli.load(str(nlink_spec(tmp_path, 12))).derivation
+    memo, rates = {}, {}
+    for qi in d.model.q:
+        assert sp.srepr(derivative(d.V, qi, memo, rates)) == sp.srepr(calculus.derivative(d.V, qi, {}))
+
+
 @pytest.mark.parametrize("spec", ["chain6", "specs/double_pendulum.yaml", "specs/heavy_symmetric_top.yaml",
                                   "specs/ex20_spinning_disk_double_pendulum.yaml", "specs/cart_pole.yaml"])
 def test_velocity_buckets_are_the_christoffel_sums_by_sympy(spec, tmp_path):

@@ -87,6 +87,7 @@ class Display:
         self._signs: dict = {}
         self._free_symbols: dict = {}   # of every subexpression differentiated (calculus.free_symbols)
         self._differentiated: dict = {}  # (expr, var) -> d expr / d var
+        self._rates: dict = {}           # (expr, var) -> d expr / d var of their parts (`derivatives.rate`)
         self._merged: dict = {}          # (i, names) -> the parts `names` of equation i, by monomial
         self._bucket_terms: dict = {}    # (monomial, coefficient, sign) -> its terms (`ordered_terms`)
         self._monomials: dict = {}       # (j, l) -> q'_j q'_l
@@ -111,7 +112,7 @@ class Display:
         key = (expr, var)
         found = self._differentiated.get(key)
         if found is None:
-            found = self._differentiated[key] = derivative(expr, var, self._free_symbols)
+            found = self._differentiated[key] = derivative(expr, var, self._free_symbols, self._rates)
         return found
 
     def tidy(self, expr, sized: bool = False) -> sp.Expr:
