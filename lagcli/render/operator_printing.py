@@ -19,7 +19,7 @@ from __future__ import annotations
 
 from functools import cache
 
-from sympy import Mul, Pow, S
+from sympy import Mul, Number, Pow, Rational, S
 from sympy.core.mul import _keep_coeff
 from sympy.printing.c import C89CodePrinter
 from sympy.printing.codeprinter import CodePrinter
@@ -29,7 +29,8 @@ from sympy.printing.str import StrPrinter
 GENERIC = {
     "parenthesize": (StrPrinter.parenthesize,),
     "_print_Add": (StrPrinter._print_Add,),
-    "_print_Mul": (CodePrinter._print_Mul, C89CodePrinter._print_Mul),   # C89's: math macros first
+    "_print_Mul": (CodePrinter._print_Mul, C89CodePrinter._print_Mul,   # C89's: math macros first
+                   StrPrinter._print_Mul),                              # the reports' (`_print_str_Mul`)
 }
 MUL = PRECEDENCE["Mul"]
 
@@ -79,6 +80,8 @@ class RememberedPrecedence:
         return ("" if sign == "+" else sign) + ' '.join(words)
 
     def _print_Mul(self, expr, **kwargs):
+        if _sympys(type(self), "_print_Mul") is StrPrinter._print_Mul:
+            return self._print_str_Mul(expr)
         if not _generic(type(self), "_print_Mul") or getattr(self, "math_macros", None):
             return super()._print_Mul(expr, **kwargs)
         prec = self.precedence_of(expr)
@@ -115,6 +118,62 @@ class RememberedPrecedence:
         return sign + '*'.join(a_str) + "/(%s)" % '*'.join(b_str)
 
 
+    def _print_str_Mul(self, expr) -> str:
+        """`StrPrinter._print_Mul` (the reports' spec language), with `precedence_of` and the
+        sign of the common coefficients 1 and -1 known without comparing numbers."""
+        prec = self.precedence_of(expr)
+        args = expr.args
+        if args[0] is S.One or any(isinstance(a, Number) or a.is_Pow and all(ai.is_Integer for ai in a.args)
+                                   for a in args[1:]):
+            return StrPrinter._print_Mul(self, expr)     # unevaluated: every factor shown as it is
+        c, e = expr.as_coeff_Mul()
+        if c is S.NegativeOne or (c is not S.One and c < 0):
+            expr, sign = _keep_coeff(-c, e), "-"
+        else:
+            sign = ""
+        a, b, pow_paren = [], [], []      # numerator, denominator, 1/(x*y) kept in parentheses
+        for item in (expr.as_ordered_factors() if self.order not in ('old', 'none') else Mul.make_args(expr)):
+            if item.is_commutative and isinstance(item, Pow) and bool(item.exp.as_coeff_Mul()[0] < 0):
+                if item.exp is not S.NegativeOne:
+                    b.append(_inverted(item))
+                else:
+                    if len(item.args[0].args) != 1 and isinstance(item.base, (Mul, Pow)):
+                        pow_paren.append(item)
+                    b.append(item.base)
+            elif item.is_Rational and item is not S.Infinity:
+                if item.p != 1:
+                    a.append(Rational(item.p))
+                if item.q != 1:
+                    b.append(Rational(item.q))
+            else:
+                a.append(item)
+        a = a or [S.One]
+        a_str = [self.parenthesize(x, prec, strict=False) for x in a]
+        b_str = [self.parenthesize(x, prec, strict=False) for x in b]
+        for item in pow_paren:
+            if item.base in b:
+                b_str[b.index(item.base)] = "(%s)" % b_str[b.index(item.base)]
+        if not b:
+            return sign + '*'.join(a_str)
+        if len(b) == 1:
+            return sign + '*'.join(a_str) + "/" + b_str[0]
+        return sign + '*'.join(a_str) + "/(%s)" % '*'.join(b_str)
+
+
+def _inverted(power):
+    """StrPrinter's `apow`: base**(-exponent), the exponent's leading number negated."""
+    base, exponent = power.as_base_exp()
+    factors = list(Mul.make_args(exponent))
+    if factors[0] is S.NegativeOne:
+        factors = factors[1:]
+    else:
+        factors[0] = -factors[0]
+    exponent = Mul._from_args(factors)
+    if isinstance(power, Pow):
+        return power.func(base, exponent, evaluate=False)
+    return power.func(exponent, evaluate=False)
+
+
 def _precedence(item) -> int:
     """`precedence(item)`; a product without a leading number is MUL at once (precedence_Mul:
     no function of low precedence, no minus sign to find)."""
@@ -124,10 +183,15 @@ def _precedence(item) -> int:
 
 
 @cache
-def _generic(cls, name: str) -> bool:
-    """True when the sympy printer under the mixin in `cls` prints `name` the generic way."""
+def _sympys(cls, name: str):
+    """The sympy method `name` of the printer under the mixin in `cls` (None: none)."""
     after = cls.__mro__[cls.__mro__.index(RememberedPrecedence) + 1:]
     for klass in after:
         if name in vars(klass):
-            return vars(klass)[name] in GENERIC[name]
-    return False
+            return vars(klass)[name]
+    return None
+
+
+def _generic(cls, name: str) -> bool:
+    """True when the sympy printer under the mixin in `cls` prints `name` the generic way."""
+    return _sympys(cls, name) in GENERIC[name]
