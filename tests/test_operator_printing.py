@@ -1,4 +1,4 @@
-"""Sums and products printed with each precedence found once (lagcli/targets/operator_printing.py).
+"""Sums and products printed with each precedence found once (lagcli/render/operator_printing.py).
 
 Every target's printer prints random expressions (sums, products, integer and half powers,
 negative and rational coefficients, floats, functions; evaluated or built unevaluated as
@@ -17,7 +17,7 @@ from lagcli.targets.c import CPrinter
 from lagcli.targets.casadi import CasadiPrinter
 from lagcli.targets.jax import JaxPrinter
 from lagcli.targets.octave import OctavePrinter
-from lagcli.targets.operator_printing import RememberedPrecedence, _generic
+from lagcli.render.operator_printing import RememberedPrecedence, _generic
 from lagcli.targets.python import PythonPrinter
 from lagcli.targets.rust import RustPrinter
 
@@ -93,3 +93,21 @@ def outcome(printer, expr):
 def test_languages_with_their_own_operators_keep_them():
     assert _generic(CPrinter, "_print_Mul") and _generic(PythonPrinter, "_print_Add")
     assert not _generic(OctavePrinter, "_print_Mul") and not _generic(RustPrinter, "_print_Add")
+
+
+@settings(max_examples=300, deadline=None)
+@given(exprs=st.lists(expressions, min_size=1, max_size=4))
+def test_spec_printer_prints_what_sympys_str_printer_prints(exprs):
+    """The reports' printer (the mixin over StrPrinter, its own `_print_str_Mul`), plain and
+    remembering across expressions sharing parts, against sympy's StrPrinter in the given order
+    (floats, e, complex and infinite numbers aside: the spec language writes them its own way)."""
+    from hypothesis import assume
+
+    from lagcli.render.spec_printer import remembering_spec_str, spec_str
+
+    assume(not any(e.has(sp.Float, sp.I, sp.E, sp.zoo, sp.nan, sp.oo, -sp.oo) for e in exprs))
+    remembering = remembering_spec_str()
+    reference = StrPrinter({"order": "none"})
+    for expr in [*exprs, sp.Mul(*exprs), -sp.Add(*exprs), *(-e for e in exprs)]:
+        assert spec_str(expr) == reference.doprint(expr), expr
+        assert remembering(expr) == reference.doprint(expr), expr

@@ -6,6 +6,7 @@ fresh object (no memo shared), on chain-like expressions whose names sort in eve
 ("q10" < "q2" as names) and with mixed assumptions."""
 from __future__ import annotations
 
+import pytest
 import sympy as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -149,23 +150,79 @@ def test_a_flat_weighted_sum_is_shown_as_display_form_shows_it(index_sets, weigh
 def test_one_factor_derivative_is_calculus_derivative(factors, var):
     """The report's derivative of a product with one varying factor is the derivation's."""
     from lagcli.model import calculus
-    from lagcli.report.display import _one_factor_derivative
+    from lagcli.report.derivatives import one_factor_derivative
 
     expr = sp.Mul(*factors)
-    found = _one_factor_derivative(expr, var, {})
+    found = one_factor_derivative(expr, var, {})
     if found is not None:
         assert sp.srepr(found) == sp.srepr(calculus.derivative(expr, var, {})), expr
 
 
 def test_one_factor_derivative_of_chain_entries():
     from lagcli.model import calculus
-    from lagcli.report.display import _one_factor_derivative
+    from lagcli.report.derivatives import one_factor_derivative
 
     for i, j, k in [(0, 3, 5), (2, 7, 1), (9, 10, 11)]:
         mass = sp.Add(*m[k:])
         for entry in (c[i] * c[j] * mass * sp.cos(q[i] - q[j]), -c[i] * mass * sp.sin(q[j]) * qd[i],
                       c[i] * c[j] * mass * sp.cos(q[j] - q[i] + q[k])):
             for var in (q[i], q[j], q[k]):
-                found = _one_factor_derivative(entry, var, {})
+                found = one_factor_derivative(entry, var, {})
                 direct = calculus.derivative(entry, var, {})
                 assert found is None or sp.srepr(found) == sp.srepr(direct), (entry, var)
+
+
+@settings(max_examples=60, deadline=None)
+@given(exprs=st.lists(_expressions(), min_size=2, max_size=6), var=st.sampled_from(q[:4]))
+def test_remembered_rates_are_calculus_derivatives(exprs, var):
+    """Derivatives of expressions sharing parts, taken with one memo of the sums' and products'
+    rates (each expression, sums and products of them, weighted sums of growing sums like a
+    chain's potential), are the derivation's, each taken afresh."""
+    from lagcli.model import calculus
+    from lagcli.report.derivatives import derivative
+
+    memo, rates = {}, {}
+    growing = sp.Add(*(m[k] * c[0] * sp.Add(*exprs[:k + 1]) for k in range(len(exprs))))
+    for expr in [*exprs, sp.Add(*exprs), sp.Mul(*exprs), *(m[k] * e for k, e in enumerate(exprs)), growing]:
+        for v in (var, q[5]):
+            assert sp.srepr(derivative(expr, v, memo, rates)) == sp.srepr(calculus.derivative(expr, v, {})), (expr, v)
+
+
+def test_remembered_rates_of_a_chains_potential(tmp_path):
+    """dV/dq_i of a 12-link chain (its sums share their terms), one memo for all i."""
+    import lagcli
+    from lagcli.model import calculus
+    from lagcli.report.derivatives import derivative
+
+    from conftest import nlink_spec
+
+    d = lagcli.load(str(nlink_spec(tmp_path, 12))).derivation
+    memo, rates = {}, {}
+    for qi in d.model.q:
+        assert sp.srepr(derivative(d.V, qi, memo, rates)) == sp.srepr(calculus.derivative(d.V, qi, {}))
+
+
+@pytest.mark.parametrize("spec", ["chain6", "specs/double_pendulum.yaml", "specs/heavy_symmetric_top.yaml",
+                                  "specs/ex20_spinning_disk_double_pendulum.yaml", "specs/cart_pole.yaml"])
+def test_velocity_buckets_are_the_christoffel_sums_by_sympy(spec, tmp_path):
+    """c_i by monomial (pairs whose terms cancel skipped without sympy arithmetic) is the
+    notes' sum of sympy derivatives of the tidied M, over every pair j <= l."""
+    import lagcli
+
+    from conftest import ROOT, nlink_spec
+
+    path = nlink_spec(tmp_path, 6) if spec == "chain6" else ROOT / spec
+    d = lagcli.load(str(path)).derivation
+    shown = Display(d)
+    M, q, qd, n = shown.M, shown.q, shown.qd, shown.n
+    for i in range(n):
+        expected = {}
+        for j in range(n):
+            for l in range(j, n):
+                if j == l:
+                    c = sp.diff(M[i][j], q[j]) - sp.diff(M[j][j], q[i]) / 2
+                else:
+                    c = sp.diff(M[i][j], q[l]) + sp.diff(M[i][l], q[j]) - sp.diff(M[j][l], q[i])
+                if c != 0:
+                    expected[qd[j] * qd[l]] = c
+        assert shown.velocity_buckets(i) == expected, (spec, i)

@@ -12,19 +12,24 @@ import sympy as sp
 from sympy.printing.str import StrPrinter
 
 from lagcli.errors import EmitError
+from lagcli.render.operator_printing import RememberedPrecedence
 
 
-class SpecPrinter(StrPrinter):
-    """`remember`: keep the string of every subexpression printed, for a printer that
-    prints many expressions sharing parts (a report of a 40-link chain prints the same
-    sums of masses thousands of times). A subexpression prints the same wherever it
-    stands (the parentheses around it are its parent's), so the bytes do not change."""
+class SpecPrinter(RememberedPrecedence, StrPrinter):
+    """`remember`: keep the string of every subexpression printed and every precedence
+    found (`RememberedPrecedence`), for a printer that prints many expressions sharing
+    parts (a report of a 40-link chain prints the same sums of masses thousands of times,
+    and its products' factors recur in thousands of terms). A subexpression prints the
+    same wherever it stands (the parentheses around it are its parent's), so the bytes do
+    not change. Without `remember` (the printer `spec_str` keeps for the process) nothing
+    is kept."""
     _default_settings = {**StrPrinter._default_settings, "order": "none"}
 
     def __init__(self, settings=None, remember: bool = False):
         super().__init__(settings)
         self._memo: dict | None = {} if remember else None
-        self._parenthesized: dict | None = {} if remember else None   # (expr, level, strict) -> text
+        if not remember:
+            self._precedences = None
 
     def _print(self, expr, **kwargs) -> str:
         memo = self._memo
@@ -33,19 +38,6 @@ class SpecPrinter(StrPrinter):
         found = memo.get(expr)
         if found is None:
             found = memo[expr] = super()._print(expr)
-        return found
-
-    def parenthesize(self, item, level, strict=False) -> str:
-        """StrPrinter's, remembered with `remember`: a product's factors (the sums of masses,
-        the angles' cosines) recur in thousands of terms, and finding their precedence
-        again was a third of printing them."""
-        memo = self._parenthesized
-        if memo is None or not isinstance(item, sp.Basic):
-            return super().parenthesize(item, level, strict)
-        key = (item, level, strict)
-        found = memo.get(key)
-        if found is None:
-            found = memo[key] = super().parenthesize(item, level, strict)
         return found
 
     def _print_Abs(self, expr):

@@ -28,9 +28,9 @@ from collections.abc import Callable, Sequence
 import sympy as sp
 
 from lagcli.model import calculus
-from lagcli.model.calculus import almost_everywhere
 from lagcli.model.products import product
 from lagcli.derive.result import Derivation
+from lagcli.report.derivatives import derivative
 from lagcli.render.shapes import Shapes
 from lagcli.render.tidy import DISPLAY_MAX_NODES, display_form, expandable, pull_signs, small, sum_of_symbols
 from lagcli.render.weighted import flat_weighted_sum, weighted_display_form, weighted_sum
@@ -87,8 +87,10 @@ class Display:
         self._signs: dict = {}
         self._free_symbols: dict = {}   # of every subexpression differentiated (calculus.free_symbols)
         self._differentiated: dict = {}  # (expr, var) -> d expr / d var
+        self._rates: dict = {}           # (expr, var) -> d expr / d var of their parts (`derivatives.rate`)
         self._merged: dict = {}          # (i, names) -> the parts `names` of equation i, by monomial
         self._bucket_terms: dict = {}    # (monomial, coefficient, sign) -> its terms (`ordered_terms`)
+        self._monomials: dict = {}       # (j, l) -> q'_j q'_l
         self._tidy_on = simplify
         self._tidy_by_shape = Shapes(functools.partial(self._tidy_tree, sized=True))
         n = self.n
@@ -110,7 +112,7 @@ class Display:
         key = (expr, var)
         found = self._differentiated.get(key)
         if found is None:
-            found = self._differentiated[key] = derivative(expr, var, self._free_symbols)
+            found = self._differentiated[key] = derivative(expr, var, self._free_symbols, self._rates)
         return found
 
     def tidy(self, expr, sized: bool = False) -> sp.Expr:
@@ -119,19 +121,20 @@ class Display:
         if not self._tidy_on:
             return expr
         if expr not in self._cache:
-            if expr.is_Add and not sized and self._by_shape(expr):
+            if expr.is_Add and self._by_shape(expr, sized):
                 self._cache[expr] = self._tidy_by_shape(expr)   # the steps of the last sum of its shape
             else:
                 self._cache[expr] = self._tidy_tree(expr, sized)
         return self._cache[expr]
 
     @staticmethod
-    def _by_shape(add) -> bool:
-        """Worth tidying by its shape: small, not a weighted sum (whose X is tidied by its
+    def _by_shape(add, sized: bool = False) -> bool:
+        """Worth tidying by its shape (a whole sum, or one inside a product: the dot
+        product X of a chain's M entry X (m_k + ... + m_n)): small, not a weighted sum (whose X is tidied by its
         shape instead: renaming the whole sum costs as much as tidying it; nor one written
         flat, dV/dq_i = -g l_i m_i sin(q_i) - ... of a chain), not a sum of symbols
         (display_form keeps it)."""
-        return small(add, TREE_MAX_NODES) and not sum_of_symbols(add) and weighted_sum(add) is None \
+        return (sized or small(add, TREE_MAX_NODES)) and not sum_of_symbols(add) and weighted_sum(add) is None \
             and flat_weighted_sum(add) is None
 
     def signs(self, expr) -> sp.Expr:
@@ -240,19 +243,27 @@ class Display:
     def velocity_buckets(self, i: int) -> dict:
         """c_i grouped by monomial: {q'_j q'_l: C_ijl} (see the module docstring), over
         the pairs (j, l) where a derivative in C_ijl can be nonzero (`_velocity_pairs`)."""
-        q, qd, zero = self.q, self.qd, sp.S.Zero
+        q, zero = self.q, sp.S.Zero
         out = {}
         for j, l in self._velocity_pairs(i):
             if j == l:
                 parts = (self._dM(i, j, q[j]), _negated(self._dM(j, j, q[i]), half=True))
             else:
-                parts = (self._dM(i, j, q[l]), self._dM(i, l, q[j]), _negated(self._dM(j, l, q[i])))
+                parts = _cancelled(self._dM(i, j, q[l]), self._dM(i, l, q[j]), self._dM(j, l, q[i]))
             nonzero = [part for part in parts if part is not zero]
             if nonzero:      # sympy's Add drops zeros and returns a single term itself
                 coefficient = nonzero[0] if len(nonzero) == 1 else sp.Add(*nonzero)
                 if coefficient != 0:
-                    out[qd[j] * qd[l]] = coefficient
+                    out[self._monomial(j, l)] = coefficient
         return out
+
+    def _monomial(self, j: int, l: int) -> sp.Expr:
+        """q'_j q'_l, one object for each pair (the buckets of every equation share them)."""
+        key = (j, l)
+        found = self._monomials.get(key)
+        if found is None:
+            found = self._monomials[key] = self.qd[j] * self.qd[l]
+        return found
 
     def _velocity_pairs(self, i: int) -> list[tuple[int, int]]:
         """The pairs j <= l, in order, for which d_l M_ij, d_j M_il or d_i M_jl may be nonzero
@@ -363,6 +374,19 @@ def bucket_terms(monomial, coefficient, tidy: Callable, signs: Callable, sign: i
     return [signs(product(coefficient, monomial))]
 
 
+def _cancelled(first, second, subtracted) -> tuple:
+    """The terms of first + second - subtracted (C_ijl, j < l), where `subtracted` is often
+    one of the others itself (d_i M_il twice in C_iil): those two cancel, and when the
+    remaining one is 0 the sum is 0 with no sympy arithmetic (x - x is 0 exactly, floats
+    too; a nonzero remainder is summed by sympy as before, whose float sums may round)."""
+    zero = sp.S.Zero
+    if subtracted is not zero and (subtracted is first or subtracted is second):
+        other = second if subtracted is first else first
+        if other is zero:
+            return ()
+    return first, second, _negated(subtracted)
+
+
 def _negated(expr, half: bool = False):
     """-expr (-expr/2 with `half`) as sympy's operators build it; 0 stays 0 without them."""
     if expr is sp.S.Zero:
@@ -371,32 +395,6 @@ def _negated(expr, half: bool = False):
 
 
 PARTS = ("velocity", "mass_rate", "gyroscopic", "t1_rate", "position", "forces")
-
-
-def derivative(expr: sp.Expr, var, memo: dict) -> sp.Expr:
-    """d expr/d var, taken almost everywhere as the derivation does (no Heaviside, DiracDelta);
-    `memo`: free symbols of the subexpressions seen (`lagcli.model.calculus.free_symbols`)."""
-    found = _one_factor_derivative(expr, var, memo)
-    return almost_everywhere(calculus.derivative(expr, var, memo) if found is None else found)
-
-
-def _one_factor_derivative(expr, var, memo: dict) -> sp.Expr | None:
-    """`calculus.derivative` of a product in which one factor f varies (l3 l6 (m6 + ... + m40)
-    cos(q3 - q6), an entry of a chain's M): the other factors times f', one product of them
-    all, where calculus.derivative forms it factor by factor (each product sorting the sum
-    of masses again). The same expression when no factor is a rational number and f' is
-    not one (a rational times a sum would be distributed in the factor-by-factor product);
-    None otherwise. tests/test_report_shared_terms.py compares both."""
-    if not expr.is_Mul or any(a.is_Rational for a in expr.args):
-        return None
-    moving = [k for k, a in enumerate(expr.args) if var in calculus.free_symbols(a, memo)]
-    if len(moving) != 1:
-        return None
-    k = moving[0]
-    rate = calculus.derivative(expr.args[k], var, memo)
-    if rate.is_Rational:
-        return None
-    return product(*expr.args[:k], rate, *expr.args[k + 1:])
 
 
 def _add(buckets: dict, monomial, coefficient) -> None:

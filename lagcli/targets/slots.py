@@ -22,7 +22,7 @@ from sympy.printing.codeprinter import PrintMethodNotImplementedError
 from lagcli.derive.result import Derivation
 from lagcli.targets.cse import Reduced
 from lagcli.errors import EmitError
-from lagcli.targets.operator_printing import RememberedPrecedence
+from lagcli.render.operator_printing import RememberedPrecedence
 
 CONSTANT_DIGITS = 21          # pi, E, ... as literals: 3.14159265358979323846
 MAX_PRODUCT_POWER = 4         # x**k, 2 <= |k| <= 4, prints as x*x*...; larger via pow

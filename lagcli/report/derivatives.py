@@ -1,0 +1,69 @@
+"""The report's derivatives of its tidied parts: d M_ij / d q_k for the velocity terms,
+dV/dq_i for the forces, da_i/dq_j for the gyroscopic matrix (`Display.differentiate`
+takes each once).
+
+They are the derivation's derivatives (`lagcli.model.calculus.derivative`, taken almost
+everywhere as the derivation takes them), with two shortcuts that give the same
+expressions: a product in which one factor varies is the other factors times that
+factor's derivative, formed as one product (`one_factor_derivative`: a chain's M_ij), and
+the derivative of every sum and product met is remembered for the report (`rate`): a
+chain's potential holds g m_k (-l_1 cos(q_1) - ... - l_k cos(q_k)) for every k, all
+sharing the terms -l_i cos(q_i), whose derivative for q_i was formed again for each k.
+tests/test_report_shared_terms.py compares both with `calculus.derivative`.
+"""
+from __future__ import annotations
+
+import sympy as sp
+
+from lagcli.model import calculus
+from lagcli.model.calculus import almost_everywhere
+from lagcli.model.products import product
+from lagcli.model.sums import total
+
+
+def derivative(expr: sp.Expr, var, memo: dict, rates: dict | None = None) -> sp.Expr:
+    """d expr/d var, taken almost everywhere as the derivation does (no Heaviside, DiracDelta);
+    `memo`: free symbols of the subexpressions seen (`lagcli.model.calculus.free_symbols`);
+    `rates`: the derivatives of the sums and products seen (`rate`)."""
+    return almost_everywhere(rate(expr, var, memo, {} if rates is None else rates))
+
+
+def rate(expr, var, memo: dict, rates: dict) -> sp.Expr:
+    """`calculus.derivative(expr, var, memo)`, the same expression, each sum's and product's
+    remembered in `rates` under (expr, var): a sum is the total of its terms' derivatives
+    (the terms that mention var, in order, as calculus.derivative takes them), a product
+    with one varying factor `one_factor_derivative`'s; anything else is calculus.derivative's."""
+    if not isinstance(expr, sp.Basic) or var not in calculus.free_symbols(expr, memo):
+        return sp.S.Zero
+    if not (expr.is_Add or expr.is_Mul):
+        return calculus.derivative(expr, var, memo)
+    key = (expr, var)
+    found = rates.get(key)
+    if found is None:
+        if expr.is_Add:
+            found = total([rate(a, var, memo, rates) for a in calculus._terms_mentioning(expr, var, memo)])
+        else:
+            found = one_factor_derivative(expr, var, memo, rates)
+            if found is None:
+                found = calculus.derivative(expr, var, memo)
+        rates[key] = found
+    return found
+
+
+def one_factor_derivative(expr, var, memo: dict, rates: dict | None = None) -> sp.Expr | None:
+    """`calculus.derivative` of a product in which one factor f varies (l3 l6 (m6 + ... + m40)
+    cos(q3 - q6), an entry of a chain's M): the other factors times f' (by `rate`), one
+    product of them all, where calculus.derivative forms it factor by factor (each product
+    sorting the sum of masses again). The same expression when no factor is a rational
+    number and f' is not one (a rational times a sum would be distributed in the
+    factor-by-factor product); None otherwise."""
+    if not expr.is_Mul or any(a.is_Rational for a in expr.args):
+        return None
+    moving = [k for k, a in enumerate(expr.args) if var in calculus.free_symbols(a, memo)]
+    if len(moving) != 1:
+        return None
+    k = moving[0]
+    factor_rate = rate(expr.args[k], var, memo, {} if rates is None else rates)
+    if factor_rate.is_Rational:
+        return None
+    return product(*expr.args[:k], factor_rate, *expr.args[k + 1:])
