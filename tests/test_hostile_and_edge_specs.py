@@ -265,3 +265,29 @@ def test_roots_of_big_numbers_are_taken_in_floating_point(tmp_path):
     x, y = d.model.q
     assert float(d.V.coeff(x)) == pytest.approx(int(big) ** (1 / 3), rel=1e-14)
     assert d.V.coeff(y) == sp.sqrt(2)  # small numbers stay exact
+
+
+def test_dependence_probe_moves_one_symbol_as_a_fresh_evaluation():
+    """The probe evaluates a moved point from the base point's values, only what mentions
+    the moved symbol anew: the very values sympy's own evaluation at that point gives
+    (within rounding; here to 1e-12), for a chain's V-like nested sums, and its verdicts
+    follow (sin^2 + cos^2 of the moved symbol cancels)."""
+    import random
+
+    from lagcli.model.calculus import _Moved
+
+    q = sp.symbols("q1:13", real=True)
+    g, W = sp.symbols("g W", real=True)
+    sums = [sp.Add(*(sp.cos(q[i]) * (i + 1) for i in range(k + 1))) for k in range(len(q))]
+    V = sp.Add(*(g * (k + 2) * s for k, s in enumerate(sums))) + sp.sin(W * q[3]) ** 2 + sp.cos(W * q[3]) ** 2
+    probe = DependenceProbe([V, sp.exp(sums[-1] / 50) / (2 + sp.sin(q[0]))])
+    base, first, memo = probe._point(0)
+    rng = random.Random(3)
+    for symbol in probe.symbols:
+        at = base[symbol] + rng.uniform(0.5, 1.5)
+        moved = _Moved(probe, memo, symbol, at)
+        point = {**base, symbol: at}
+        for expr in probe.exprs:
+            assert abs(moved.value(expr) - float(expr.evalf(subs=point))) < 1e-12 * (1 + abs(moved.value(expr)))
+    assert all(probe.depends_on(s) for s in (*q, g))
+    assert DependenceProbe([V - g * sp.Add(*((k + 2) * s for k, s in enumerate(sums)))]).depends_on(q[3]) is False

@@ -105,3 +105,28 @@ def test_specs_with_only_kinetic_and_potential_pass():
         warnings.simplefilter("error", SpecWarning)
         lagcli.load("coordinates: [x]\nparameters: {m: 1.0, k: 4.0}\nkinetic: m*x_dot**2/2\n"
                     "potential: k*x**2/2\ninitial: {x: 0.1}\n")
+
+
+def test_plain_cholesky_agrees_with_numpy():
+    """The mass-matrix check's own Cholesky (no numpy import for a 40-link chain) says
+    "has a factor" exactly where numpy's does, on random symmetric matrices well away from
+    the boundary (positive definite, and shifted to have a clearly negative eigenvalue)."""
+    import random
+
+    import numpy as np
+
+    from lagcli.model.validation import _has_cholesky_factor
+
+    rng = random.Random(20261128)
+    for n in (1, 2, 5, 40, 120):
+        for shift in (-0.5, 0.5):
+            B = np.array([[rng.uniform(-1, 1) for _ in range(n)] for _ in range(n)])
+            A = B @ B.T / n
+            A -= (np.linalg.eigvalsh(A)[0] + shift) * np.eye(n)     # smallest eigenvalue: -shift
+            try:
+                np.linalg.cholesky(A)
+                expected = True
+            except np.linalg.LinAlgError:
+                expected = False
+            assert expected is (shift < 0)
+            assert _has_cholesky_factor(A.tolist()) is expected, (n, shift)

@@ -8,7 +8,7 @@ from hypothesis import given, settings, strategies as st
 
 from lagcli.model.ordering import sort_args, sort_key
 from lagcli.model.products import product
-from lagcli.model.sums import negative, total
+from lagcli.model.sums import dot, negated_terms, negative, total
 
 x, y, z = sp.symbols("x y z", real=True)
 m1, m10, m2, q1, q10 = sp.symbols("m1 m10 m2 q1 q10")
@@ -82,4 +82,54 @@ def test_difference_is_sympys_minus(seed):
     rng = random.Random(seed)
     a, b = (sp.Add(*(_expression(rng) for _ in range(rng.randint(1, 5)))) for _ in range(2))
     ours, theirs = total([a, negative(b)]), a - b
+    assert ours == theirs and ours.args == theirs.args and type(ours) is type(theirs), (a, b)
+
+
+@settings(max_examples=400, deadline=None)
+@given(st.integers(0, 2**32 - 1))
+def test_pairs_sort_as_compare(seed):
+    """Two expressions (leaves and nodes of leaves are ordered by their keys) in compare's order."""
+    rng = random.Random(seed)
+    pair = [_expression(rng, depth=rng.choice([2, 3])) for _ in range(2)]
+    ours, theirs = list(pair), sorted(pair, key=functools.cmp_to_key(sp.Basic.compare))
+    sort_args(ours)
+    assert ours == theirs and [type(e) for e in ours] == [type(e) for e in theirs], pair
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(1, 6))
+def test_dot_is_sympys_matrix_dot(seed, n):
+    """`dot(u, w)` is sympy's Matrix.dot: V's g . r and T1 = a . q'."""
+    rng = random.Random(seed)
+    commutative = [e for e in POOL if e.is_commutative]
+
+    def entry():
+        kind = rng.random()
+        if kind < 0.3:
+            return sp.S.Zero
+        if kind < 0.6:
+            return rng.choice(NUMBERS[:7]) * rng.choice(commutative)
+        return sp.Add(*(product(rng.choice(NUMBERS[:5]), rng.choice(commutative), rng.choice(POOL[8:10]))
+                        for _ in range(rng.randint(1, 6))))
+    u, w = [entry() for _ in range(n)], [entry() for _ in range(n)]
+    ours, theirs = dot(u, w), sp.Matrix(u).dot(sp.Matrix(w))
+    assert ours == theirs and ours.args == theirs.args and type(ours) is type(theirs), (u, w)
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.integers(0, 2**32 - 1))
+def test_negated_terms_sum_to_sympys_minus(seed):
+    """total([*terms of a, *negated_terms(b)]) is sympy's a - b, like terms and all (the
+    equations' M q'' - F and F's -dV, each sorted once)."""
+    rng = random.Random(seed)
+    commutative = [e for e in POOL if e.is_commutative]
+
+    def term():      # evaluated products and powers (sympy's own canonical forms)
+        factors = [rng.choice(NUMBERS[:5])] + [rng.choice(commutative) for _ in range(rng.randint(0, 3))]
+        if rng.random() < 0.3:
+            factors.append(sp.Add(*(rng.choice(commutative) for _ in range(3))))
+        return sp.Mul(*factors)
+    a = [term() for _ in range(rng.randint(0, 5))]
+    b = sp.Add(*(term() for _ in range(rng.randint(0, 6))))
+    ours, theirs = total([*a, *negated_terms(b)]), sp.Add(*a) - b
     assert ours == theirs and ours.args == theirs.args and type(ours) is type(theirs), (a, b)

@@ -20,7 +20,7 @@ from lagcli.derive.result import Derivation, Equation
 from lagcli.derive.event_functions import event_functions
 from lagcli.model.model_types import Model
 from lagcli.model.products import product
-from lagcli.model.sums import negative, total
+from lagcli.model.sums import dot, negated_terms, negative, total
 
 __all__ = ["derive", "Derivation"]
 
@@ -34,7 +34,7 @@ def derive(model: Model) -> Derivation:
     nonzero = _rows_of(M)       # the nonzero entries (M of n uncoupled coordinates has n of n^2)
     row_sums = [total([product(qd[i], M_ij) for i, M_ij in nonzero[j]]) for j in range(n)]   # (q'^T M)_j
     T2 = total([product(row_sums[j], qd[j]) for j in range(n)]) / 2                          # q'^T M q' / 2
-    T1 = a.dot(qd)
+    T1 = dot(a, qd)
     T = total([total([T2, T1]), e.T0])       # T2 + T1 + T0 (sympy's `+` sorted V's terms anew)
     L = total([T, -e.V])
     Q_applied = almost_everywhere(applied_generalized_forces(model, D))
@@ -42,8 +42,8 @@ def derive(model: Model) -> Derivation:
     F = almost_everywhere(forcing(model, D, Q_applied, dV))
     Q_minus_dV = [total([Q, negative(dV_i)]) for Q, dV_i in zip(Q_applied, dV)]
 
-    # M q'' - F, as sympy's `-` builds it (Add(a, -b)), its F summed anew by `total`
-    lhs = [total([total([product(M_ij, qdd[j]) for j, M_ij in nonzero[i]]), negative(F[i])]) for i in range(n)]
+    # M q'' - F, as sympy's `-` builds it (Add(a, -b)), its terms sorted once (`negated_terms`)
+    lhs = [total([*(product(M_ij, qdd[j]) for j, M_ij in nonzero[i]), *negated_terms(F[i])]) for i in range(n)]
     rows = constraint_rows(model)
     A = constraint_matrix(model, rows)
     multipliers = tuple(r.multiplier for r in rows)

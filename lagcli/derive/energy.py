@@ -20,7 +20,7 @@ import sympy as sp
 from lagcli.model.calculus import TimeDerivative, almost_everywhere, derivative, jacobian_columns
 from lagcli.model.model_types import Model, RigidBody, elementary_rotation
 from lagcli.model.products import product
-from lagcli.model.sums import total
+from lagcli.model.sums import dot, total
 
 AXES = {"x": 0, "y": 1, "z": 2}
 
@@ -60,9 +60,9 @@ def kinetic_parts(model: Model, D: TimeDerivative) -> tuple[sp.Matrix, sp.Matrix
         J_w = jacobian_columns(omega, model.qd, D.free)
         w_t = omega.subs({v: 0 for v in model.qd})
         _add_products(M, a, T0, J_w, body.inertia, w_t, 1, dots)
-    entries = {}
+    entries, masses = {}, {}
     for (i, j), terms in sorted(M.items()):
-        entries[i, j] = entries[j, i] = _entry(terms)
+        entries[i, j] = entries[j, i] = _entry(terms, masses)
     M, a, T0 = sp.Matrix(sp.SparseMatrix(n, n, entries)), sp.Matrix([total(terms) for terms in a]), total(T0)
     if model.kinetic == 0:
         return M, a, T0
@@ -70,13 +70,18 @@ def kinetic_parts(model: Model, D: TimeDerivative) -> tuple[sp.Matrix, sp.Matrix
     return M + extra_M, a + extra_a, T0 + extra_T0
 
 
-def _entry(terms: list) -> sp.Expr:
+def _entry(terms: list, masses: dict) -> sp.Expr:
     """The sum of the (mass, dot product) pairs of one entry of M: a chain's points share
     their Jacobian columns, so an entry is mostly one dot product X times every mass,
-    built as X (m_k + ... + m_n): one product, not n (the n^3 terms of a chain's M)."""
+    built as X (m_k + ... + m_n): one product, not n (the n^3 terms of a chain's M).
+    `masses`: the sums of masses formed so far (the entries M_ij of a chain with one
+    max(i, j) have the same one: summing it for each was the n^3 part of M)."""
     first = terms[0][1]
     if all(entry is first for _, entry in terms):
-        return product(total([mass for mass, _ in terms]), first)
+        key = tuple(mass for mass, _ in terms)
+        if key not in masses:
+            masses[key] = total(key)
+        return product(masses[key], first)
     return total([product(mass, entry) for mass, entry in terms])
 
 
@@ -143,7 +148,7 @@ def potential_energy(model: Model) -> sp.Expr:
     (adding term by term rebuilt the growing sum: n^2 for n springs)."""
     terms = [model.potential]
     if model.gravity is not None:
-        terms += [-(mass * model.gravity.dot(r)) for mass, r in model.mass_points]
+        terms += [-(mass * dot(model.gravity, r)) for mass, r in model.mass_points]
     for spring in model.springs:
         delta = spring.end_a - spring.end_b
         squared = delta.dot(delta)

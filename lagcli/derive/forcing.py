@@ -22,13 +22,13 @@ from lagcli.model.calculus import TimeDerivative, derivative, jacobian_columns
 from lagcli.derive.energy import body_angular_velocity
 from lagcli.model.model_types import Model
 from lagcli.model.products import product
-from lagcli.model.sums import negative, total
+from lagcli.model.sums import negated_terms, total
 
 
 def forcing(model: Model, D: TimeDerivative, Q_applied: sp.ImmutableMatrix, dV: list) -> sp.ImmutableMatrix:
     """F of M q'' = F, from the applied forces Q' and the gradient dV of V."""
     q, qd, n = model.q, model.qd, len(model.q)
-    terms = [[Q_applied[i], negative(dV[i])] for i in range(n)]   # each F_i summed once
+    terms = [[Q_applied[i], *negated_terms(dV[i])] for i in range(n)]   # each F_i summed (sorted) once
     for mass, r in model.mass_points:
         acceleration = D.matrix(D.matrix(r), accelerations=False)
         _subtract(terms, jacobian_columns(r, q, D.free, D.partials), acceleration, mass)

@@ -28,7 +28,7 @@ from lagcli.model.sums import total
 
 
 class LagrangianProbe:
-    """Does L depend on a symbol? Probes T0 - V, then a, then M (each compiled once, lazily)."""
+    """Does L depend on a symbol? Probes T0 - V, then a, then M (each set up once, lazily)."""
 
     def __init__(self, M, a, T0, V):
         upper = [entry for (i, j), entry in sorted(M.todok().items()) if i <= j]
@@ -42,7 +42,7 @@ class LagrangianProbe:
             if symbol not in self.names[k]:
                 continue
             if self.probes[k] is None:
-                self.probes[k] = DependenceProbe(group)
+                self.probes[k] = DependenceProbe(group, free=self.memo)
             if self.probes[k].depends_on(symbol):
                 return True
         return False

@@ -15,7 +15,7 @@ from collections.abc import Callable
 
 import sympy as sp
 
-from lagcli.model.calculus import TimeDerivative, numerically_zero, shared_terms
+from lagcli.model.calculus import TimeDerivative, free_symbols, numerically_zero, shared_terms
 from lagcli.errors import Problem, SpecError
 from lagcli.model.expr import Scope, parse, parse_constant
 from lagcli.interface import acceleration_name, velocity_name
@@ -100,7 +100,7 @@ class _ModelBuilder:
 
     def no_inputs(self, value: sp.Expr, src: Src) -> None:
         """Inputs are applied loads: only forces, torques and generalized forces take them."""
-        used = value.free_symbols & set(self.u)
+        used = free_symbols(value, self.D.free) & set(self.u)
         if used:
             raise SpecError(Problem(src.loc, f"{src.text!r} uses the input(s) "
                                     f"{', '.join(sorted(map(str, used)))}, but inputs may appear only in "
@@ -110,7 +110,7 @@ class _ModelBuilder:
 
     def no_velocities(self, value: sp.Expr, src: Src) -> None:
         self.no_inputs(value, src)
-        used = value.free_symbols & self.rates
+        used = free_symbols(value, self.D.free) & self.rates     # positions share their terms: walked once
         if used:
             raise SpecError(Problem(src.loc, f"{src.text!r} must not depend on velocities or "
                                     f"accelerations (uses {', '.join(sorted(map(str, used)))})"))

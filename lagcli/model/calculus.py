@@ -8,7 +8,6 @@ derivative, which is much faster than sympy's `Function`/`Derivative` objects:
 from __future__ import annotations
 
 import functools
-import math
 import random
 from collections.abc import Iterable, Sequence
 from functools import reduce
@@ -17,7 +16,7 @@ import sympy as sp
 from sympy.core.function import ArgumentIndexError
 
 from lagcli.model.angle_calls import TRIG, trig_call
-from lagcli.model.constants import ConstantError, value_at
+from lagcli.model.constants import ConstantError, value_at, value_from_arguments
 from lagcli.model.products import product
 from lagcli.model.sums import total
 
@@ -122,19 +121,23 @@ def derivative(expr: sp.Expr, var: sp.Symbol, memo: dict | None = None) -> sp.Ex
 
 
 _BIG_SUM = 8     # sums of more terms than this are indexed by symbol (`_terms_mentioning`)
+_SUM_INDEXES: dict = {}     # big sum -> {symbol: its terms mentioning the symbol}, oldest first
+_MAX_SUM_INDEXES = 1 << 12  # the sums indexed at once (the 100-link chain's V holds 100)
 
 
 def _terms_mentioning(expr: sp.Add, var: sp.Symbol, memo: dict) -> tuple:
     """The terms of the sum `expr` that mention `var`, in order (the others differentiate to
-    0, which `total` drops). A big sum's terms are indexed by symbol once, kept in `memo`
-    under (expr, _BIG_SUM): a chain's potential holds g m_k (l_1 cos(q_1) + ... + l_k cos(q_k))
-    for every k, and differentiating it for each q_i walked the whole sum each time (n^3)."""
+    0, which `total` drops). A big sum's terms are indexed by symbol once, in a memo of its
+    own (the index depends on the sum only): a chain's potential holds
+    g m_k (l_1 cos(q_1) + ... + l_k cos(q_k)) for every k, and differentiating it for each
+    q_i walked the whole sum each time (n^3)."""
     if len(expr.args) <= _BIG_SUM:
         return expr.args
-    key = (expr, _BIG_SUM)
-    index = memo.get(key)
+    index = _SUM_INDEXES.get(expr)
     if index is None:
-        index = memo[key] = {}
+        if len(_SUM_INDEXES) >= _MAX_SUM_INDEXES:
+            del _SUM_INDEXES[next(iter(_SUM_INDEXES))]
+        index = _SUM_INDEXES[expr] = {}
         for term in expr.args:
             for symbol in free_symbols(term, memo):
                 index.setdefault(symbol, []).append(term)
@@ -257,38 +260,36 @@ def _evaluate(expr: sp.Expr, point: dict, memo: dict) -> tuple[float, float] | N
 class DependenceProbe:
     """Decides numerically whether expressions depend on a symbol.
 
-    The expressions are compiled once (sympy's lambdify of sympy-built objects;
-    never spec text) and evaluated at random points, then again with only the
-    symbol in question changed. Any change beyond rounding means dependence.
-    Used where structural dependence is misleading: cos(W t)**2 + sin(W t)**2.
-    The random points and the values there are drawn and computed once for all the
-    symbols asked about (asking about each of n coordinates would otherwise draw and
-    evaluate n points of n symbols: quadratic in a system of many coordinates).
+    The expressions are evaluated at random points, then again with only the symbol in
+    question changed. Any change beyond rounding means dependence. Used where structural
+    dependence is misleading: cos(W t)**2 + sin(W t)**2. The random points and the values
+    there are drawn and computed once for all the symbols asked about (asking about each of
+    n coordinates would otherwise draw and evaluate n points of n symbols: quadratic in a
+    system of many coordinates). Evaluated node by node in double precision
+    (`constants.value_at`, as `numerically_zero`), each shared subexpression once; at a
+    moved point only the nodes that mention the moved symbol are evaluated again, a sum
+    from its terms' values at the base point with those that mention it replaced
+    (`_Moved`): the same values as evaluating everything anew. (Compiling the expressions
+    with sympy's lambdify printed them whole: most of the cost for a chain's V; evaluating
+    all of V again for each coordinate was n^3.) `free`: a `free_symbols` memo.
     """
 
-    def __init__(self, exprs: Sequence[sp.Expr], seed: int = 20261121):
+    def __init__(self, exprs: Sequence[sp.Expr], seed: int = 20261121, free: dict | None = None):
         self.exprs = [sp.sympify(e) for e in exprs]
-        self.symbols = sorted(set().union(*(e.free_symbols for e in self.exprs)), key=str)
+        self.free = {} if free is None else free
+        self.symbols = sorted(set().union(*(free_symbols(e, self.free) for e in self.exprs)), key=str)
         self.rng = random.Random(seed)
-        self._compiled = None
-        self.points: list[tuple[dict, list[float] | None]] = []   # (point, values there), in draw order
+        self.points: list[tuple[dict, list[float] | None, dict]] = []   # (point, values, memo), in draw order
+        self.mentions: dict = {}      # sum -> {symbol: the places of its terms that mention it}
 
-    def _evaluate(self, point: dict) -> list[float] | None:
-        if self._compiled is None:
-            self._compiled = sp.lambdify(self.symbols, self.exprs, modules=["math", "mpmath", {"math": math}],
-                                         printer=_probe_printer())
-        try:
-            values = [complex(v) for v in self._compiled(*(point[s] for s in self.symbols))]
-        except (ValueError, ZeroDivisionError, OverflowError, TypeError, ArithmeticError, NameError):
-            return None  # NameError: a function math lacks (re, im of a complex argument)
-        if any(abs(v.imag) > 1e-12 * (1 + abs(v.real)) or v.real != v.real for v in values):
-            return None
-        return [v.real for v in values]
-
-    def _point(self, k: int) -> tuple[dict, list[float] | None]:
+    def _point(self, k: int) -> tuple[dict, list[float] | None, dict]:
         while len(self.points) <= k:
-            point = {s: self.rng.uniform(0.3, 1.3) for s in self.symbols}
-            self.points.append((point, self._evaluate(point)))
+            point, memo = {s: self.rng.uniform(0.3, 1.3) for s in self.symbols}, {}
+            try:
+                values = [value_at(e, point, memo) for e in self.exprs]
+            except _UNDEFINED:
+                values = None
+            self.points.append((point, values, memo))
         return self.points[k]
 
     def depends_on(self, symbol: sp.Symbol, trials: int = 3) -> bool:
@@ -296,13 +297,14 @@ class DependenceProbe:
             return False
         done = attempts = 0
         while done < trials and attempts < 10 * trials:
-            base, first = self._point(attempts)
+            base, first, memo = self._point(attempts)
             attempts += 1
             if first is None:
                 continue
-            moved = {**base, symbol: base[symbol] + self.rng.uniform(0.5, 1.5)}
-            second = self._evaluate(moved)
-            if second is None:
+            moved = _Moved(self, memo, symbol, base[symbol] + self.rng.uniform(0.5, 1.5))
+            try:
+                second = [moved.value(e) for e in self.exprs]
+            except _UNDEFINED:
                 continue
             done += 1
             scale = 1 + max(abs(v) for v in first + second)
@@ -310,18 +312,44 @@ class DependenceProbe:
                 return True
         return done == 0  # no point could be evaluated: undecided, so assume dependence
 
+    def places(self, expr: sp.Add, symbol: sp.Symbol) -> list[int]:
+        """The places of the terms of the sum `expr` that mention `symbol` (indexed once)."""
+        index = self.mentions.get(expr)
+        if index is None:
+            index = self.mentions[expr] = {}
+            for k, term in enumerate(expr.args):
+                for s in free_symbols(term, self.free):
+                    index.setdefault(s, []).append(k)
+        return index.get(symbol, [])
 
-def _probe_printer():
-    """Plain Python floats (the math module's printer: mpmath's made every rational an mpf
-    at every call), terms and factors printed in their stored order: sorting them for
-    reading (`as_ordered_terms`) was most of the time to compile a chain's V, and only the
-    last bits of the values depend on the order (the probe's tolerance is 1e-9)."""
-    from sympy.printing.pycode import PythonCodePrinter
 
-    class UnorderedPrinter(PythonCodePrinter):
-        _default_settings = {**PythonCodePrinter._default_settings, "order": "none"}
+_UNDEFINED = (ConstantError, TypeError, ValueError, ArithmeticError)   # complex, undefined, overflow
 
-    return UnorderedPrinter
+
+class _Moved:
+    """Values at a point that differs from a base point (`base`: the values of every node
+    there) in `symbol` only, which has the value `at`."""
+
+    def __init__(self, probe: DependenceProbe, base: dict, symbol: sp.Symbol, at: float):
+        self.probe, self.base, self.symbol, self.at = probe, base, symbol, at
+        self.values: dict = {}
+
+    def value(self, expr: sp.Expr) -> float:
+        if self.symbol not in free_symbols(expr, self.probe.free):
+            return self.base[expr]
+        found = self.values.get(expr)
+        if found is None:
+            if not expr.args:        # a leaf that mentions the symbol: the symbol
+                found = value_at(expr, {expr: self.at})
+            elif expr.is_Add:
+                args = [self.base[term] for term in expr.args]
+                for k in self.probe.places(expr, self.symbol):
+                    args[k] = self.value(expr.args[k])
+                found = value_from_arguments(expr, args)
+            else:
+                found = value_from_arguments(expr, [self.value(arg) for arg in expr.args])
+            self.values[expr] = found
+        return found
 
 
 @functools.lru_cache(maxsize=1 << 16)

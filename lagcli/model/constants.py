@@ -90,7 +90,17 @@ def _node_value(expr: sp.Expr, memo: dict, point: dict | None) -> float:
         if point is not None and expr in point:
             return float(point[expr])
         raise ConstantError(f"is not a constant (uses {expr})")
-    args = [_value(arg, memo, point) for arg in expr.args]
+    return _operation(expr, [_value(arg, memo, point) for arg in expr.args])
+
+
+def value_from_arguments(expr: sp.Expr, args: list[float]) -> float:
+    """The value of the node `expr` (not a leaf) whose arguments have the values `args`, as
+    `value_at` finds it (raises ConstantError): for a caller that knows the arguments'
+    values (`calculus.DependenceProbe`, after one argument changed)."""
+    return _checked(_operation(expr, args), strict=False)
+
+
+def _operation(expr: sp.Expr, args: list[float]) -> float:
     try:
         if expr.is_Add:
             return math.fsum(args)

@@ -139,6 +139,8 @@ class Scope:
         self.time_derivative = time_derivative
         self.builder = builder or _Builder
         self.elsewhere = dict(elsewhere or {})
+        self.built: dict = {}    # (builder, a sum's term as written) -> (names, their values, the term)
+        self.memo: dict = {}     # the builders' memos of expressions (`_Builder`)
 
     def with_name(self, name: str, value: sp.Expr) -> "Scope":
         return Scope({**self.names, name: value}, self.t, self.time_derivative, self.builder, self.elsewhere)
@@ -197,6 +199,9 @@ def _tree_size_exceeds(expr: sp.Expr, limit: int) -> bool:
 
 
 def _check_size(tree: ast.AST, text: str, loc: Loc, limits: Limits) -> None:
+    """Refuse a tree of more than limits.nodes nodes or nested more than limits.depth deep,
+    walking it depth first. (`ast.iter_child_nodes` inlined: a generator per node was most
+    of the time of this walk over a chain's positions.)"""
     count = 0
     stack = [(tree, 0)]
     while stack:
@@ -206,17 +211,21 @@ def _check_size(tree: ast.AST, text: str, loc: Loc, limits: Limits) -> None:
             _fail(loc, f"expression is too large (more than {limits.nodes} terms)")
         if depth > limits.depth:
             _fail(loc, f"expression is nested too deeply (more than {limits.depth} levels): {_short(text)!r}")
-        stack.extend((child, depth if _continues_sum(node, child) else depth + 1)
-                     for child in ast.iter_child_nodes(node))
+        summing = isinstance(node, ast.BinOp) and isinstance(node.op, _SUM_OPERATORS)     # `_is_sum`
+        for name in node._fields:      # the children in `ast.iter_child_nodes`'s order
+            child = getattr(node, name, None)
+            if isinstance(child, ast.AST):
+                # the rest of a sum continues it: a + b + c is ((a + b) + c) in Python's tree
+                stack.append((child, depth if summing and child is node.left and _is_sum(child) else depth + 1))
+            elif isinstance(child, list):
+                stack.extend((item, depth + 1) for item in child if isinstance(item, ast.AST))
+
+
+_SUM_OPERATORS = (ast.Add, ast.Sub)
 
 
 def _is_sum(node: ast.AST) -> bool:
-    return isinstance(node, ast.BinOp) and isinstance(node.op, (ast.Add, ast.Sub))
-
-
-def _continues_sum(node: ast.AST, child: ast.AST) -> bool:
-    """child is the rest of the sum node: a + b + c is ((a + b) + c) in Python's tree."""
-    return _is_sum(node) and child is node.left and _is_sum(child)
+    return isinstance(node, ast.BinOp) and isinstance(node.op, _SUM_OPERATORS)
 
 
 class _Builder:
@@ -225,9 +234,11 @@ class _Builder:
     def __init__(self, scope: Scope, loc: Loc, text: str):
         self.scope, self.loc, self.text = scope, loc, text
         self.source = text.replace("^", "**").strip()  # what `ast` parsed: node positions refer to it
-        self.values: dict[sp.Expr, float] = {}      # constant -> its value
-        self.constant: dict[sp.Expr, bool] = {}     # expression -> has no free symbols
-        self.depths: dict[sp.Expr, int] = {}        # expression -> nesting depth
+        # what is known of the values built (pure functions of an expression, so kept in the
+        # scope: a chain's positions share their terms, each walked once, not once a position)
+        self.values: dict[sp.Expr, float] = scope.memo.setdefault("values", {})      # constant -> its value
+        self.constant: dict[sp.Expr, bool] = scope.memo.setdefault("constant", {})   # expression -> no free symbols
+        self.depths: dict[sp.Expr, int] = scope.memo.setdefault("depths", {})        # expression -> nesting depth
 
     def fail(self, message: str, hint: str = "") -> None:
         raise SpecError(Problem(self.loc, f"in {_short(self.text)!r}: {message}", hint))
@@ -384,7 +395,27 @@ class _Builder:
         negated.append(False)
         operands.reverse()
         negated.reverse()
-        return self.guarded(self.add([self.build(n) for n in operands], operands, negated), top)
+        return self.guarded(self.add([self.term(n) for n in operands], operands, negated), top)
+
+    def term(self, node: ast.AST):
+        """`build(node)` of a sum's term, remembered in the scope by its text while the names
+        it uses stand for the same values: a chain's k-th position repeats the k - 1 terms
+        of the one before it, and building them anew was most of reading the spec. The same
+        value: a term's value depends on its text and on those names only (errors, which
+        also quote the whole expression, are never remembered)."""
+        text = self.segment(node)
+        if text is None:
+            return self.build(node)
+        key, names = (type(self), text), self.scope.names
+        found = self.scope.built.get(key)
+        if found is not None:
+            used, values, value = found
+            if all(names.get(name) is was for name, was in zip(used, values)):
+                return value
+        value = self.build(node)
+        used = tuple(dict.fromkeys(n.id for n in ast.walk(node) if isinstance(n, ast.Name)))
+        self.scope.built[key] = (used, tuple(names.get(name) for name in used), value)
+        return value
 
     def add(self, values: list, nodes: list[ast.AST], negated: list[bool]):
         """The sum of the terms `values` (written at `nodes`; those `negated` subtracted)."""

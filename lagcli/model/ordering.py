@@ -26,6 +26,7 @@ import functools
 
 from sympy.core.basic import Basic, _args_sortkey as _COMPARE_KEY, ordering_of_classes
 
+_FEW = 8       # lists up to this long of leaf-like expressions are sorted by their keys at once
 _UNKNOWN = len(ordering_of_classes) + 1        # `_cmp_name`'s place of an unlisted class
 _PLACE: dict = {}
 for _k, _name in enumerate(ordering_of_classes):
@@ -70,9 +71,15 @@ def sort_args(args: list) -> None:
     by class first, and by key only among arguments of one class. A product's factors
     are mostly of different classes (m3*cos(q3)*(sum of 100 terms)): keying the sum
     itself walked its terms at every product."""
-    if len(args) < 3:      # one comparison: compare itself is cheaper than two keys
+    if len(args) < 3:      # one comparison (`_pair_out_of_order`)
         _sort_one_class(args)
         return
+    if len(args) <= _FEW and all(_shallow(a) for a in args):   # the factors of a term: m3, l3, cos(q3)
+        try:
+            args[:] = sorted(args, key=sort_key)
+            return
+        except (NoKey, TypeError):
+            pass
     classes = [class_key(type(a)) for a in args]
     order = sorted(range(len(args)), key=classes.__getitem__)
     result, start = [], 0
@@ -88,7 +95,7 @@ def sort_args(args: list) -> None:
 def _sort_one_class(args: list) -> None:
     """`sort_args` of arguments of one class (or of two of any classes)."""
     if len(args) < 3:
-        if len(args) == 2 and args[1].compare(args[0]) < 0:
+        if len(args) == 2 and _pair_out_of_order(*args):
             args.reverse()
         return
     try:
@@ -103,6 +110,24 @@ def _sort_one_class(args: list) -> None:
         args.sort(key=_COMPARE_KEY)
         return
     args[:] = [args[k] for k in order]
+
+
+def _pair_out_of_order(a: Basic, b: Basic) -> bool:
+    """b before a in compare's order. Expressions of leaves (m3, cos(q3)) by their keys,
+    remembered (`sort_key`: compare walked them anew at every product of a chain's dot
+    products); bigger ones by compare, which stops at the first difference where a key
+    of a new sum walks it whole."""
+    if _shallow(a) and _shallow(b):
+        try:
+            return sort_key(b) < sort_key(a)
+        except (NoKey, TypeError):    # TypeError: items of different kinds at one place
+            pass
+    return b.compare(a) < 0
+
+
+def _shallow(expr: Basic) -> bool:
+    """A leaf, or a node of leaves."""
+    return all(not arg.args for arg in expr.args)
 
 
 def _by_items(run: list, contents: list, position: int) -> list:

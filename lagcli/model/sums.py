@@ -56,12 +56,28 @@ def total(terms) -> sp.Expr:
     return sp.Add._from_args(result, True)   # no constructor postprocessor: those are MatrixExpr's
 
 
+def dot(u, w) -> sp.Expr:
+    """`Matrix(u).dot(Matrix(w))`, the same expression, of two vectors of plain terms: the
+    sum of the nonzero products. (sympy's matrix product asked each term of the chain's
+    positions whether it is zero, through the assumptions: most of the time of V.)"""
+    return total([product(a, b) for a, b in zip(u, w) if a != 0 and b != 0])
+
+
 def negative(expr: sp.Expr) -> sp.Expr:
     """`-expr`, the same expression: a sum's terms negated one by one (as `Mul(-1, sum)`
     distributes) and summed by `total`."""
     if expr.is_Add and expr.is_commutative and global_parameters.distribute:
-        return total([_keep_coeff(sp.S.NegativeOne, term) for term in expr.args])
+        return total(negated_terms(expr))
     return -expr
+
+
+def negated_terms(expr: sp.Expr) -> list:
+    """Terms whose `total` is `negative(expr)`: a sum's terms negated one by one, not
+    sorted (a caller adding them to other terms sorts once: `total([a, *negated_terms(b)])`
+    is `total([a, negative(b)])`, each sum flattened into the other's terms anyway)."""
+    if expr.is_Add and expr.is_commutative and global_parameters.distribute:
+        return [_keep_coeff(sp.S.NegativeOne, term) for term in expr.args]
+    return [-expr]
 
 
 def _collect(args: list):

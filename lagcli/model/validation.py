@@ -18,9 +18,11 @@ Warnings go through `lagcli.errors.warn_spec`, errors are collected into one `Sp
 """
 from __future__ import annotations
 
+import math
+import operator
 import random
+import sys
 
-import mpmath
 import sympy as sp
 
 from lagcli.model.constants import ConstantError, value_at
@@ -31,7 +33,7 @@ TOLERANCE = 1e-9          # relative: an eigenvalue or a moment this far below z
 SINGULAR = 1e-10          # smallest / largest singular value below this: singular
 RANDOM_STATES = 3         # seeded states that decide "singular everywhere"
 SEED = 20240611
-SMALL_MATRIX = 30         # mass matrices up to this size are told regular without importing numpy
+SMALL_MATRIX = 150        # mass matrices up to this size are told regular without importing numpy
 
 
 def check_model(model: Model) -> None:
@@ -122,12 +124,13 @@ def _random_state(model: Model, rng: random.Random) -> dict:
     return values
 
 
-def _real(expr: sp.Expr, values: dict) -> float | None:
+def _real(expr: sp.Expr, values: dict, memo: dict | None = None) -> float | None:
     """`expr` at `values` as a finite real; None when it is not one there. Evaluated in
     double precision node by node (`constants.value_at`): a tower like exp(exp(exp(x)))
-    overflows instead of sending mpmath after millions of digits."""
+    overflows instead of sending mpmath after millions of digits. `memo`: `_memo_at(values)`
+    when the caller has it (finding it compares the values)."""
     try:
-        return value_at(sp.sympify(expr), values, _memo_at(values))
+        return value_at(sp.sympify(expr), values, _memo_at(values) if memo is None else memo)
     except (ConstantError, TypeError, ValueError, ArithmeticError):   # complex, undefined, overflow
         return None
 
@@ -145,10 +148,17 @@ def _memo_at(values: dict) -> dict:
     return _LAST_MEMO[1]
 
 
+def _nonzero_values(matrix, values: dict) -> dict:
+    """(i, j) -> the nonzero entry M_ij at `values` (None: not a finite real there)."""
+    memo = _memo_at(values)
+    return {key: _real(expr, values, memo) for key, expr in matrix.todok().items()}
+
+
 def _matrix(matrix, values: dict) -> np.ndarray | None:
     import numpy as np    # here, not at the top: most derives never need it (`_clearly_regular`)
 
-    entries = [_real(e, values) for e in matrix]
+    memo = _memo_at(values)
+    entries = [_real(e, values, memo) for e in matrix]
     if any(e is None for e in entries):
         return None
     return np.array(entries, dtype=float).reshape(matrix.shape)
@@ -275,60 +285,62 @@ def _singular_directions(derivation, values: dict) -> list[str]:
 def _not_finite_mass_matrix(derivation, values: dict) -> Problem | None:
     """The problem of a mass matrix with an entry that is not a finite double at `values`
     (parameters of 1e299 multiplied: m s^2 = 1e897), located at its row's coordinate."""
-    model, M = derivation.model, derivation.mass_matrix
-    for i, q in enumerate(model.q):
-        entry = next((e for e in M.row(i) if e != 0 and _real(e, values) is None), None)
-        if entry is not None:
-            return Problem(model.loc(f"coordinates[{i}]"), f"the mass matrix's row of {q.name} is not a finite "
-                           "number at the initial state (an entry is infinite or undefined there, e.g. products of "
-                           "parameters beyond 1e300)", "a simulation cannot start there: choose units that keep "
-                           "the parameters' products within the double range, or another initial state")
-    return None
+    model = derivation.model
+    rows = [i for (i, _), value in _nonzero_values(derivation.mass_matrix, values).items() if value is None]
+    if not rows:
+        return None
+    i = min(rows)
+    return Problem(model.loc(f"coordinates[{i}]"), f"the mass matrix's row of {model.q[i].name} is not a finite "
+                   "number at the initial state (an entry is infinite or undefined there, e.g. products of "
+                   "parameters beyond 1e300)", "a simulation cannot start there: choose units that keep "
+                   "the parameters' products within the double range, or another initial state")
 
 
 def _clearly_regular(matrix, values: dict) -> bool:
     """True when the symmetric `matrix` at `values` is positive definite with its smallest
     eigenvalue above SINGULAR times its largest entry: M - SINGULAR*scale*I has a Cholesky
     factor. Only the nonzero entries are evaluated (a system of many uncoupled coordinates
-    has n of n^2). Small matrices are factored with mpmath, which sympy has loaded already
-    (numpy's import was a tenth of a small `derive`); beyond SMALL_MATRIX rows with numpy
-    (mpmath's O(n^3) loop in Python took 18 s at n = 300). False also when it cannot tell
-    (then numpy's eigenvalues decide)."""
-    entries = {}
-    for (i, j), expr in matrix.todok().items():
-        entries[i, j] = _real(expr, values)
-        if entries[i, j] is None:
-            return False
+    has n of n^2). Up to SMALL_MATRIX rows factored in plain Python floats (numpy's import
+    was a tenth of a 40-link `derive`, and the only use of numpy there), beyond with numpy
+    (the factorization is n^3/6 multiplications). False also when it cannot tell (then
+    numpy's eigenvalues decide)."""
+    entries = _nonzero_values(matrix, values)
+    if any(entry is None for entry in entries.values()):
+        return False
     n = matrix.shape[0]
     scale = max((abs(e) for e in entries.values()), default=0.0)
     if scale == 0:
         return False
-    shifted = _dense(n, entries, SINGULAR * scale)
-    try:
-        if n <= SMALL_MATRIX:
-            mpmath.fp.cholesky(shifted)
-            return True
-        import numpy as np
+    shifted = [[0.0] * n for _ in range(n)]
+    for (i, j), entry in entries.items():
+        shifted[i][j] = entry
+    for k in range(n):
+        shifted[k][k] -= SINGULAR * scale
+    if n <= SMALL_MATRIX:
+        return _has_cholesky_factor(shifted)
+    import numpy as np
 
-        np.linalg.cholesky(shifted)
-    except (ValueError, ZeroDivisionError):     # numpy's LinAlgError is a ValueError
+    try:
+        np.linalg.cholesky(np.array(shifted))
+    except ValueError:     # numpy's LinAlgError is a ValueError
         return False
     return True
 
 
-def _dense(n: int, entries: dict, shift: float):
-    """The n x n matrix of `entries` minus shift * I: mpmath's for small n, numpy's beyond."""
-    if n <= SMALL_MATRIX:
-        shifted = mpmath.fp.matrix(n, n)
-    else:
-        import numpy as np
-
-        shifted = np.zeros((n, n))
-    for (i, j), entry in entries.items():
-        shifted[i, j] = entry
-    for k in range(n):
-        shifted[k, k] = shifted[k, k] - shift
-    return shifted
+def _has_cholesky_factor(a: list[list[float]]) -> bool:
+    """The symmetric `a` = L L^T with every pivot of L at least the double's epsilon (as
+    mpmath's `cholesky` requires), by the Cholesky-Banachiewicz rows."""
+    n = len(a)
+    L = [[0.0] * n for _ in range(n)]
+    for j in range(n):
+        row = L[j]
+        pivot = a[j][j] - sum(x * x for x in row[:j])
+        if not pivot >= sys.float_info.epsilon:       # also NaN
+            return False
+        row[j] = math.sqrt(pivot)
+        for i in range(j + 1, n):
+            L[i][j] = (a[i][j] - sum(map(operator.mul, L[i][:j], row[:j]))) / row[j]
+    return True
 
 
 def _null_space(A: np.ndarray) -> np.ndarray:
