@@ -86,3 +86,18 @@ def test_renamed_keeps_argument_order_and_form():
     there = renamed(unevaluated, forward, nodes)
     assert there.is_Mul and len(there.args) == 2
     assert sp.srepr(renamed(there, back, nodes)) == sp.srepr(unevaluated)
+
+
+@settings(max_examples=40, deadline=None)
+@given(index_sets=st.lists(indices, min_size=2, max_size=3))
+def test_shape_keys_are_equal_exactly_when_the_renamed_expressions_are(index_sets):
+    from lagcli.render.shapes import shape_key
+
+    exprs = [e for index_set in index_sets for e in shapes_of(index_set)]
+    keyed = []
+    for expr in exprs:
+        forward, _ = renamings(expr)
+        keyed.append((shape_key(expr, forward, {}), renamed(expr, forward, {})))
+    for key, shape in keyed:
+        for other_key, other_shape in keyed:
+            assert (key == other_key) == (shape == other_shape)

@@ -40,7 +40,7 @@ class Shapes:
         if renaming is None:
             return self._function(expr)
         forward, back = renaming
-        key = renamed(expr, forward, self._nodes)
+        key = shape_key(expr, forward, {})
         found = self._results.get(key)
         if found is not None:
             return renamed(found, back, self._nodes)
@@ -48,6 +48,20 @@ class Shapes:
         if _symbols_within(result, forward):
             self._results[key] = renamed(result, forward, self._nodes)
         return result
+
+
+def shape_key(expr, rule: dict, memo: dict):
+    """The renamed expr (`renamed(expr, rule, ...)`) as nested tuples (class, arguments'
+    keys), symbols as their placeholders: equal exactly when the renamed expressions are
+    (same classes, same arguments in the same order), without building the renamed nodes."""
+    if expr.is_Symbol:
+        return rule[expr]
+    if expr.is_Number:
+        return expr
+    found = memo.get(expr)
+    if found is None:
+        found = memo[expr] = (expr.func, *(shape_key(a, rule, memo) for a in expr.args))
+    return found
 
 
 def renamings(expr: sp.Expr) -> tuple[dict, dict] | None:

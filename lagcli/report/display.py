@@ -160,7 +160,10 @@ class Display:
             if found is not None:
                 return found
         args = [self.tidy(a, sized=True) for a in expr.args]
-        rebuilt = expr if all(new is old for new, old in zip(args, expr.args)) else expr.func(*args)
+        if all(new is old for new, old in zip(args, expr.args)):
+            rebuilt = expr
+        else:       # sympy's Mul without its general flatten (M's entries: X' times the sum of masses)
+            rebuilt = product(*args) if expr.is_Mul else expr.func(*args)
         if not rebuilt.is_Add:
             return rebuilt
         flat = flat_weighted_sum(rebuilt)
