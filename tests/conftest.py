@@ -33,6 +33,13 @@ if signal.getsignal(signal.SIGHUP) == signal.SIG_IGN:
 if signal.getsignal(signal.SIGINT) == signal.SIG_IGN:
     signal.signal(signal.SIGINT, signal.default_int_handler)
 
+# hypothesis draws the same examples on every run and keeps no database of failures:
+# a test's verdict depends on the code only, never on the run or a local `.hypothesis`.
+from hypothesis import settings as _hypothesis_settings  # noqa: E402
+
+_hypothesis_settings.register_profile("same-every-run", derandomize=True, database=None)
+_hypothesis_settings.load_profile("same-every-run")
+
 ROOT = Path(__file__).resolve().parent.parent
 SPECS = ROOT / "specs"
 
