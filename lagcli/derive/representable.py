@@ -99,9 +99,10 @@ def _leaves(value) -> set:
 
 
 def _flat(value) -> list:
-    """The expressions of an expression, a matrix or a list of those."""
+    """The expressions of an expression, a matrix (its nonzero entries: the zeros of a
+    1000-coordinate M are 10^6 entries, and 0 is never a problem) or a list of those."""
     if isinstance(value, sp.MatrixBase):
-        return list(value)
+        return list(value.values())
     if isinstance(value, list):
         return [e for v in value for e in _flat(v)]
     return [value]

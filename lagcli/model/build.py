@@ -11,7 +11,7 @@ together as one `SpecError`.
 """
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 
 import sympy as sp
 
@@ -53,6 +53,7 @@ class _ModelBuilder:
         self.moving = self.rates | frozenset(self.q) | {self.t}
         self.scope = Scope({"pi": sp.pi}, self.t, self._time_derivative, VectorBuilder)
         self.frames: dict[str, tuple] = {}  # frame name -> its whole rotation chain
+        self._value_names: dict | None = None   # parameter and input names -> "a parameter" / "an input"
 
     # -- helpers ---------------------------------------------------------------
     def _time_derivative(self, expr: sp.Expr) -> sp.Expr:
@@ -201,14 +202,13 @@ class _ModelBuilder:
                                                                                self._in_a_value(p)),
                                    p.latex, p.description) for p in self.spec.parameters)
 
-    def _in_a_value(self, item) -> dict:
+    def _in_a_value(self, item) -> "_NamedInAValue":
         """What to say of a parameter or input named in `item`'s value: values are constants."""
-        example = f"definitions: {{{item.name}: {item.value.text if item.value else '...'}}}"
-        return {other.name: (f"'{other.name}' is {kind}, and the value of {item.name} must be a constant "
-                             "(numbers and pi)", f"a quantity computed from parameters goes in `definitions:` "
-                             f"instead, e.g. {example}")
-                for kind, group in (("a parameter", self.spec.parameters), ("an input", self.spec.inputs))
-                for other in group}
+        if self._value_names is None:
+            self._value_names = {other.name: kind for kind, group in (("a parameter", self.spec.parameters),
+                                                                        ("an input", self.spec.inputs))
+                                 for other in group}
+        return _NamedInAValue(self._value_names, item)
 
     def _inputs(self) -> tuple[InputInfo, ...]:
         return tuple(InputInfo(symbol, self.constant(u.value, 0.0, None, self._in_a_value(u)), u.latex, u.description)
@@ -331,6 +331,28 @@ class _ModelBuilder:
         if src is not None and value is not None and not value > 0:
             self.problems.append(Problem(src.loc, f"must be positive, got {value:g}"))
         return value
+
+
+class _NamedInAValue(Mapping):
+    """name -> (message, hint) for a parameter or input named in the value of `item`, each
+    said only when asked (a dict of every name for each of 2 000 parameters was 4 million
+    messages: most of `check` of 1 000 uncoupled coordinates)."""
+
+    def __init__(self, kinds: dict, item):
+        self.kinds, self.item = kinds, item
+
+    def __getitem__(self, name: str) -> tuple[str, str]:
+        item = self.item
+        example = f"definitions: {{{item.name}: {item.value.text if item.value else '...'}}}"
+        return (f"'{name}' is {self.kinds[name]}, and the value of {item.name} must be a constant "
+                "(numbers and pi)", f"a quantity computed from parameters goes in `definitions:` "
+                f"instead, e.g. {example}")
+
+    def __iter__(self):
+        return iter(self.kinds)
+
+    def __len__(self) -> int:
+        return len(self.kinds)
 
 
 def _item_locs(spec: Spec) -> dict:

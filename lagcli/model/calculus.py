@@ -281,6 +281,7 @@ class DependenceProbe:
         self.rng = random.Random(seed)
         self.points: list[tuple[dict, list[float] | None, dict]] = []   # (point, values, memo), in draw order
         self.mentions: dict = {}      # sum -> {symbol: the places of its terms that mention it}
+        self.exprs_mentioning: dict | None = None    # symbol -> the places of the exprs that mention it
 
     def _point(self, k: int) -> tuple[dict, list[float] | None, dict]:
         while len(self.points) <= k:
@@ -293,7 +294,7 @@ class DependenceProbe:
         return self.points[k]
 
     def depends_on(self, symbol: sp.Symbol, trials: int = 3) -> bool:
-        if symbol not in self.symbols:
+        if not self._mentioning(symbol):         # (a list's `in` compared every symbol: n^2)
             return False
         done = attempts = 0
         while done < trials and attempts < 10 * trials:
@@ -302,15 +303,26 @@ class DependenceProbe:
             if first is None:
                 continue
             moved = _Moved(self, memo, symbol, base[symbol] + self.rng.uniform(0.5, 1.5))
+            places = self._mentioning(symbol)      # the others keep their values: not evaluated again
             try:
-                second = [moved.value(e) for e in self.exprs]
+                second = [moved.value(self.exprs[k]) for k in places]
             except _UNDEFINED:
                 continue
             done += 1
-            scale = 1 + max(abs(v) for v in first + second)
-            if any(abs(a - b) > 1e-9 * scale for a, b in zip(first, second)):
+            scale = 1 + max(max(abs(v) for v in first), max(abs(v) for v in second))
+            if any(abs(first[k] - b) > 1e-9 * scale for k, b in zip(places, second)):
                 return True
         return done == 0  # no point could be evaluated: undecided, so assume dependence
+
+    def _mentioning(self, symbol: sp.Symbol) -> list[int]:
+        """The places of the expressions that mention `symbol` (indexed once: asking each of
+        n coordinates about n diagonal entries of M was n^2)."""
+        if self.exprs_mentioning is None:
+            self.exprs_mentioning = {}
+            for k, e in enumerate(self.exprs):
+                for s in free_symbols(e, self.free):
+                    self.exprs_mentioning.setdefault(s, []).append(k)
+        return self.exprs_mentioning.get(symbol, [])
 
     def places(self, expr: sp.Add, symbol: sp.Symbol) -> list[int]:
         """The places of the terms of the sum `expr` that mention `symbol` (indexed once)."""

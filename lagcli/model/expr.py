@@ -138,7 +138,7 @@ class Scope:
         self.t = t
         self.time_derivative = time_derivative
         self.builder = builder or _Builder
-        self.elsewhere = dict(elsewhere or {})
+        self.elsewhere = elsewhere if elsewhere is not None else {}     # read only: looked up
         self.built: dict = {}    # (builder, a sum's term as written) -> (names, their values, the term)
         self.memo: dict = {}     # the builders' memos of expressions (`_Builder`)
 
