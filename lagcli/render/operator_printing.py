@@ -108,15 +108,7 @@ class RememberedPrecedence:
         else:
             a_str = [self.parenthesize(x, prec) for x in a]
         b_str = [self.parenthesize(x, prec) for x in b]
-        for item in pow_paren:
-            if item.base in b:
-                b_str[b.index(item.base)] = "(%s)" % b_str[b.index(item.base)]
-        if not b:
-            return sign + '*'.join(a_str)
-        if len(b) == 1:
-            return sign + '*'.join(a_str) + "/" + b_str[0]
-        return sign + '*'.join(a_str) + "/(%s)" % '*'.join(b_str)
-
+        return _quotient(sign, a_str, b, b_str, pow_paren)
 
     def _print_str_Mul(self, expr) -> str:
         """`StrPrinter._print_Mul` (the reports' spec language), with `precedence_of` and the
@@ -150,14 +142,20 @@ class RememberedPrecedence:
         a = a or [S.One]
         a_str = [self.parenthesize(x, prec, strict=False) for x in a]
         b_str = [self.parenthesize(x, prec, strict=False) for x in b]
-        for item in pow_paren:
-            if item.base in b:
-                b_str[b.index(item.base)] = "(%s)" % b_str[b.index(item.base)]
-        if not b:
-            return sign + '*'.join(a_str)
-        if len(b) == 1:
-            return sign + '*'.join(a_str) + "/" + b_str[0]
-        return sign + '*'.join(a_str) + "/(%s)" % '*'.join(b_str)
+        return _quotient(sign, a_str, b, b_str, pow_paren)
+
+
+def _quotient(sign: str, a_str: list, b: list, b_str: list, pow_paren: list) -> str:
+    """The printers' common end of a product: sign, numerator and denominator joined, a base
+    of 1/(x*y) kept in parentheses (as sympy's C and str printers write it)."""
+    for item in pow_paren:
+        if item.base in b:
+            b_str[b.index(item.base)] = "(%s)" % b_str[b.index(item.base)]
+    if not b:
+        return sign + '*'.join(a_str)
+    if len(b) == 1:
+        return sign + '*'.join(a_str) + "/" + b_str[0]
+    return sign + '*'.join(a_str) + "/(%s)" % '*'.join(b_str)
 
 
 def _inverted(power):
