@@ -11,7 +11,8 @@ as an argument. Checked:
 - symmetric matrices that are not positive definite: regular ones fall back to LU and
   still agree with numpy; exactly singular ones return 1;
 - a NaN or inf in K's lower triangle (off the diagonal, on it, +inf included: it would
-  give a finite x) or in r returns 2, and so does an x that overflows;
+  give a finite x) or in r returns 2, and so does an x that overflows; a pivot too small
+  to invert goes to LU;
 - the generated C model of the 10-link chain: its right-hand side is numpy's solve of
   its own mass matrix and forcing.
 
@@ -175,6 +176,13 @@ def test_positive_infinity_on_the_diagonal_is_not_a_finite_solution(solves):
     """1/inf = 0 would be a finite x: the pivot test sends it to LU, which says 2."""
     M = np.array([[math.inf, 0.0], [0.0, 1.0]])
     assert symmetric(solves, M, np.array([1.0, 1.0]))[0] == 2
+
+
+def test_a_pivot_too_small_to_invert_is_left_to_lu(solves):
+    """1/D = inf would make 0 * inf = NaN of an exact zero: LU solves it."""
+    M = np.diag([1e-310, 1.0])
+    rc, x, _ = symmetric(solves, M, np.array([0.0, 2.0]))
+    assert rc == 0 and list(x) == [0.0, 2.0]
 
 
 def test_an_overflowing_solution_returns_2(solves):
