@@ -95,3 +95,30 @@ def test_a_chains_mass_matrix_grows_as_its_entries(tmp_path):
             closed = sym[f"l{i}"] * sym[f"l{j}"] * masses * sp.cos(model.q[i - 1] - model.q[j - 1])
             assert sp.simplify(sp.expand_trig(M[i - 1, j - 1] - closed)) == 0, (i, j)
             assert not M[i - 1, j - 1].is_Add, "an entry is one product, not a sum of m_k X"
+
+
+@pytest.mark.parametrize("kind", [sp.Matrix, sp.ImmutableMatrix])
+def test_a_matrix_of_its_nonzero_entries_is_sympys_own(kind):
+    """`matrix_of_entries` skips sympy's walk over every place; the matrix is the one
+    sympy builds from a SparseMatrix (the same entries, type and equality both ways)."""
+    from lagcli.model.calculus import matrix_of_entries
+
+    x, y = sp.symbols("x y")
+    entries = {(0, 0): x, (1, 2): sp.cos(y), (2, 1): sp.cos(y), (3, 3): x * y}
+    ours, sympys = matrix_of_entries(4, 4, entries, kind), kind(sp.SparseMatrix(4, 4, entries))
+    assert type(ours) is type(sympys)
+    assert ours.tolist() == sympys.tolist() and ours == sympys and sympys == ours
+    assert ours.todok() == entries
+
+
+def test_a_jacobians_columns_are_in_the_variables_order():
+    """The nonzero columns come in the order of the variables, whatever the order of
+    the symbols in the expressions (`jacobian_columns` looks their places up)."""
+    from lagcli.model.calculus import jacobian_columns
+
+    q = sp.symbols("q0:6", real=True)
+    exprs = [q[4] * sp.sin(q[1]), q[3] ** 2]
+    columns = jacobian_columns(exprs, q, {})
+    expected = sp.Matrix(exprs).jacobian(q)
+    assert [j for j, _ in columns] == [j for j in range(6) if any(expected[:, j])]
+    assert all(list(column) == list(expected[:, j]) for j, column in columns)
