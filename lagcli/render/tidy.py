@@ -107,25 +107,27 @@ def collected(expr, velocities) -> sp.Expr:
     velocities = frozenset(velocities)
     expanded = expr if is_expanded(expr) else expand(expr)
     by_velocity = grouped_terms(expanded, lambda base: base in velocities)
-    return sp.Add(*(monomial * factored(_grouped_by_calls(sp.Add(*coefficients)))
-                    for monomial, coefficients in by_velocity.items()))
+    return total([product(monomial, factored(_grouped_by_calls(total(coefficients))))
+                  for monomial, coefficients in by_velocity.items()])
 
 
 def _grouped_by_calls(expr) -> sp.Expr:
     by_call = grouped_terms(expr, lambda base: isinstance(base, sp.Function))
-    return sp.Add(*(calls * factored(sp.Add(*coefficients)) for calls, coefficients in by_call.items()))
+    return total([product(calls, factored(total(coefficients))) for calls, coefficients in by_call.items()])
 
 
 def grouped_terms(expr, in_key) -> dict:
     """{key: [coefficient, ...]} of the terms of the sum expr, key the product of each
     term's factors whose base satisfies `in_key`, coefficient the product of the others
-    (term = key * coefficient), keys in order of first appearance."""
+    (term = key * coefficient), keys in order of first appearance. Sums and products
+    here and in `collected` are built by `sums.total` and `products.product` (sympy's
+    Add and Mul, the same expressions, without their general flatten)."""
     groups: dict = {}
     for term in sp.Add.make_args(expr):
         key, rest = [], []
         for factor in sp.Mul.make_args(term):
             (key if in_key(factor.as_base_exp()[0]) else rest).append(factor)
-        groups.setdefault(sp.Mul(*key), []).append(sp.Mul(*rest))
+        groups.setdefault(product(*key), []).append(product(*rest))
     return groups
 
 

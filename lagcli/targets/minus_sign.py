@@ -24,7 +24,7 @@ class _Undecided(Exception):
 
 def could_extract_minus_sign(add) -> bool:
     """`add.could_extract_minus_sign()` for a sympy Add, the same answer."""
-    negative = sum(1 for arg in add.args if arg.could_extract_minus_sign())
+    negative = sum(1 for arg in add.args if _term_extracts(arg))
     positive = len(add.args) - negative
     if positive != negative:
         return negative > positive
@@ -32,6 +32,15 @@ def could_extract_minus_sign(add) -> bool:
         return bool(_leading_coefficient(add) < 0)
     except _Undecided:
         return add.could_extract_minus_sign()
+
+
+def _term_extracts(term) -> bool:
+    """`term.could_extract_minus_sign()`: a product not led by a number answers False
+    whatever its `self == -self` test finds (Mul.could_extract_minus_sign), so that test,
+    which builds -term, is skipped for it."""
+    if type(term) is sp.Mul and not term.args[0].is_Number:
+        return False
+    return term.could_extract_minus_sign()
 
 
 def _leading_coefficient(add):
