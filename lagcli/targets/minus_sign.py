@@ -35,11 +35,18 @@ def could_extract_minus_sign(add) -> bool:
 
 
 def _term_extracts(term) -> bool:
-    """`term.could_extract_minus_sign()`: a product not led by a number answers False
-    whatever its `self == -self` test finds (Mul.could_extract_minus_sign), so that test,
-    which builds -term, is skipped for it."""
-    if type(term) is sp.Mul and not term.args[0].is_Number:
-        return False
+    """`term.could_extract_minus_sign()` without building -term for its `self == -self`
+    test (Mul.could_extract_minus_sign): a product not led by a number answers False
+    whatever the test finds; one led by a nonzero rational c and then a factor that is
+    not a number (zoo is one) differs from its negative (Mul.__neg__ writes -c or drops
+    c = -1, and keeps c when zoo follows it) and answers c < 0."""
+    if type(term) is sp.Mul:
+        lead = term.args[0]
+        if not lead.is_Number:
+            return False
+        second = term.args[1]
+        if lead.is_Rational and lead.p != 0 and not second.is_Number and second is not sp.zoo:
+            return lead.p < 0
     return term.could_extract_minus_sign()
 
 
