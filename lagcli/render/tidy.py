@@ -14,7 +14,9 @@ import sympy as sp
 from sympy.core.mul import _keep_coeff
 
 from lagcli.model.angle_calls import trig_call
+from lagcli.model.expansion import expanded as expand     # sympy.expand, faster on polynomials
 from lagcli.model.products import product
+from lagcli.model.sums import total
 from lagcli.render.operations import count_ops
 
 TIDY_MAX_OPS = 80             # rewrite trigonometry only in expressions this small (bench/codegen.py)
@@ -103,7 +105,7 @@ def collected(expr, velocities) -> sp.Expr:
     factor_terms(collect(c, calls)))` gives, in one pass over the terms (sympy's
     collect substitutes term by term, quadratic in their number)."""
     velocities = frozenset(velocities)
-    expanded = expr if is_expanded(expr) else sp.expand(expr)
+    expanded = expr if is_expanded(expr) else expand(expr)
     by_velocity = grouped_terms(expanded, lambda base: base in velocities)
     return sp.Add(*(monomial * factored(_grouped_by_calls(sp.Add(*coefficients)))
                     for monomial, coefficients in by_velocity.items()))
@@ -143,11 +145,20 @@ def factored(expr, memo: dict | None = None) -> sp.Expr:
     if found is None:
         node = _distributed(expr) if expr.is_Mul else expr
         args = tuple(factored(a, memo) for a in node.args)
-        found = node if args == node.args else node.func(*args)
+        found = node if args == node.args else _rebuilt(node, args)
         if found.is_Add:
             found = _common_factor_out(found)
         memo[expr] = found
     return found
+
+
+def _rebuilt(node, args) -> sp.Expr:
+    """`node.func(*args)`, sums and products built by `total` and `product` (the same expressions)."""
+    if node.is_Add:
+        return total(args)
+    if node.is_Mul:
+        return product(*args)
+    return node.func(*args)
 
 
 def _distributed(mul) -> sp.Expr:
@@ -178,9 +189,11 @@ def _common_factor_out(add) -> sp.Expr:
     content = numeric_content([number for number, _ in split])
     if content == 1 and not common:
         return add
-    primitive = sp.Add(*((number / content) * sp.Mul(*(b ** (e - common.get(b, 0)) for b, e in powers.items()))
-                         for number, powers in split))
-    return _keep_coeff(content, sp.Mul(*(b ** e for b, e in common.items())) * primitive, clear=True, sign=True)
+    # sympy's Add and Mul, the same expressions (lagcli.model.sums, .products): the flatten
+    # of these products was most of the CSE's preprocessing of a 10-link chain's code
+    primitive = total([product(number / content, product(*(b ** (e - common.get(b, 0)) for b, e in powers.items())))
+                       for number, powers in split])
+    return _keep_coeff(content, product(product(*(b ** e for b, e in common.items())), primitive), clear=True, sign=True)
 
 
 def common_exponent(a, b):
@@ -271,7 +284,7 @@ def display_form(expr) -> sp.Expr:
 
 def display_steps(expr) -> sp.Expr:
     """`display_form`'s steps on a small expr."""
-    result = expr if is_expanded(expr) else sp.expand(expr)
+    result = expr if is_expanded(expr) else expand(expr)
     if result.has(sp.sin, sp.cos):
         result = fold_angle_sums(pythagorean(result))
     result = pull_signs(common_factor(group_by_calls(result)))
