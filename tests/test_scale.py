@@ -5,6 +5,7 @@ F = -k x; one particle riding on the sum of all coordinates: M = diag(m) + m0 * 
 and the sizes that used to be refused or to take minutes are run to the end (their
 CPU seconds are in bench/README.md: timings are never asserted)."""
 import subprocess
+from pathlib import Path
 import sys
 
 import pytest
@@ -16,16 +17,8 @@ from lagcli.errors import SpecError
 from lagcli.model.expr import MAX_DEPTH, Scope, parse
 from lagcli.errors import Loc
 
-
-def uncoupled_spec(n: int) -> str:
-    """n particles on their own line x_i, each tied to the origin of its line by a spring k_i."""
-    lines = [f"name: springs{n}", f"coordinates: [{', '.join(f'x{i}' for i in range(1, n + 1))}]", "parameters:"]
-    lines += [f"  m{i}: {1 + i % 3}.0\n  k{i}: {1 + i % 7}.0" for i in range(1, n + 1)]
-    lines.append("particles:")
-    lines += [f"  P{i}: {{mass: m{i}, position: [x{i}, {i}, 0]}}" for i in range(1, n + 1)]
-    lines.append("springs:")
-    lines += [f"  - {{between: [P{i}, [0, {i}, 0]], stiffness: k{i}}}" for i in range(1, n + 1)]
-    return "\n".join(lines) + "\n"
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from bench.codegen import uncoupled_spec  # noqa: E402  (the bench's spec, written once)
 
 
 def test_a_long_sum_is_one_level_of_nesting():
