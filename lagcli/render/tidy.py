@@ -107,25 +107,27 @@ def collected(expr, velocities) -> sp.Expr:
     velocities = frozenset(velocities)
     expanded = expr if is_expanded(expr) else expand(expr)
     by_velocity = grouped_terms(expanded, lambda base: base in velocities)
-    return sp.Add(*(monomial * factored(_grouped_by_calls(sp.Add(*coefficients)))
-                    for monomial, coefficients in by_velocity.items()))
+    return total([product(monomial, factored(_grouped_by_calls(total(coefficients))))
+                  for monomial, coefficients in by_velocity.items()])
 
 
 def _grouped_by_calls(expr) -> sp.Expr:
     by_call = grouped_terms(expr, lambda base: isinstance(base, sp.Function))
-    return sp.Add(*(calls * factored(sp.Add(*coefficients)) for calls, coefficients in by_call.items()))
+    return total([product(calls, factored(total(coefficients))) for calls, coefficients in by_call.items()])
 
 
 def grouped_terms(expr, in_key) -> dict:
     """{key: [coefficient, ...]} of the terms of the sum expr, key the product of each
     term's factors whose base satisfies `in_key`, coefficient the product of the others
-    (term = key * coefficient), keys in order of first appearance."""
+    (term = key * coefficient), keys in order of first appearance. Sums and products
+    here and in `collected` are built by `sums.total` and `products.product` (sympy's
+    Add and Mul, the same expressions, without their general flatten)."""
     groups: dict = {}
     for term in sp.Add.make_args(expr):
         key, rest = [], []
         for factor in sp.Mul.make_args(term):
             (key if in_key(factor.as_base_exp()[0]) else rest).append(factor)
-        groups.setdefault(sp.Mul(*key), []).append(sp.Mul(*rest))
+        groups.setdefault(product(*key), []).append(product(*rest))
     return groups
 
 
@@ -175,12 +177,12 @@ def _common_factor_out(add) -> sp.Expr:
     split = []
     for term in add.args:
         number, rest = term.as_coeff_Mul()
-        powers: dict = {}
+        powers: dict = {}           # base -> exponent, a Python int (no sympy arithmetic)
         for factor in sp.Mul.make_args(rest):
             base, exponent = factor.as_base_exp()
             if not exponent.is_Integer:     # sqrt(x) and x share nothing (factor_terms' radical=False)
-                base, exponent = factor, sp.S.One
-            powers[base] = powers.get(base, 0) + exponent
+                base, exponent = factor, 1
+            powers[base] = powers.get(base, 0) + int(exponent)
         split.append((number, powers))
     common = dict(split[0][1])
     for _, powers in split[1:]:
@@ -191,9 +193,14 @@ def _common_factor_out(add) -> sp.Expr:
         return add
     # sympy's Add and Mul, the same expressions (lagcli.model.sums, .products): the flatten
     # of these products was most of the CSE's preprocessing of a 10-link chain's code
-    primitive = total([product(number / content, product(*(b ** (e - common.get(b, 0)) for b, e in powers.items())))
+    primitive = total([product(number / content, product(*(_power(b, e - common.get(b, 0)) for b, e in powers.items())))
                        for number, powers in split])
-    return _keep_coeff(content, product(product(*(b ** e for b, e in common.items())), primitive), clear=True, sign=True)
+    return _keep_coeff(content, product(product(*(_power(b, e) for b, e in common.items())), primitive), clear=True, sign=True)
+
+
+def _power(base, exponent: int) -> sp.Expr:
+    """base ** exponent (base itself for 1, as sympy's Pow gives it, without building the Pow)."""
+    return base if exponent == 1 else base ** exponent
 
 
 def common_exponent(a, b):

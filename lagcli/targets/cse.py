@@ -23,7 +23,15 @@ def basic_optimizations() -> list:
     linear in the distinct subexpressions, in place of sympy's factor_terms, which took
     30 s of CPU on a bicycle-sized system (1.5 s with factored)."""
     memo: dict = {}          # shared by all expressions: they share subexpressions
-    return [(signs_normalised({}), sub_post), (lambda expr: factored(expr, memo), None)]
+    if len(_EXTRACTS) > _EXTRACTS_KEPT:
+        _EXTRACTS.clear()
+    return [(signs_normalised(_EXTRACTS), sub_post), (lambda expr: factored(expr, memo), None)]
+
+
+# sum -> could_extract_minus_sign(sum), for every CSE of a run: the model's functions (the
+# tidied and the derived candidates) and the variational ones share M's and F's sums
+_EXTRACTS: dict = {}
+_EXTRACTS_KEPT = 1 << 17
 
 
 def signs_normalised(memo: dict):
