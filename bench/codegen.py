@@ -69,6 +69,17 @@ def spec_text(n: int) -> str:
     return "\n".join(lines) + "\n"
 
 
+def uncoupled_spec(n: int) -> str:
+    """n particles on their own line x_i, each tied to the origin of its line by a spring k_i."""
+    lines = [f"name: springs{n}", f"coordinates: [{', '.join(f'x{i}' for i in range(1, n + 1))}]", "parameters:"]
+    lines += [f"  m{i}: {1 + i % 3}.0\n  k{i}: {1 + i % 7}.0" for i in range(1, n + 1)]
+    lines.append("particles:")
+    lines += [f"  P{i}: {{mass: m{i}, position: [x{i}, {i}, 0]}}" for i in range(1, n + 1)]
+    lines.append("springs:")
+    lines += [f"  - {{between: [P{i}, [0, {i}, 0]], stiffness: k{i}}}" for i in range(1, n + 1)]
+    return "\n".join(lines) + "\n"
+
+
 def kane_ops(n: int) -> int:
     """count_ops of cse(KanesMethod mass matrix and forcing) for the same pendulum."""
     q, u = me.dynamicsymbols(f"q1:{n + 1}"), me.dynamicsymbols(f"u1:{n + 1}")

@@ -1,7 +1,7 @@
 """How lagcli scales with the size of a system: the planar N-link chain, N = 5 .. 100.
 
 Run:  python bench/scaling.py [--n 5 10 20 40 70 100] [--kane-max 40] [--lagranges-max 10]
-                              [--pinocchio] [--rhs-calls 20000] > scaling.txt
+                              [--pinocchio] [--rhs-calls 20000] [--uncoupled 1000] > scaling.txt
       python bench/scaling.py --plot scaling.txt bench/scaling.png     # the picture of a run
 
 Per N, each in a fresh process (imports included), CPU seconds (user + system of that
@@ -14,6 +14,8 @@ child, from os.wait4: the machine is shared, wall times mean little) and peak me
   (cc -std=c99 -O2 ...), microseconds of process CPU per call over 1024 random states;
 - sympy.physics.mechanics building the same chain: KanesMethod (kanes_equations,
   mass_matrix, forcing) up to --kane-max, LagrangesMethod up to --lagranges-max;
+- `lagcli check` of n uncoupled coordinates (--uncoupled, default 1 000: particles on
+  springs, bench/codegen.py `uncoupled_spec`), after the table;
 - with --pinocchio: Pinocchio's articulated-body algorithm (`pin.aba`) on an N-link
   planar chain of point masses, microseconds per call timed from Python (the binding's
   call overhead, measured on the 1-link chain, is printed with it).
@@ -177,6 +179,12 @@ def spec_text(n: int) -> str:
     return chain(n)
 
 
+def uncoupled_text(n: int) -> str:
+    from codegen import uncoupled_spec
+
+    return uncoupled_spec(n)
+
+
 def main() -> None:
     if sys.argv[1:2] == ["--plot"]:
         return plot(Path(sys.argv[2]), Path(sys.argv[3]))
@@ -187,6 +195,8 @@ def main() -> None:
     parser.add_argument("--pinocchio", action="store_true")
     parser.add_argument("--rhs-calls", type=int, default=20000)
     parser.add_argument("--sympy-cpu", type=int, default=600, help="CPU seconds allowed to each sympy run")
+    parser.add_argument("--uncoupled", type=int, nargs="*", default=[1000],
+                        help="also `lagcli check` of this many uncoupled coordinates (issue 24: 1 000 <= 10 s)")
     args = parser.parse_args()
     have_cc = shutil.which("cc") is not None
     print(f"{'N':>4} {'derive s':>9} {'MB':>6} {'generate s':>10} {'MB':>6} {'C rhs us':>9} "
@@ -211,6 +221,12 @@ def main() -> None:
             rows.append((n, derive, generate, rhs))
             print(f"{n:>4} {derive:>9.2f} {derive_mb:>6.0f} {generate:>10.2f} {generate_mb:>6.0f} {rhs:>9.3f} "
                   f"{kane:>8.2f} {lagrange:>10.2f} {aba:>10.3f}", flush=True)
+        for n in args.uncoupled:
+            spec = Path(tmp) / f"springs{n}.yaml"
+            spec.write_text(uncoupled_text(n))
+            seconds, mb = child([sys.executable, "-m", "lagcli", "check", str(spec)])
+            print(f"check of {n} uncoupled coordinates (bench/codegen.py uncoupled_spec): "
+                  f"{seconds:.2f} s, {mb:.0f} MB", flush=True)
     if args.pinocchio:
         print(f"pin.aba call overhead from Python (1-link chain): {overhead:.3f} us")
     if len(rows) >= 2:

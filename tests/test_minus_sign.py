@@ -58,3 +58,16 @@ def test_edge_cases():
              sp.exp(2 * x) - x, 2.5 * x - 1.5 * y, x * (y + z) - y * (x + z), (x + y) ** 2 - (x - y) ** 2,
              sp.Mul(-1, x - y, evaluate=False) + z, -x - y + z + 3, x + y - z - 3, x * y - z * x - y * z + x * y * z]
     assert_as_sympy([c for c in cases if isinstance(c, sp.Add)])
+
+
+def test_term_sign_test_is_sympys():
+    """`_term_extracts` (the shortcut for a sum's terms) answers as sympy's own test."""
+    from lagcli.targets.minus_sign import _term_extracts
+
+    x, y = sp.symbols("x y", real=True)
+    terms = [x, -x, 2 * x * y, -3 * x * y / 2, sp.Mul(1, -1, x - y, evaluate=False),
+             sp.Mul(-1, x - y, evaluate=False), sp.Mul(-2, sp.zoo, x, evaluate=False), sp.Mul(-2, x, sp.zoo, evaluate=False), sp.zoo * x,
+             sp.Float(-1.5) * x, -sp.sqrt(2) * x, sp.Mul(0, x, evaluate=False), sp.Integer(-3),
+             sp.Mul(-1, 2, x, evaluate=False), sp.sin(x) * -y, sp.I * x, -sp.I * x]
+    for term in terms:
+        assert _term_extracts(term) == term.could_extract_minus_sign(), term

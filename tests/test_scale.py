@@ -5,6 +5,7 @@ F = -k x; one particle riding on the sum of all coordinates: M = diag(m) + m0 * 
 and the sizes that used to be refused or to take minutes are run to the end (their
 CPU seconds are in bench/README.md: timings are never asserted)."""
 import subprocess
+from pathlib import Path
 import sys
 
 import pytest
@@ -16,16 +17,8 @@ from lagcli.errors import SpecError
 from lagcli.model.expr import MAX_DEPTH, Scope, parse
 from lagcli.errors import Loc
 
-
-def uncoupled_spec(n: int) -> str:
-    """n particles on their own line x_i, each tied to the origin of its line by a spring k_i."""
-    lines = [f"name: springs{n}", f"coordinates: [{', '.join(f'x{i}' for i in range(1, n + 1))}]", "parameters:"]
-    lines += [f"  m{i}: {1 + i % 3}.0\n  k{i}: {1 + i % 7}.0" for i in range(1, n + 1)]
-    lines.append("particles:")
-    lines += [f"  P{i}: {{mass: m{i}, position: [x{i}, {i}, 0]}}" for i in range(1, n + 1)]
-    lines.append("springs:")
-    lines += [f"  - {{between: [P{i}, [0, {i}, 0]], stiffness: k{i}}}" for i in range(1, n + 1)]
-    return "\n".join(lines) + "\n"
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from bench.codegen import uncoupled_spec  # noqa: E402  (the bench's spec, written once)
 
 
 def test_a_long_sum_is_one_level_of_nesting():
@@ -95,3 +88,30 @@ def test_a_chains_mass_matrix_grows_as_its_entries(tmp_path):
             closed = sym[f"l{i}"] * sym[f"l{j}"] * masses * sp.cos(model.q[i - 1] - model.q[j - 1])
             assert sp.simplify(sp.expand_trig(M[i - 1, j - 1] - closed)) == 0, (i, j)
             assert not M[i - 1, j - 1].is_Add, "an entry is one product, not a sum of m_k X"
+
+
+@pytest.mark.parametrize("kind", [sp.Matrix, sp.ImmutableMatrix])
+def test_a_matrix_of_its_nonzero_entries_is_sympys_own(kind):
+    """`matrix_of_entries` skips sympy's walk over every place; the matrix is the one
+    sympy builds from a SparseMatrix (the same entries, type and equality both ways)."""
+    from lagcli.model.calculus import matrix_of_entries
+
+    x, y = sp.symbols("x y")
+    entries = {(0, 0): x, (1, 2): sp.cos(y), (2, 1): sp.cos(y), (3, 3): x * y}
+    ours, sympys = matrix_of_entries(4, 4, entries, kind), kind(sp.SparseMatrix(4, 4, entries))
+    assert type(ours) is type(sympys)
+    assert ours.tolist() == sympys.tolist() and ours == sympys and sympys == ours
+    assert ours.todok() == entries
+
+
+def test_a_jacobians_columns_are_in_the_variables_order():
+    """The nonzero columns come in the order of the variables, whatever the order of
+    the symbols in the expressions (`jacobian_columns` looks their places up)."""
+    from lagcli.model.calculus import jacobian_columns
+
+    q = sp.symbols("q0:6", real=True)
+    exprs = [q[4] * sp.sin(q[1]), q[3] ** 2]
+    columns = jacobian_columns(exprs, q, {})
+    expected = sp.Matrix(exprs).jacobian(q)
+    assert [j for j, _ in columns] == [j for j in range(6) if any(expected[:, j])]
+    assert all(list(column) == list(expected[:, j]) for j, column in columns)

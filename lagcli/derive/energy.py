@@ -17,7 +17,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from lagcli.model.calculus import TimeDerivative, almost_everywhere, derivative, jacobian_columns
+from lagcli.model.calculus import TimeDerivative, almost_everywhere, derivative, jacobian_columns, matrix_of_entries
 from lagcli.model.model_types import Model, RigidBody, elementary_rotation
 from lagcli.model.products import product
 from lagcli.model.sums import dot, total
@@ -63,7 +63,7 @@ def kinetic_parts(model: Model, D: TimeDerivative) -> tuple[sp.Matrix, sp.Matrix
     entries, masses = {}, {}
     for (i, j), terms in sorted(M.items()):
         entries[i, j] = entries[j, i] = _entry(terms, masses)
-    M, a, T0 = sp.Matrix(sp.SparseMatrix(n, n, entries)), sp.Matrix([total(terms) for terms in a]), total(T0)
+    M, a, T0 = matrix_of_entries(n, n, entries), sp.Matrix([total(terms) for terms in a]), total(T0)
     if model.kinetic == 0:
         return M, a, T0
     extra_M, extra_a, extra_T0 = _split_extra_kinetic(model)

@@ -50,7 +50,8 @@ class _ModelBuilder:
         # the symbol sets every check asks about, formed once (per check they made a spec of
         # n coordinates cost n^2)
         self.rates = frozenset(self.qd) | frozenset(self.qdd)
-        self.moving = self.rates | frozenset(self.q) | {self.t}
+        self.configuration = frozenset(self.q) | {self.t}     # what moves a point
+        self.moving = self.rates | self.configuration
         self.scope = Scope({"pi": sp.pi}, self.t, self._time_derivative, VectorBuilder)
         self.frames: dict[str, tuple] = {}  # frame name -> its whole rotation chain
         self._value_names: dict | None = None   # parameter and input names -> "a parameter" / "an input"
@@ -296,8 +297,7 @@ class _ModelBuilder:
         moves (it does nothing) or both are the same point (no direction: 0/0)."""
         ends = [where[e] if isinstance(e, str) else self.vector(e, self.no_velocities) for e in item.ends]
         loc = item.loc.child("between") if item.loc else None
-        moving = {self.t, *self.q}
-        if not any(sp.ImmutableMatrix(end).free_symbols & moving for end in ends):
+        if not any(sp.ImmutableMatrix(end).free_symbols & self.configuration for end in ends):
             self.problems.append(Problem(loc, f"a {what} between two fixed points does nothing",
                                          "one end must be a particle or body, or a point that moves "
                                          "with the coordinates, e.g. [x + l*cos(theta), l*sin(theta)]"))

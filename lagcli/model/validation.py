@@ -41,8 +41,9 @@ def check_model(model: Model) -> None:
     and about expressions that are not finite at the initial state."""
     errors: list[Problem] = []
     values = parameter_values(model)
+    memo = _memo_at(values)       # once: finding it compares the values (O(n) for each of n masses)
     for item in (*model.particles, *model.bodies):
-        errors += _mass_problems(item, values)
+        errors += _mass_problems(item, values, memo=memo)
     for body in model.bodies:
         errors += _inertia_problems(body, values, model.dimension)
     if errors:
@@ -58,7 +59,9 @@ def problems_at(derivation, parameters: dict[str, float]) -> list[Problem]:
     model = derivation.model
     values = {**parameter_values(model), **{p.symbol: float(parameters[p.symbol.name])
                                             for p in model.parameters if p.symbol.name in parameters}}
-    problems = [p for item in (*model.particles, *model.bodies) for p in _mass_problems(item, values, quiet=True)]
+    memo = _memo_at(values)
+    problems = [p for item in (*model.particles, *model.bodies)
+                for p in _mass_problems(item, values, quiet=True, memo=memo)]
     problems += [p for body in model.bodies for p in _inertia_problems(body, values, model.dimension)]
     if problems:
         return problems
@@ -166,11 +169,12 @@ def _matrix(matrix, values: dict) -> np.ndarray | None:
 
 # --- masses and inertias ----------------------------------------------------------------
 
-def _mass_problems(item, values: dict, quiet: bool = False) -> list[Problem]:
+def _mass_problems(item, values: dict, quiet: bool = False, memo: dict | None = None) -> list[Problem]:
     """Errors for a mass that is not finite or negative; a zero mass is a warning (not
-    `quiet`: at other parameter values only what it does to the mass matrix counts)."""
+    `quiet`: at other parameter values only what it does to the mass matrix counts).
+    `memo`: `_memo_at(values)`, when the caller has it."""
     where = item.loc.child("mass") if item.loc else Loc("", path="mass")
-    mass = _real(item.mass, values)
+    mass = _real(item.mass, values, memo)
     if mass is None:
         return [Problem(where, f"the mass of '{item.name}' is not a finite real number at the "
                         "parameters' values", "check the parameters it uses")]
@@ -243,9 +247,9 @@ def _not_finite_at_start(model: Model, values: dict) -> list[Problem]:
               ("dissipation", [model.dissipation], model.loc("dissipation"))]
     items += [(f"generalized force on '{q.name}'", [Q], model.loc(f"generalized_forces.{q.name}"))
               for q, Q in zip(model.q, model.generalized_forces)]
-    problems = []
+    problems, memo = [], _memo_at(state)
     for what, exprs, loc in items:
-        if any(_real(e, state) is None for e in exprs):
+        if any(_real(e, state, memo) is None for e in exprs):
             problems.append(Problem(loc or Loc(source), f"the {what} cannot be evaluated at the initial "
                                     "state (not a finite number there)",
                                     "a simulation cannot start there: choose another initial: state, "

@@ -28,10 +28,15 @@ TRIG = (sp.sin, sp.cos)
 
 
 class Shapes:
-    """f's results (one pure, renaming-equivariant function f) by the shape of the argument."""
+    """f's results (one pure, renaming-equivariant function f) by the shape of the argument.
 
-    def __init__(self, function: Callable[[sp.Expr], sp.Expr]):
+    `marked`: symbols f treats apart (generated code's tidying collects over the
+    velocities): which placeholders stand for one of them is part of the shape, so an
+    expression is renamed only onto one with its marked symbols in the same places."""
+
+    def __init__(self, function: Callable[[sp.Expr], sp.Expr], marked=frozenset()):
         self._function = function
+        self._marked = frozenset(marked)
         self._results: dict = {}
         self._nodes: dict = {}      # every node renamed, itself: equal nodes are one object
 
@@ -41,6 +46,8 @@ class Shapes:
             return self._function(expr)
         forward, back = renaming
         key = shape_key(expr, forward, {})
+        if self._marked:
+            key = (key, tuple(sorted(forward[s].name for s in forward.keys() & self._marked)))
         found = self._results.get(key)
         if found is not None:
             return renamed(found, back, self._nodes)

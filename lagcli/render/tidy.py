@@ -14,7 +14,9 @@ import sympy as sp
 from sympy.core.mul import _keep_coeff
 
 from lagcli.model.angle_calls import trig_call
+from lagcli.model.expansion import expanded as expand     # sympy.expand, faster on polynomials
 from lagcli.model.products import product
+from lagcli.model.sums import total
 from lagcli.render.operations import count_ops
 
 TIDY_MAX_OPS = 80             # rewrite trigonometry only in expressions this small (bench/codegen.py)
@@ -103,27 +105,29 @@ def collected(expr, velocities) -> sp.Expr:
     factor_terms(collect(c, calls)))` gives, in one pass over the terms (sympy's
     collect substitutes term by term, quadratic in their number)."""
     velocities = frozenset(velocities)
-    expanded = expr if is_expanded(expr) else sp.expand(expr)
+    expanded = expr if is_expanded(expr) else expand(expr)
     by_velocity = grouped_terms(expanded, lambda base: base in velocities)
-    return sp.Add(*(monomial * factored(_grouped_by_calls(sp.Add(*coefficients)))
-                    for monomial, coefficients in by_velocity.items()))
+    return total([product(monomial, factored(_grouped_by_calls(total(coefficients))))
+                  for monomial, coefficients in by_velocity.items()])
 
 
 def _grouped_by_calls(expr) -> sp.Expr:
     by_call = grouped_terms(expr, lambda base: isinstance(base, sp.Function))
-    return sp.Add(*(calls * factored(sp.Add(*coefficients)) for calls, coefficients in by_call.items()))
+    return total([product(calls, factored(total(coefficients))) for calls, coefficients in by_call.items()])
 
 
 def grouped_terms(expr, in_key) -> dict:
     """{key: [coefficient, ...]} of the terms of the sum expr, key the product of each
     term's factors whose base satisfies `in_key`, coefficient the product of the others
-    (term = key * coefficient), keys in order of first appearance."""
+    (term = key * coefficient), keys in order of first appearance. Sums and products
+    here and in `collected` are built by `sums.total` and `products.product` (sympy's
+    Add and Mul, the same expressions, without their general flatten)."""
     groups: dict = {}
     for term in sp.Add.make_args(expr):
         key, rest = [], []
         for factor in sp.Mul.make_args(term):
             (key if in_key(factor.as_base_exp()[0]) else rest).append(factor)
-        groups.setdefault(sp.Mul(*key), []).append(sp.Mul(*rest))
+        groups.setdefault(product(*key), []).append(product(*rest))
     return groups
 
 
@@ -143,11 +147,20 @@ def factored(expr, memo: dict | None = None) -> sp.Expr:
     if found is None:
         node = _distributed(expr) if expr.is_Mul else expr
         args = tuple(factored(a, memo) for a in node.args)
-        found = node if args == node.args else node.func(*args)
+        found = node if args == node.args else _rebuilt(node, args)
         if found.is_Add:
             found = _common_factor_out(found)
         memo[expr] = found
     return found
+
+
+def _rebuilt(node, args) -> sp.Expr:
+    """`node.func(*args)`, sums and products built by `total` and `product` (the same expressions)."""
+    if node.is_Add:
+        return total(args)
+    if node.is_Mul:
+        return product(*args)
+    return node.func(*args)
 
 
 def _distributed(mul) -> sp.Expr:
@@ -164,12 +177,12 @@ def _common_factor_out(add) -> sp.Expr:
     split = []
     for term in add.args:
         number, rest = term.as_coeff_Mul()
-        powers: dict = {}
+        powers: dict = {}           # base -> exponent, a Python int (no sympy arithmetic)
         for factor in sp.Mul.make_args(rest):
             base, exponent = factor.as_base_exp()
             if not exponent.is_Integer:     # sqrt(x) and x share nothing (factor_terms' radical=False)
-                base, exponent = factor, sp.S.One
-            powers[base] = powers.get(base, 0) + exponent
+                base, exponent = factor, 1
+            powers[base] = powers.get(base, 0) + int(exponent)
         split.append((number, powers))
     common = dict(split[0][1])
     for _, powers in split[1:]:
@@ -178,9 +191,16 @@ def _common_factor_out(add) -> sp.Expr:
     content = numeric_content([number for number, _ in split])
     if content == 1 and not common:
         return add
-    primitive = sp.Add(*((number / content) * sp.Mul(*(b ** (e - common.get(b, 0)) for b, e in powers.items()))
-                         for number, powers in split))
-    return _keep_coeff(content, sp.Mul(*(b ** e for b, e in common.items())) * primitive, clear=True, sign=True)
+    # sympy's Add and Mul, the same expressions (lagcli.model.sums, .products): the flatten
+    # of these products was most of the CSE's preprocessing of a 10-link chain's code
+    primitive = total([product(number / content, product(*(_power(b, e - common.get(b, 0)) for b, e in powers.items())))
+                       for number, powers in split])
+    return _keep_coeff(content, product(product(*(_power(b, e) for b, e in common.items())), primitive), clear=True, sign=True)
+
+
+def _power(base, exponent: int) -> sp.Expr:
+    """base ** exponent (base itself for 1, as sympy's Pow gives it, without building the Pow)."""
+    return base if exponent == 1 else base ** exponent
 
 
 def common_exponent(a, b):
@@ -271,7 +291,7 @@ def display_form(expr) -> sp.Expr:
 
 def display_steps(expr) -> sp.Expr:
     """`display_form`'s steps on a small expr."""
-    result = expr if is_expanded(expr) else sp.expand(expr)
+    result = expr if is_expanded(expr) else expand(expr)
     if result.has(sp.sin, sp.cos):
         result = fold_angle_sums(pythagorean(result))
     result = pull_signs(common_factor(group_by_calls(result)))

@@ -305,7 +305,7 @@ class Display:
         return {"velocity": self.velocity_buckets(i), "mass_rate": mass_rate, "gyroscopic": gyroscopic,
                 "t1_rate": {sp.S.One: a_t}, "position": {sp.S.One: position}, "forces": forces}
 
-    def part_terms(self, i: int, names: Sequence[str], sign: int = 1) -> Terms:
+    def part_terms(self, i: int, names: Sequence[str]) -> Terms:
         """The terms of the parts `names` of equation i, merged by monomial and ordered."""
         key = (i, tuple(names))
         if key not in self._merged:       # the equation and F_i merge the same parts
@@ -314,7 +314,7 @@ class Display:
                 for monomial, coefficient in self.parts(i)[name].items():
                     _add(buckets, monomial, coefficient)
             self._merged[key] = buckets
-        return self._ordered(self._merged[key], sign)
+        return self._ordered(self._merged[key])
 
     def acceleration_terms(self, i: int) -> Terms:
         return [self.signs(product(M_ij, a)) for M_ij, a in zip(self.M[i], self.qdd) if M_ij != 0]
@@ -324,12 +324,14 @@ class Display:
         return self.acceleration_terms(i) + self.part_terms(i, PARTS)
 
     def forcing(self, i: int) -> Terms:
-        """F_i = Q'_i - c_i - ...: the equation's terms without q'', negated."""
-        return self.part_terms(i, PARTS, sign=-1)
+        """F_i = Q'_i - c_i - ...: the equation's terms without q'', negated term by term
+        (tidying each negated coefficient anew gave the same terms for a fifth of a
+        40-link report's content: tests/test_report_forcing.py)."""
+        return [self.signs(_negated(term)) for term in self.part_terms(i, PARTS)]
 
-    def _ordered(self, buckets: dict, sign: int) -> Terms:
+    def _ordered(self, buckets: dict) -> Terms:
         """Terms of degree 2 in q', then 1, then others depending on q', then free of q' (`ordered_terms`)."""
-        return ordered_terms(buckets, self.qd, self.tidy_assembled, self.signs, sign, self._free_symbols,
+        return ordered_terms(buckets, self.qd, self.tidy_assembled, self.signs, 1, self._free_symbols,
                              self._bucket_terms)
 
 

@@ -13,6 +13,7 @@ from sympy.simplify.cse_opts import sub_post
 from lagcli.targets.expressions import Outputs
 from lagcli.targets.minus_sign import could_extract_minus_sign
 from lagcli.targets.shared_dag import Dag, reduce_dag
+from lagcli.render.operations import count_ops
 from lagcli.render.tidy import factored
 
 
@@ -22,7 +23,15 @@ def basic_optimizations() -> list:
     linear in the distinct subexpressions, in place of sympy's factor_terms, which took
     30 s of CPU on a bicycle-sized system (1.5 s with factored)."""
     memo: dict = {}          # shared by all expressions: they share subexpressions
-    return [(signs_normalised({}), sub_post), (lambda expr: factored(expr, memo), None)]
+    if len(_EXTRACTS) > _EXTRACTS_KEPT:
+        _EXTRACTS.clear()
+    return [(signs_normalised(_EXTRACTS), sub_post), (lambda expr: factored(expr, memo), None)]
+
+
+# sum -> could_extract_minus_sign(sum), for every CSE of a run: the model's functions (the
+# tidied and the derived candidates) and the variational ones share M's and F's sums
+_EXTRACTS: dict = {}
+_EXTRACTS_KEPT = 1 << 17
 
 
 def signs_normalised(memo: dict):
@@ -34,22 +43,38 @@ def signs_normalised(memo: dict):
     subexpression once (`sums`, `xreplaced`): a big system's trees share subtrees, which
     sympy's walk once per occurrence (a third of `generate` of the 40-link chain); a
     tie of signs is broken by the sum's leading term (`minus_sign`), not by the sort
-    keys of the whole sum."""
+    keys of the whole sum. Each distinct expression is normalised once (`done`: the
+    variational functions repeat M's mirrored entries), each sum negated once."""
+    negations: dict = {}
+    done: dict = {}
+
     def extracts(add) -> bool:
         if add not in memo:
             memo[add] = could_extract_minus_sign(add)
         return memo[add]
 
+    def negation(add):
+        if add not in negations:
+            negations[add] = -add
+        return negations[add]
+
     def normalise(expr):
+        if expr not in done:
+            done[expr] = normalised(expr)
+        return done[expr]
+
+    def normalised(expr):
         reps, ignore = {}, set()
         for add in sums(expr):
             if not extracts(add):
                 continue
-            negated = -add
+            negated = negation(add)
             if negated.is_Mul:
                 ignore.add(add)
             else:
                 reps[add] = sp.Mul._from_args([sp.S.NegativeOne, negated])
+        if not reps:          # nothing replaced: the second pass below finds nothing to mark
+            return expr
         expr = xreplaced(expr, reps)
         if not isinstance(expr, sp.Basic):
             return expr
@@ -60,7 +85,7 @@ def signs_normalised(memo: dict):
             if add in reps:
                 negs[add] = reps[add]
             elif extracts(add):
-                negs[add] = sp.Mul._from_args([sp.S.One, sp.S.NegativeOne, -add])
+                negs[add] = sp.Mul._from_args([sp.S.One, sp.S.NegativeOne, negation(add)])
         return xreplaced(expr, negs)
 
     return normalise
@@ -142,10 +167,11 @@ class Reduced:
         return {}
 
     def operation_count(self, names) -> int:
-        """Operations (sympy.count_ops) to evaluate the groups `names`, temporaries included."""
+        """Operations (sympy.count_ops, the same number by `operations.count_ops`) to evaluate
+        the groups `names`, temporaries included."""
         temps = self.block(names)
         exprs = [value for _, value in temps] + [e for name in names for e in self.groups[name]]
-        return int(sum(sp.count_ops(e) for e in exprs))
+        return sum(count_ops(e) for e in exprs)
 
 
 def eliminate(outputs: Outputs, optimizations=CSE_OPTIMIZATIONS) -> Reduced:

@@ -11,6 +11,7 @@ from dataclasses import dataclass, replace
 import sympy as sp
 
 from lagcli.derive.result import Derivation
+from lagcli.render.shapes import Shapes
 from lagcli.render.tidy import tidy_expression
 from lagcli.interface import Layout
 
@@ -56,9 +57,13 @@ def collect(d: Derivation, layout: Layout, tidy: bool = True) -> Outputs:
 
 
 def tidied(outputs: Outputs, velocities) -> Outputs:
-    """`outputs` with every expression through `tidy_expression` (each distinct one once)."""
+    """`outputs` with every expression through `tidy_expression`, each distinct one once
+    and each *shape* once (`lagcli.render.shapes`: a chain's mass matrix entries
+    l_i l_j (m_j + ... + m_n) cos(q_i - q_j) differ only in their symbols; the result for
+    one is renamed for the others, which is what tidying them gives, tests/test_shapes.py)."""
     cache: dict = {}
-    return replace(outputs, **{name: tuple(tidy_expression(e, velocities, cache) for e in exprs)
+    by_shape = Shapes(lambda e: tidy_expression(e, velocities, cache), marked=velocities)
+    return replace(outputs, **{name: tuple(by_shape(sp.sympify(e)) for e in exprs)
                                for name, exprs in outputs.groups().items()})
 
 

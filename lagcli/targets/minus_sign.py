@@ -24,7 +24,7 @@ class _Undecided(Exception):
 
 def could_extract_minus_sign(add) -> bool:
     """`add.could_extract_minus_sign()` for a sympy Add, the same answer."""
-    negative = sum(1 for arg in add.args if arg.could_extract_minus_sign())
+    negative = sum(1 for arg in add.args if _term_extracts(arg))
     positive = len(add.args) - negative
     if positive != negative:
         return negative > positive
@@ -32,6 +32,22 @@ def could_extract_minus_sign(add) -> bool:
         return bool(_leading_coefficient(add) < 0)
     except _Undecided:
         return add.could_extract_minus_sign()
+
+
+def _term_extracts(term) -> bool:
+    """`term.could_extract_minus_sign()` without building -term for its `self == -self`
+    test (Mul.could_extract_minus_sign): a product not led by a number answers False
+    whatever the test finds; one led by a nonzero rational c and then a factor that is
+    not a number (zoo is one) differs from its negative (Mul.__neg__ writes -c or drops
+    c = -1, and keeps c when zoo follows it) and answers c < 0."""
+    if type(term) is sp.Mul:
+        lead = term.args[0]
+        if not lead.is_Number:
+            return False
+        second = term.args[1]
+        if lead.is_Rational and lead.p != 0 and not second.is_Number and second is not sp.zoo:
+            return lead.p < 0
+    return term.could_extract_minus_sign()
 
 
 def _leading_coefficient(add):
