@@ -16,10 +16,11 @@
  * K is n x n, row-major; r (n values) is overwritten by x, K by the factors; d is
  * room for n values (the reciprocal pivots 1/D). Returns 0, 1 when K is exactly
  * singular (a zero pivot), 2 when K, r or x is not finite. lagcli_solve_symmetric
- * reads K's lower triangle only (M is symmetric: the generated code writes both
- * triangles from the same expressions) and checks x only: a NaN or inf in that
- * triangle leaves the factorization to LU (see lagcli_ldlt), which checks K and r
- * first; one in r reaches x (L is unit triangular and 1/D finite and > 0).
+ * reads K's lower triangle only, the upper one only to fall back to LU (M is
+ * symmetric: the generated code writes both triangles from the same expressions),
+ * and checks x only: a NaN or inf in the lower triangle leaves the factorization to
+ * LU (see lagcli_ldlt), which checks K and r first; one in r reaches x (L is unit
+ * triangular and 1/D finite and > 0).
  *
  * Static inline functions in a header, so `<name>.c` still compiles on its own
  * (`cc -shared <name>.c`), and the solve is written once here for every model
