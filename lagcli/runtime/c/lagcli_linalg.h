@@ -6,20 +6,26 @@
  *                                            constrained model): Gaussian elimination
  *                                            with partial pivoting
  *   int lagcli_solve_symmetric(n, K, r, d)   M x = r for the symmetric mass matrix of
- *                                            an unconstrained model: LU below
- *                                            LAGCLI_CHOLESKY_MIN rows, else Cholesky
- *                                            (M = U^T U, n^3/6 multiply-adds against
- *                                            LU's n^3/3, no pivot search), and LU when
- *                                            M is not positive definite at this state
+ *                                            an unconstrained model: square-root-free
+ *                                            Cholesky M = L D L^T (n^3/6 multiply-adds
+ *                                            against LU's n^3/3, no pivot search, no
+ *                                            square root, one division a row), and LU
+ *                                            when M is not positive definite at this
+ *                                            state
  *
  * K is n x n, row-major; r (n values) is overwritten by x, K by the factors; d is
- * room for n values (M's diagonal, kept for the LU fallback). Returns 0, 1 when K is
- * exactly singular (a zero pivot), 2 when K, r or x is not finite.
+ * room for n values (the reciprocal pivots 1/D). Returns 0, 1 when K is exactly
+ * singular (a zero pivot), 2 when K, r or x is not finite. lagcli_solve_symmetric
+ * reads K's lower triangle only (M is symmetric: the generated code writes both
+ * triangles from the same expressions) and checks x only: a NaN or inf in that
+ * triangle leaves the factorization to LU (see lagcli_ldlt), which checks K and r
+ * first; one in r reaches x (L is unit triangular and 1/D finite and > 0).
  *
  * Static inline functions in a header, so `<name>.c` still compiles on its own
  * (`cc -shared <name>.c`), and the solve is written once here for every model
- * rather than once per generated file. At N = 40 links the LU was 85% of the
- * right-hand side (bench/README.md, issue 24).
+ * rather than once per generated file; the generated code calls them with its size
+ * as a constant, which the compiler sees once they are inlined. At N = 40 links
+ * the LU was 85% of the right-hand side (bench/README.md, issue 24).
  * ------------------------------------------------------------------------ */
 #ifndef LAGCLI_LINALG_H
 #define LAGCLI_LINALG_H
@@ -94,53 +100,58 @@ static inline double lagcli_dot(int m, const double *a, const double *b)
     return (s0 + s1) + (s2 + s3);
 }
 
-static inline int lagcli_cholesky(int n, double *K)
+/* M = L D L^T, L unit lower triangular: L goes into K's strict lower triangle, 1/D into
+ * d; K's diagonal and upper triangle are left as they are (M again, for the LU fallback).
+ * Column by column, as the entries of a column are independent of each other (they
+ * pipeline; row by row, each entry waits for the one before it): row i holds
+ * W[i][j] = L[i][j] D[j] until column i is reached, then L, while D[i] is formed.
+ * Returns 1 unless every 1/D[i] is in (0, inf): a pivot that is not > 0, is too small
+ * to invert or is NaN leaves the solve to LU. A NaN or inf in row i of the lower
+ * triangle makes D[i] NaN or +-inf (the terms W L are >= 0), so it never passes. */
+static inline int lagcli_ldlt(int n, double *K, double *d)
 {
-    int i, j;
+    int i, j, k;
     for (j = 0; j < n; ++j) {
-        const double *row_j = K + j * n;
-        double pivot = row_j[j] - lagcli_dot(j, row_j, row_j);
-        if (!(pivot > 0.0))
+        double *row_j = K + j * n;
+        double pivot = row_j[j], reciprocal;
+        for (k = 0; k < j; ++k) {           /* row j: W to L, D[j] = M[j][j] - sum_k W L */
+            const double w = row_j[k], l = w * d[k];
+            row_j[k] = l;
+            pivot -= w * l;
+        }
+        reciprocal = 1.0 / pivot;
+        if (!(reciprocal > 0.0 && reciprocal < INFINITY))
             return 1;
-        pivot = sqrt(pivot);
-        K[j * n + j] = pivot;
-        for (i = j + 1; i < n; ++i) {
+        d[j] = reciprocal;
+        for (i = j + 1; i < n; ++i) {       /* column j: W[i][j] = M[i][j] - sum_k W[i][k] L[j][k] */
             double *row_i = K + i * n;
-            row_i[j] = (row_i[j] - lagcli_dot(j, row_i, row_j)) / pivot;
+            row_i[j] -= lagcli_dot(j, row_i, row_j);
         }
     }
     return 0;
 }
 
-/* Below this size LU is the faster solve: the generated RHS of the planar chain, CPU us
- * per call, Cholesky / LU: N = 5 0.156 / 0.131, N = 10 0.429 / 0.404, N = 15 0.915 / 1.445
- * (gcc 12 -O2, medians of alternated runs; bench/README.md, issue 24). */
-#define LAGCLI_CHOLESKY_MIN 11
-
 static inline int lagcli_solve_symmetric(int n, double *K, double *r, double *d)
 {
     int i, k;
-    if (n < LAGCLI_CHOLESKY_MIN)
-        return lagcli_solve_lu(n, K, r);
-    if (!lagcli_all_finite(n * n, K) || !lagcli_all_finite(n, r))
-        return 2;
-    for (i = 0; i < n; ++i)
-        d[i] = K[i * n + i];
-    if (lagcli_cholesky(n, K) != 0) {      /* not positive definite here: K back, then LU */
-        for (i = 0; i < n; ++i) {
-            K[i * n + i] = d[i];
+    if (lagcli_ldlt(n, K, d) != 0) {       /* not positive definite here: M back, then LU */
+        for (i = 1; i < n; ++i)
             for (k = 0; k < i; ++k)
                 K[i * n + k] = K[k * n + i];
-        }
         return lagcli_solve_lu(n, K, r);
     }
-    for (i = 0; i < n; ++i)                 /* L z = r */
-        r[i] = (r[i] - lagcli_dot(i, K + i * n, r)) / K[i * n + i];
-    for (i = n - 1; i >= 0; --i) {          /* L^T x = z */
-        double sum = r[i];
-        for (k = i + 1; k < n; ++k)
-            sum -= K[k * n + i] * r[k];
-        r[i] = sum / K[i * n + i];
+    for (i = 1; i < n; ++i) {               /* L z = r */
+        double z = r[i];
+        for (k = 0; k < i; ++k)
+            z -= K[i * n + k] * r[k];
+        r[i] = z;
+    }
+    for (i = 0; i < n; ++i)                 /* D y = z */
+        r[i] *= d[i];
+    for (i = n - 1; i >= 0; --i) {          /* L^T x = y: x[i] taken out of the rows above */
+        const double x = r[i];
+        for (k = 0; k < i; ++k)
+            r[k] -= K[i * n + k] * x;
     }
     return lagcli_all_finite(n, r) ? 0 : 2;
 }

@@ -15,7 +15,7 @@
 #include "double_pendulum.h"
 
 #define LAGCLI_FMU_MODEL double_pendulum_model
-#define LAGCLI_FMU_GUID "{35ce48bf-9896-f8e7-7bb5-d69a49630346}"
+#define LAGCLI_FMU_GUID "{0608db72-f4c9-5e25-5aab-ffd3be9e1dfe}"
 #define LAGCLI_FMU_NINPUT 0u
 #define LAGCLI_FMU_ALPHA 10.0        /* Baumgarte stabilisation (constrained systems) */
 #define LAGCLI_FMU_BETA 10.0

@@ -15,7 +15,7 @@
 #include "ex6_9_two_wheels_axle.h"
 
 #define LAGCLI_FMU_MODEL ex6_9_two_wheels_axle_model
-#define LAGCLI_FMU_GUID "{bae08aa0-bf2e-af3c-97e1-c11324973bec}"
+#define LAGCLI_FMU_GUID "{12575944-2f73-53a9-9e22-d73450cc8511}"
 #define LAGCLI_FMU_NINPUT 0u
 #define LAGCLI_FMU_ALPHA 10.0        /* Baumgarte stabilisation (constrained systems) */
 #define LAGCLI_FMU_BETA 10.0
