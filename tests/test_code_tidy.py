@@ -100,3 +100,14 @@ def test_signs_normalised_is_sympys_sub_pre():
     exprs += [-(x - y) * (y - x) + (z - x) ** 2, (l1 - l2) / (m2 - m1) - (x - y - z)]
     for expr in exprs:
         assert sp.srepr(normalise(expr)) == sp.srepr(sub_pre(expr)), expr
+
+
+def test_calls_in_is_sympys_atoms():
+    """`tidy.calls_in` (each distinct subexpression visited once) finds sympy's atoms(Function)."""
+    from lagcli.render.tidy import calls_in
+
+    x, y = sp.symbols("x y", real=True)
+    f = sp.Function("f")
+    for expr in [x, sp.sin(x) * sp.cos(x - y) + sp.sin(x) ** 2, sp.exp(sp.sin(f(x, sp.cos(y)))) + sp.Abs(x),
+                 sp.sin(x) * (sp.sin(x) + sp.cos(x) * sp.sin(x)), sp.Integer(3)]:
+        assert calls_in(expr) == expr.atoms(sp.Function), expr

@@ -48,7 +48,7 @@ def tidy_expression(expr, velocities=(), cache: dict | None = None) -> sp.Expr:
     result = expr
     if not expr.is_Atom and small(expr, COLLECT_MAX_NODES) and not has_high_power(expr) \
             and expanded_terms(expr) <= COLLECT_MAX_TERMS:
-        calls = expr.atoms(sp.Function)
+        calls = calls_in(expr)
         result = _cheaper(expr, collected(expr, velocities), calls)
         if count_ops(result) <= TIDY_MAX_OPS and trigsimp_safe(result):
             result = _cheaper(result, display_form(result), calls)
@@ -60,7 +60,7 @@ def tidy_expression(expr, velocities=(), cache: dict | None = None) -> sp.Expr:
 def trigsimp_safe(expr) -> bool:
     """True when expr is built from numbers, symbols, +, * and powers, and calls only
     sin and cos: what trigsimp is meant for (and fast on)."""
-    for node in sp.preorder_traversal(expr):
+    for node in distinct_nodes(expr):
         if node.is_Atom or node.is_Add or node.is_Mul or isinstance(node, TRIGSIMP_FUNCTIONS):
             continue
         if node.is_Pow and node.exp.is_Rational:
@@ -227,7 +227,7 @@ def numeric_content(numbers) -> sp.Rational:
 
 def _cheaper(current, candidate, calls) -> sp.Expr:
     """candidate when it has fewer operations and calls only known functions among `calls`."""
-    found = candidate.atoms(sp.Function)
+    found = calls_in(candidate)
     if found <= calls and all(isinstance(f, PRINTABLE) for f in found) \
             and count_ops(candidate) < count_ops(current):
         return candidate
@@ -501,6 +501,23 @@ def _square_arguments(expr) -> list:
     return sorted({f.args[0] for f in squares if f.func(f.args[0]) in squares
                    and (sp.cos if f.func == sp.sin else sp.sin)(f.args[0]) in squares},
                   key=sp.default_sort_key)
+
+
+def distinct_nodes(expr) -> set:
+    """Every distinct subexpression of expr (what `sympy.preorder_traversal` visits, each
+    once: an expanded sum repeats its calls and powers in many terms)."""
+    seen, stack = set(), [expr]
+    while stack:
+        node = stack.pop()
+        if node not in seen:
+            seen.add(node)
+            stack.extend(node.args)
+    return seen
+
+
+def calls_in(expr) -> set:
+    """`expr.atoms(sp.Function)`, each distinct subexpression visited once."""
+    return {node for node in distinct_nodes(expr) if isinstance(node, sp.Function)}
 
 
 def powers_in(expr) -> set:
