@@ -18,7 +18,7 @@ import sympy as sp
 
 from lagcli.derive.energy import kinetic_parts, potential_energy
 from lagcli.errors import Problem, SpecError
-from lagcli.model.calculus import TimeDerivative
+from lagcli.model.calculus import TimeDerivative, distinct_nodes
 from lagcli.model.constants import LARGEST
 from lagcli.model.expr import MAX_EXACT_NUMBER_DIGITS, exact_digits
 
@@ -84,18 +84,7 @@ def _leaves(value) -> set:
     """The atoms of an expression or matrix (what `atoms()` finds), each distinct subtree
     visited once: T and F of a chain share their sums, and walking them as trees (`has`,
     `atoms`) was most of this check's time."""
-    stack = _flat(value)
-    seen, leaves = set(), set()
-    while stack:
-        node = stack.pop()
-        if node in seen:
-            continue
-        seen.add(node)
-        if node.args:
-            stack.extend(node.args)
-        else:
-            leaves.add(node)
-    return leaves
+    return {node for node in distinct_nodes(*_flat(value)) if not node.args}
 
 
 def _flat(value) -> list:

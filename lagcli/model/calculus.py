@@ -402,6 +402,18 @@ def _any_rough(exprs) -> bool:
     return False
 
 
+def distinct_nodes(*exprs) -> set:
+    """Every distinct subexpression of `exprs` (what `sympy.preorder_traversal` visits, each
+    once: big expressions share their parts, which a tree walk visits at every occurrence)."""
+    seen, stack = set(), list(exprs)
+    while stack:
+        node = stack.pop()
+        if node not in seen:
+            seen.add(node)
+            stack.extend(node.args)
+    return seen
+
+
 def matrix_of_entries(rows: int, columns: int, entries: dict, kind=sp.Matrix) -> sp.MatrixBase:
     """The `kind` (sp.Matrix or sp.ImmutableMatrix) matrix with the nonzero `entries`
     ((i, j) -> value). What `kind(sp.SparseMatrix(rows, columns, entries))` returns (sympy

@@ -14,6 +14,7 @@ import sympy as sp
 from sympy.core.mul import _keep_coeff
 
 from lagcli.model.angle_calls import trig_call
+from lagcli.model.calculus import distinct_nodes
 from lagcli.model.expansion import expanded as expand     # sympy.expand, faster on polynomials
 from lagcli.model.products import product
 from lagcli.model.sums import total
@@ -503,18 +504,6 @@ def _square_arguments(expr) -> list:
                   key=sp.default_sort_key)
 
 
-def distinct_nodes(expr) -> set:
-    """Every distinct subexpression of expr (what `sympy.preorder_traversal` visits, each
-    once: an expanded sum repeats its calls and powers in many terms)."""
-    seen, stack = set(), [expr]
-    while stack:
-        node = stack.pop()
-        if node not in seen:
-            seen.add(node)
-            stack.extend(node.args)
-    return seen
-
-
 def calls_in(expr) -> set:
     """`expr.atoms(sp.Function)`, each distinct subexpression visited once."""
     return {node for node in distinct_nodes(expr) if isinstance(node, sp.Function)}
@@ -524,16 +513,7 @@ def powers_in(expr) -> set:
     """expr.atoms(sp.Pow), each distinct subexpression visited once: a big expression
     shares its parts (the frames bicycle's 1/sqrt(S) in hundreds of terms), which
     `atoms` would walk through again at every occurrence."""
-    seen, found, stack = set(), set(), [expr]
-    while stack:
-        node = stack.pop()
-        if node in seen:
-            continue
-        seen.add(node)
-        if isinstance(node, sp.Pow):
-            found.add(node)
-        stack.extend(node.args)
-    return found
+    return {node for node in distinct_nodes(expr) if isinstance(node, sp.Pow)}
 
 
 def _pythagorean_cost(expr) -> tuple[int, int, int]:

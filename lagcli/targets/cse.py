@@ -13,6 +13,7 @@ from sympy.simplify.cse_opts import sub_post
 from lagcli.targets.expressions import Outputs
 from lagcli.targets.minus_sign import could_extract_minus_sign
 from lagcli.targets.shared_dag import Dag, reduce_dag
+from lagcli.model.calculus import distinct_nodes
 from lagcli.render.operations import count_ops
 from lagcli.render.tidy import factored
 
@@ -93,15 +94,7 @@ def signs_normalised(memo: dict):
 
 def sums(expr) -> set:
     """`expr.atoms(sp.Add)`, each distinct subexpression visited once."""
-    found, seen, stack = set(), set(), [expr]
-    while stack:
-        node = stack.pop()
-        if node not in seen:
-            seen.add(node)
-            if isinstance(node, sp.Add):
-                found.add(node)
-            stack.extend(node.args)
-    return found
+    return {node for node in distinct_nodes(expr) if isinstance(node, sp.Add)}
 
 
 def xreplaced(expr, rule: dict):
