@@ -56,14 +56,29 @@ def one_factor_derivative(expr, var, memo: dict, rates: dict | None = None) -> s
     product of them all, where calculus.derivative forms it factor by factor (each product
     sorting the sum of masses again). The same expression when no factor is a rational
     number and f' is not one (a rational times a sum would be distributed in the
-    factor-by-factor product); None otherwise."""
+    factor-by-factor product); None otherwise. When f' is s * r with s = 1 or -1, the
+    product of the other factors and r is formed once for every variable (remembered in
+    `rates`) and negated for s = -1: d/dq_i and d/dq_j of a chain's
+    M_ij = l_i l_j (m_j + ... + m_n) cos(q_i - q_j) are -P and P, P = l_i l_j (...) sin(q_i - q_j)."""
     if not expr.is_Mul or any(a.is_Rational for a in expr.args):
         return None
     moving = [k for k, a in enumerate(expr.args) if var in calculus.free_symbols(a, memo)]
     if len(moving) != 1:
         return None
     k = moving[0]
-    factor_rate = rate(expr.args[k], var, memo, {} if rates is None else rates)
+    rates = {} if rates is None else rates
+    factor_rate = rate(expr.args[k], var, memo, rates)
     if factor_rate.is_Rational:
         return None
-    return product(*expr.args[:k], factor_rate, *expr.args[k + 1:])
+    sign, rest = factor_rate.as_coeff_Mul()
+    if sign is not sp.S.One and sign is not sp.S.NegativeOne:
+        return product(*expr.args[:k], factor_rate, *expr.args[k + 1:])
+    key = (expr, k, rest)      # a triple: the rates' own keys are pairs (expr, var)
+    unit = rates.get(key)
+    if unit is None:
+        unit = rates[key] = product(*expr.args[:k], rest, *expr.args[k + 1:])
+    if sign is sp.S.One:
+        return unit
+    if not unit.is_Mul or unit.args[0].is_Number:
+        return product(*expr.args[:k], factor_rate, *expr.args[k + 1:])
+    return sp.Mul._from_args((sp.S.NegativeOne, *unit.args), unit.is_commutative)   # -unit as Mul.__neg__ builds it
