@@ -54,13 +54,13 @@ def one_factor_derivative(expr, var, memo: dict, rates: dict | None = None) -> s
     """`calculus.derivative` of a product in which one factor f varies (l3 l6 (m6 + ... + m40)
     cos(q3 - q6), an entry of a chain's M): the other factors times f' (by `rate`), one
     product of them all, where calculus.derivative forms it factor by factor (each product
-    sorting the sum of masses again). The same expression when no factor is a rational
-    number and f' is not one (a rational times a sum would be distributed in the
-    factor-by-factor product); None otherwise. When f' is s * r with s = 1 or -1, the
+    sorting the sum of masses again). The same expression when f' is not a rational number
+    and no factor but a leading one is, unless the first two factors are a rational number
+    and a sum (distributed in the factor-by-factor product); None otherwise. When f' is s * r with s = 1 or -1, the
     product of the other factors and r is formed once for every variable (remembered in
     `rates`) and negated for s = -1: d/dq_i and d/dq_j of a chain's
     M_ij = l_i l_j (m_j + ... + m_n) cos(q_i - q_j) are -P and P, P = l_i l_j (...) sin(q_i - q_j)."""
-    if not expr.is_Mul or any(a.is_Rational for a in expr.args):
+    if not expr.is_Mul or any(a.is_Rational for a in expr.args[1:]):
         return None
     moving = [k for k, a in enumerate(expr.args) if var in calculus.free_symbols(a, memo)]
     if len(moving) != 1:
@@ -68,7 +68,7 @@ def one_factor_derivative(expr, var, memo: dict, rates: dict | None = None) -> s
     k = moving[0]
     rates = {} if rates is None else rates
     factor_rate = rate(expr.args[k], var, memo, rates)
-    if factor_rate.is_Rational:
+    if factor_rate.is_Rational or (expr.args[0].is_Rational and _distributed(factor_rate if k == 1 else expr.args[1])):
         return None
     sign, rest = factor_rate.as_coeff_Mul()
     if sign is not sp.S.One and sign is not sp.S.NegativeOne:
@@ -79,6 +79,12 @@ def one_factor_derivative(expr, var, memo: dict, rates: dict | None = None) -> s
         unit = rates[key] = product(*expr.args[:k], rest, *expr.args[k + 1:])
     if sign is sp.S.One:
         return unit
-    if not unit.is_Mul or unit.args[0].is_Number:
+    if not unit.is_Mul or (unit.args[0].is_Number and not unit.args[0].is_Rational):
         return product(*expr.args[:k], factor_rate, *expr.args[k + 1:])
-    return sp.Mul._from_args((sp.S.NegativeOne, *unit.args), unit.is_commutative)   # -unit as Mul.__neg__ builds it
+    return -unit       # Mul.__neg__: the coefficient negated, as the product with -r has it
+
+
+def _distributed(second) -> bool:
+    """A rational number times `second` is a sum distributed (sympy's Mul of two factors): the
+    first step of calculus.derivative's factor-by-factor product of c * second * ..."""
+    return second.as_coeff_Mul()[1].is_Add

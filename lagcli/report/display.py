@@ -29,6 +29,7 @@ import sympy as sp
 
 from lagcli.model import calculus
 from lagcli.model.products import product
+from lagcli.model.sums import negated_terms, total
 from lagcli.derive.result import Derivation
 from lagcli.report.derivatives import derivative
 from lagcli.render.shapes import Shapes
@@ -219,13 +220,13 @@ class Display:
 
     def generalized_force(self, i: int) -> sp.Expr:
         """Q_i = Q'_i - dV/dq_i."""
-        return self.tidy_assembled(self.Qp[i] - self.differentiate(self.V, self.q[i]))
+        return self.tidy_assembled(difference(self.Qp[i], self.differentiate(self.V, self.q[i])))
 
     @functools.cached_property
     def gyroscopic(self) -> list[list[sp.Expr]]:
         """gamma_ij = da_i/dq_j - da_j/dq_i."""
         q, a, n, d = self.q, self.a, self.n, self.differentiate
-        return [[self.tidy_assembled(d(a[i], q[j]) - d(a[j], q[i])) if i != j else sp.S.Zero
+        return [[self.tidy_assembled(difference(d(a[i], q[j]), d(a[j], q[i]))) if i != j else sp.S.Zero
                  for j in range(n)] for i in range(n)]
 
     def constraint_force(self, i: int) -> Terms:
@@ -297,7 +298,7 @@ class Display:
         mass_rate = {v: self._dM(i, j, t) for j, v in enumerate(qd)}
         gyroscopic = {v: g for v, g in zip(qd, self.gyroscopic[i])}
         a_t = self.differentiate(self.a[i], t)
-        position = self.differentiate(self.V, q[i]) - self.differentiate(self.T0, q[i])
+        position = difference(self.differentiate(self.V, q[i]), self.differentiate(self.T0, q[i]))
         forces: dict = {}
         for term in split(self.Qp[i]):
             coefficient, monomial = term.as_independent(*qd, as_Add=False)
@@ -403,5 +404,15 @@ PARTS = ("velocity", "mass_rate", "gyroscopic", "t1_rate", "position", "forces")
 
 
 def _add(buckets: dict, monomial, coefficient) -> None:
+    """buckets[monomial] += coefficient; a new monomial's coefficient is the object itself
+    (0 + x is x in sympy, found through five layers of its arithmetic)."""
     if coefficient != 0:
-        buckets[monomial] = buckets.get(monomial, sp.S.Zero) + coefficient
+        found = buckets.get(monomial)
+        buckets[monomial] = coefficient if found is None else found + coefficient
+
+
+def difference(a, b) -> sp.Expr:
+    """a - b, the same expression as sympy's: a + (-b), b's terms negated one by one and
+    summed once (`sums.total`; sympy's -b rebuilt the 40 terms of a chain's dV/dq_i by its
+    Mul and Add, and `x - 0` re-sorted x)."""
+    return total([a, *negated_terms(b)])
