@@ -84,6 +84,7 @@ class Display:
         self.q, self.qd, self.qdd, self.t = m.q, m.qd, m.qdd, m.t
         self.n = len(m.q)
         self._cache: dict = {}
+        self._flat_sums: dict = {}       # sum -> flat_weighted_sum(sum)
         self._parts: dict = {}
         self._signs: dict = {}
         self._free_symbols: dict = {}   # of every subexpression differentiated (calculus.free_symbols)
@@ -121,22 +122,30 @@ class Display:
         expr = sp.sympify(expr)
         if not self._tidy_on:
             return expr
-        if expr not in self._cache:
+        found = self._cache.get(expr)
+        if found is None:
             if expr.is_Add and self._by_shape(expr, sized):
-                self._cache[expr] = self._tidy_by_shape(expr)   # the steps of the last sum of its shape
+                found = self._tidy_by_shape(expr)   # the steps of the last sum of its shape
             else:
-                self._cache[expr] = self._tidy_tree(expr, sized)
-        return self._cache[expr]
+                found = self._tidy_tree(expr, sized)
+            self._cache[expr] = found
+        return found
 
-    @staticmethod
-    def _by_shape(add, sized: bool = False) -> bool:
+    def _flat_weighted(self, add):
+        """`flat_weighted_sum(add)`, found once (`_by_shape` and `_tidy_tree` both ask)."""
+        found = self._flat_sums.get(add, self._flat_sums)
+        if found is self._flat_sums:
+            found = self._flat_sums[add] = flat_weighted_sum(add)
+        return found
+
+    def _by_shape(self, add, sized: bool = False) -> bool:
         """Worth tidying by its shape (a whole sum, or one inside a product: the dot
         product X of a chain's M entry X (m_k + ... + m_n)): small, not a weighted sum (whose X is tidied by its
         shape instead: renaming the whole sum costs as much as tidying it; nor one written
         flat, dV/dq_i = -g l_i m_i sin(q_i) - ... of a chain), not a sum of symbols
         (display_form keeps it)."""
         return (sized or small(add, TREE_MAX_NODES)) and not sum_of_symbols(add) and weighted_sum(add) is None \
-            and flat_weighted_sum(add) is None
+            and self._flat_weighted(add) is None
 
     def signs(self, expr) -> sp.Expr:
         """`pull_signs`, remembering every subexpression's result for this report."""
@@ -167,7 +176,7 @@ class Display:
             rebuilt = product(*args) if expr.is_Mul else expr.func(*args)
         if not rebuilt.is_Add:
             return rebuilt
-        flat = flat_weighted_sum(rebuilt)
+        flat = self._flat_weighted(rebuilt)
         if flat is not None and small(rebuilt) and expandable(rebuilt):   # display_form's own terms
             found = weighted_display_form(*flat, self.signs)
             if found is not None:
