@@ -188,8 +188,8 @@ class Display:
     @functools.cached_property
     def T2(self) -> Terms:
         n, qd, M = self.n, self.qd, self.M
-        terms = [product(product(M[i][i], qd[i] ** 2), sp.S.Half) for i in range(n)]
-        terms += [product(product(M[i][j], qd[i]), qd[j]) for i in range(n) for j in range(i + 1, n)]
+        terms = [product(M[i][i], qd[i] ** 2, sp.S.Half) for i in range(n)]      # one product each: the same
+        terms += [product(M[i][j], qd[i], qd[j]) for i in range(n) for j in range(i + 1, n)]   # as two in turn
         return [self.signs(term) for term in terms if term != 0]
 
     @functools.cached_property
