@@ -3,19 +3,22 @@ dV/dq_i for the forces, da_i/dq_j for the gyroscopic matrix (`Display.differenti
 takes each once).
 
 They are the derivation's derivatives (`lagcli.model.calculus.derivative`, taken almost
-everywhere as the derivation takes them), with two shortcuts that give the same
+everywhere as the derivation takes them), with shortcuts that give the same
 expressions: a product in which one factor varies is the other factors times that
-factor's derivative, formed as one product (`one_factor_derivative`: a chain's M_ij), and
-the derivative of every sum and product met is remembered for the report (`rate`): a
-chain's potential holds g m_k (-l_1 cos(q_1) - ... - l_k cos(q_k)) for every k, all
-sharing the terms -l_i cos(q_i), whose derivative for q_i was formed again for each k.
-tests/test_report_shared_terms.py compares both with `calculus.derivative`.
+factor's derivative, formed as one product (`one_factor_derivative`: a chain's M_ij), that
+product shared by the variables whose derivatives differ only in sign (d/dq_i and d/dq_j
+of cos(q_i - q_j)), as is f'(u) of sin(u) and cos(u) (`_outer_rate`); and the derivative of
+every sum and product met is remembered for the report (`rate`): a chain's potential
+holds g m_k (-l_1 cos(q_1) - ... - l_k cos(q_k)) for every k, all sharing the terms
+-l_i cos(q_i), whose derivative for q_i was formed again for each k.
+tests/test_report_shared_terms.py compares them with `calculus.derivative`.
 """
 from __future__ import annotations
 
 import sympy as sp
 
 from lagcli.model import calculus
+from lagcli.model.angle_calls import TRIG, trig_call
 from lagcli.model.calculus import almost_everywhere
 from lagcli.model.products import product
 from lagcli.model.sums import total
@@ -35,6 +38,8 @@ def rate(expr, var, memo: dict, rates: dict) -> sp.Expr:
     with one varying factor `one_factor_derivative`'s; anything else is calculus.derivative's."""
     if not isinstance(expr, sp.Basic) or var not in calculus.free_symbols(expr, memo):
         return sp.S.Zero
+    if isinstance(expr, TRIG):       # calculus.derivative's rule, f'(u) formed once for every variable
+        return product(_outer_rate(expr, rates), rate(expr.args[0], var, memo, rates))
     if not (expr.is_Add or expr.is_Mul):
         return calculus.derivative(expr, var, memo)
     key = (expr, var)
@@ -47,6 +52,17 @@ def rate(expr, var, memo: dict, rates: dict) -> sp.Expr:
             if found is None:
                 found = calculus.derivative(expr, var, memo)
         rates[key] = found
+    return found
+
+
+def _outer_rate(call, rates: dict) -> sp.Expr:
+    """cos(u) for sin(u), -sin(u) for cos(u), as calculus.derivative forms them (`trig_call`),
+    remembered in `rates` under (call,): d/dq_i and d/dq_j of cos(q_i - q_j) share it."""
+    key = (call,)
+    found = rates.get(key)
+    if found is None:
+        arg = call.args[0]
+        found = rates[key] = trig_call(sp.cos, arg) if isinstance(call, sp.sin) else -trig_call(sp.sin, arg)
     return found
 
 

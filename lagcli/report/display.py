@@ -90,7 +90,7 @@ class Display:
         self._free_symbols: dict = {}   # of every subexpression differentiated (calculus.free_symbols)
         self._differentiated: dict = {}  # (expr, var) -> d expr / d var
         self._rates: dict = {}           # (expr, var) -> d expr / d var of their parts (`derivatives.rate`)
-        self._merged: dict = {}          # (i, names) -> the parts `names` of equation i, by monomial
+        self._merged: dict = {}          # (i, names) -> the terms of the parts `names` of equation i
         self._bucket_terms: dict = {}    # (monomial, coefficient, sign) -> its terms (`ordered_terms`)
         self._monomials: dict = {}       # (j, l) -> q'_j q'_l
         self._tidy_on = simplify
@@ -318,13 +318,14 @@ class Display:
     def part_terms(self, i: int, names: Sequence[str]) -> Terms:
         """The terms of the parts `names` of equation i, merged by monomial and ordered."""
         key = (i, tuple(names))
-        if key not in self._merged:       # the equation and F_i merge the same parts
+        found = self._merged.get(key)
+        if found is None:       # the equation and F_i merge and order the same parts
             buckets: dict = {}
             for name in names:
                 for monomial, coefficient in self.parts(i)[name].items():
                     _add(buckets, monomial, coefficient)
-            self._merged[key] = buckets
-        return self._ordered(self._merged[key])
+            found = self._merged[key] = self._ordered(buckets)
+        return list(found)
 
     def acceleration_terms(self, i: int) -> Terms:
         return [self.signs(product(M_ij, a)) for M_ij, a in zip(self.M[i], self.qdd) if M_ij != 0]
