@@ -22,7 +22,7 @@ from lagcli.targets import LANGUAGES
 from lagcli.render.escape import terminal_text
 from lagcli.errors import LagcliError, RunNote, SpecWarning
 from lagcli.interface import METHODS
-from lagcli.render.interrupts import interrupt_on_termination
+from lagcli.runtime.interrupts import interrupt_on_termination
 from lagcli.render.output import open_output, write_output
 from lagcli.runtime.run_rules import EXPLICIT_METHODS
 
