@@ -374,16 +374,10 @@ def common_factor(expr) -> sp.Expr:
         return expr        # distinct symbols, each times 1 or -1, not all -1: nothing in common
     split = []
     for term in expr.args:
-        number, rest = term.as_coeff_Mul()
-        if not number.is_Rational:
+        found = _number_and_powers(term)
+        if found is None:
             return sp.factor_terms(expr)
-        powers: dict = {}
-        for factor in sp.Mul.make_args(rest):
-            base, exponent = factor.as_base_exp()
-            if not (exponent.is_Integer and exponent > 0) or base.is_Number:
-                return sp.factor_terms(expr)
-            powers[base] = powers.get(base, 0) + int(exponent)
-        split.append((number, powers))
+        split.append(found)
     common = dict(split[0][1])
     for _, powers in split[1:]:
         common = {base: min(e, powers[base]) for base, e in common.items() if base in powers}
@@ -394,10 +388,36 @@ def common_factor(expr) -> sp.Expr:
     content = sp.Rational(numerator, denominator if all(n.q != 1 for n, _ in split) else 1)
     if all(number.is_negative for number, _ in split):
         content = -content
-    primitive = total([product(number / content, product(*(_power(b, e - common.get(b, 0)) for b, e in powers.items())))
-                       for number, powers in split])
+    if common:
+        primitive = total([product(number / content, product(*(_power(b, e - common.get(b, 0)) for b, e in powers.items())))
+                           for number, powers in split])
+    else:
+        primitive = total([_divided(term, content) for term in expr.args])
     return _keep_coeff(content, product(product(*(_power(b, e) for b, e in common.items())), primitive),
                        clear=True, sign=True)
+
+
+@functools.lru_cache(maxsize=1 << 15)    # a chain's potential: its sums share their terms
+def _number_and_powers(term) -> tuple | None:
+    """(rational number, {base: positive integer exponent}) of a term of `common_factor`'s
+    kind, None for any other term. The dict is shared: read it, never change it."""
+    number, rest = term.as_coeff_Mul()
+    if not number.is_Rational:
+        return None
+    powers: dict = {}
+    for factor in sp.Mul.make_args(rest):
+        base, exponent = factor.as_base_exp()
+        if not (exponent.is_Integer and exponent > 0) or base.is_Number:
+            return None
+        powers[base] = powers.get(base, 0) + int(exponent)
+    return number, powers
+
+
+@functools.lru_cache(maxsize=1 << 15)
+def _divided(term, content) -> sp.Expr:
+    """term / content rebuilt as `common_factor` rebuilds it when no power is common."""
+    number, powers = _number_and_powers(term)
+    return product(number / content, product(*(_power(b, e) for b, e in powers.items())))
 
 
 def _signed_symbols(add) -> bool:

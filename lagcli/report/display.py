@@ -122,13 +122,16 @@ class Display:
         expr = sp.sympify(expr)
         if not self._tidy_on:
             return expr
-        found = self._cache.get(expr)
+        cache = self._cache
+        found = cache.get(expr)
         if found is None:
-            if expr.is_Add and self._by_shape(expr, sized):
+            if expr.is_Mul and all(cache.get(a) is a for a in expr.args):
+                found = expr       # what _tidy_tree finds for a product of tidy factors (a derivative of M_ij)
+            elif expr.is_Add and self._by_shape(expr, sized):
                 found = self._tidy_by_shape(expr)   # the steps of the last sum of its shape
             else:
                 found = self._tidy_tree(expr, sized)
-            self._cache[expr] = found
+            cache[expr] = found
         return found
 
     def _flat_weighted(self, add):
