@@ -388,26 +388,35 @@ def _rough(expr: sp.Basic) -> bool:
 
 
 def _any_rough(exprs) -> bool:
-    """`_rough` of any of `exprs`, in one walk visiting each distinct subtree once (the
-    100-link chain's mass matrix has 170 000 nodes: more than `_rough` remembers)."""
-    stack, seen = list(exprs), set()
+    """`_rough` of any of `exprs`, in one walk visiting each subtree object once (the
+    100-link chain's mass matrix has 170 000 nodes: more than `_rough` remembers). Nodes
+    are told apart by identity (`id`, kept alive in `seen`): an equal copy is walked
+    again, but no node's Python-level `__hash__` is called (most of the walk's time)."""
+    stack, seen = list(exprs), {}
     while stack:
         node = stack.pop()
-        if node in seen:
+        key = id(node)
+        if key in seen:
             continue
         if isinstance(node, (sp.DiracDelta, sp.Heaviside, sp.Derivative)):
             return True
-        seen.add(node)
+        seen[key] = node
         stack.extend(node.args)
     return False
 
 
 def distinct_nodes(*exprs) -> set:
     """Every distinct subexpression of `exprs` (what `sympy.preorder_traversal` visits, each
-    once: big expressions share their parts, which a tree walk visits at every occurrence)."""
-    seen, stack = set(), list(exprs)
+    once: big expressions share their parts, which a tree walk visits at every occurrence).
+    An object met again is recognised by identity first (`id`, kept alive in `met`):
+    only the first meeting of each object calls its Python-level `__hash__`."""
+    seen, met, stack = set(), {}, list(exprs)
     while stack:
         node = stack.pop()
+        key = id(node)
+        if key in met:
+            continue
+        met[key] = node
         if node not in seen:
             seen.add(node)
             stack.extend(node.args)

@@ -14,10 +14,13 @@ from __future__ import annotations
 
 import sympy as sp
 from sympy.core.basic import Basic
+from sympy.core.parameters import global_parameters
 from sympy.core.sympify import _sympify
 from sympy.functions.elementary.exponential import ExpBase
 
 from lagcli.model.ordering import class_key, sort_args
+
+_ONE = sp.S.One
 
 
 def product(*factors) -> sp.Expr:
@@ -25,6 +28,8 @@ def product(*factors) -> sp.Expr:
     factors = [f if isinstance(f, Basic) else _sympify(f) for f in factors]
     if len(factors) == 2:
         a, b = factors
+        if (a is _ONE or b is _ONE) and global_parameters.evaluate:     # Mul drops its identity
+            return b if a is _ONE else a
         if _symbol_and_sum(a, b) or _symbol_and_sum(b, a):     # a mass times a dot product, M_ij q''_j
             return sp.Mul._from_args((b, a) if class_key(type(b)) < class_key(type(a)) else (a, b), True)
         if _distributes(a, b):
