@@ -79,38 +79,42 @@ def free_symbols(expr: sp.Basic, memo: dict) -> frozenset:
     return found
 
 
-def derivative(expr: sp.Expr, var: sp.Symbol, memo: dict | None = None) -> sp.Expr:
+def derivative(expr: sp.Expr, var: sp.Symbol, memo: dict | None = None,
+               partials: dict | None = None) -> sp.Expr:
     """d expr / d var, the same expression as sympy's `expr.diff(var)`, much faster on big
     trees: subtrees free of `var` are skipped without visiting them (`free_symbols`), and
     sums, products, constant powers and smooth functions are differentiated here with
     sympy's own rules (Add, Mul and Pow `_eval_derivative`, Function's chain rule) rather
     than through a `Derivative` object per node. Anything else (Abs, sign, Piecewise, a
-    power with a varying exponent...) is left to sympy."""
+    power with a varying exponent...) is left to sympy. `partials`: the derivatives of the
+    sums' terms met, (term, var) -> derivative (`gradient`'s): a chain's potential holds
+    g m_k (-l_1 cos(q_1) - ... - l_k cos(q_k)) for every k, and the derivative of each
+    -l_i cos(q_i) was formed again for each k."""
     memo = {} if memo is None else memo
     if not isinstance(expr, sp.Basic) or var not in free_symbols(expr, memo):   # a plain 0 or number
         return sp.S.Zero
     if expr.is_Symbol:          # one whose free symbols hold var: var itself
         return sp.S.One
     if expr.is_Add:
-        return total([derivative(a, var, memo) for a in _terms_mentioning(expr, var, memo)])
+        return total([_term_derivative(a, var, memo, partials) for a in _terms_mentioning(expr, var, memo)])
     if expr.is_Mul:
         args, terms = list(expr.args), []
         for i, a in enumerate(args):
-            d = derivative(a, var, memo)
+            d = derivative(a, var, memo, partials)
             if d:
                 terms.append(reduce(product, args[:i] + [d] + args[i + 1:]))    # x * y, in turn
         return total(terms)
     if expr.is_Pow and var not in free_symbols(expr.exp, memo):
         base, exponent = expr.args
-        return expr * (derivative(base, var, memo) * exponent / base)
+        return expr * (derivative(base, var, memo, partials) * exponent / base)
     if isinstance(expr, TRIG):     # sympy's fdiff, its new call built directly (`trig_call`)
         arg = expr.args[0]
         rate = trig_call(sp.cos, arg) if isinstance(expr, sp.sin) else -trig_call(sp.sin, arg)
-        return product(rate, derivative(arg, var, memo))
+        return product(rate, derivative(arg, var, memo, partials))
     if isinstance(expr, sp.Function) and type(expr)._eval_derivative is sp.Function._eval_derivative:
         terms = []
         for i, a in enumerate(expr.args, start=1):
-            d = derivative(a, var, memo)
+            d = derivative(a, var, memo, partials)
             if not d.is_zero:
                 try:
                     terms.append(expr.fdiff(i) * d)
@@ -118,6 +122,17 @@ def derivative(expr: sp.Expr, var: sp.Symbol, memo: dict | None = None) -> sp.Ex
                     return expr.diff(var)
         return sp.Add(*terms)
     return expr.diff(var)
+
+
+def _term_derivative(term: sp.Expr, var: sp.Symbol, memo: dict, partials: dict | None) -> sp.Expr:
+    """`derivative(term, var)` of a sum's term, remembered in `partials` when given."""
+    if partials is None:
+        return derivative(term, var, memo)
+    key = (term, var)
+    found = partials.get(key)
+    if found is None:
+        found = partials[key] = derivative(term, var, memo, partials)
+    return found
 
 
 _BIG_SUM = 8     # sums of more terms than this are indexed by symbol (`_terms_mentioning`)
@@ -166,7 +181,7 @@ def gradient(expr: sp.Expr, variables, memo: dict, partials: dict | None = None)
             if v in index:
                 key = (term, v)
                 if key not in partials:
-                    partials[key] = derivative(term, v, memo)
+                    partials[key] = derivative(term, v, memo, partials)
                 parts[index[v]].append(partials[key])
     return [total(p) if expr.is_Add else (p[0] if p else sp.S.Zero) for p in parts]
 
