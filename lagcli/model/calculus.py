@@ -178,11 +178,13 @@ def gradient(expr: sp.Expr, variables, memo: dict, partials: dict | None = None)
     partials = {} if partials is None else partials
     for term in (expr.args if expr.is_Add else (expr,)):
         for v in free_symbols(term, memo):
-            if v in index:
+            place = index.get(v)        # each lookup hashes the expressions anew, in Python
+            if place is not None:
                 key = (term, v)
-                if key not in partials:
-                    partials[key] = derivative(term, v, memo, partials)
-                parts[index[v]].append(partials[key])
+                found = partials.get(key)
+                if found is None:
+                    found = partials[key] = derivative(term, v, memo, partials)
+                parts[place].append(found)
     return [total(p) if expr.is_Add else (p[0] if p else sp.S.Zero) for p in parts]
 
 
@@ -312,6 +314,7 @@ class DependenceProbe:
         self.rng = random.Random(seed)
         self.points: list[tuple[dict, list[float] | None, dict]] = []   # (point, values, memo), in draw order
         self.mentions: dict = {}      # sum -> {symbol: the places of its terms that mention it}
+        self.term_lists: dict = {}    # (id of a point's values, id of a sum) -> its terms' values there
         self.exprs_mentioning: dict | None = None    # symbol -> the places of the exprs that mention it
 
     def _point(self, k: int) -> tuple[dict, list[float] | None, dict]:
@@ -355,6 +358,17 @@ class DependenceProbe:
                     self.exprs_mentioning.setdefault(s, []).append(k)
         return self.exprs_mentioning.get(symbol, [])
 
+    def term_values(self, expr: sp.Add, base: dict) -> list[float]:
+        """The values of the sum `expr`'s terms at a base point (`base`: the values of every
+        node there), a new list of them, listed once per point and sum (looking each term up
+        for each moved symbol was n^3 for a chain's V). Keyed by identity: the sums and the
+        points' values stay alive in `exprs` and `points`."""
+        key = (id(base), id(expr))
+        found = self.term_lists.get(key)
+        if found is None:
+            found = self.term_lists[key] = [base[term] for term in expr.args]
+        return list(found)
+
     def places(self, expr: sp.Add, symbol: sp.Symbol) -> list[int]:
         """The places of the terms of the sum `expr` that mention `symbol` (indexed once)."""
         index = self.mentions.get(expr)
@@ -385,7 +399,7 @@ class _Moved:
             if not expr.args:        # a leaf that mentions the symbol: the symbol
                 found = value_at(expr, {expr: self.at})
             elif expr.is_Add:
-                args = [self.base[term] for term in expr.args]
+                args = self.probe.term_values(expr, self.base)
                 for k in self.probe.places(expr, self.symbol):
                     args[k] = self.value(expr.args[k])
                 found = value_from_arguments(expr, args)

@@ -86,7 +86,8 @@ def sort_args(args: list) -> None:
     for end in range(1, len(order) + 1):
         if end == len(order) or classes[order[end]] != classes[order[start]]:
             run = [args[k] for k in order[start:end]]
-            _sort_one_class(run)
+            if len(run) > 1:
+                _sort_one_class(run)
             result += run
             start = end
     args[:] = result
