@@ -200,7 +200,7 @@ def test_a_signal_inside_an_uninterruptible_block_waits_for_its_end():
     """SIGTERM while a block of rows is written: raised once the block is whole."""
     import signal
 
-    from lagcli.render.interrupts import interrupt_on_termination, uninterruptible
+    from lagcli.runtime.interrupts import interrupt_on_termination, uninterruptible
 
     done = []
     with interrupt_on_termination():
@@ -217,7 +217,7 @@ def test_a_signal_inside_an_uninterruptible_block_waits_for_its_end():
 def test_an_ignored_hangup_stays_ignored():
     import signal
 
-    from lagcli.render.interrupts import interrupt_on_termination
+    from lagcli.runtime.interrupts import interrupt_on_termination
 
     previous = signal.signal(signal.SIGHUP, signal.SIG_IGN)        # as under nohup
     try:

@@ -1,7 +1,9 @@
 """The numeric half of `lagcli.analysis.initial_state`: a state made consistent with the
 constraint rows (scipy's least squares on the holonomic rows, the least-norm velocity
 correction), imported only for systems with constraints (numpy and scipy cost ~0.15 s of
-start-up that `generate` and `simulate` of an unconstrained system do not pay)."""
+start-up that `generate` and `simulate` of an unconstrained system do not pay). It returns
+plain values and reads the `origin` it is given (`initial_state.Origin`: where each value
+came from, for notes and hints) without importing its module, which imports this one."""
 from __future__ import annotations
 
 import numpy as np
@@ -9,7 +11,6 @@ import sympy as sp
 
 from lagcli.render.spec_printer import spec_str
 from lagcli.errors import UsageError, clip
-from lagcli.analysis.initial_state import InitialState, Origin
 from lagcli.analysis.velocity_scale import NATURAL_FACTOR, ROUNDING, VelocityScale
 from lagcli.interface import CONSTRAINT_TOLERANCE as TOLERANCE
 
@@ -19,9 +20,9 @@ _RCOND = 1e-8           # singular values of the free velocities' columns below 
 
 
 def consistent_state(d, given: dict[str, float], params: dict[str, float], t0: float,
-                     origin: Origin) -> InitialState:
+                     origin) -> tuple[tuple[float, ...], tuple[str, ...]]:
     """`initial_state` of a system with constraint rows: the given state, its dependent
-    coordinates and velocities solved for where it violates them."""
+    coordinates and velocities solved for where it violates them ([q, q'], notes)."""
     model = d.model
     q = np.array([given.get(s.name, 0.0) for s in model.q], dtype=float)
     qd = np.array([given.get(s.name, 0.0) for s in model.qd], dtype=float)
@@ -38,7 +39,7 @@ def consistent_state(d, given: dict[str, float], params: dict[str, float], t0: f
         qd, free = _first_solution(lambda free: _solve_velocities(f, q, qd, free, d, origin),
                                    _free(model.qd, given, soft))
         notes.append(origin.note("velocities", model.qd, free, qd))
-    return InitialState(tuple(float(v) for v in (*q, *qd)), tuple(notes))
+    return tuple(float(v) for v in (*q, *qd)), tuple(notes)
 
 
 def _free(symbols, given, soft) -> list[list[int]]:
@@ -173,7 +174,7 @@ def _solve_velocities(f: _ConstraintFunctions, q, qd, free, d, origin) -> np.nda
     return qd
 
 
-def _judge_in_scale(scale: VelocityScale, change, free, d, origin: Origin, rows) -> None:
+def _judge_in_scale(scale: VelocityScale, change, free, d, origin, rows) -> None:
     """Refuse a repair out of the state's scale (lagcli.analysis.velocity_scale)."""
     symbols = d.model.qd
     fast = scale.too_fast(change, free)
@@ -201,7 +202,7 @@ def _worst(values) -> float:
     return float(np.max(np.abs(values))) if values.size else 0.0
 
 
-def _fail(d, rows_and_residuals, reason: str, origin: Origin, level: str = "position") -> None:
+def _fail(d, rows_and_residuals, reason: str, origin, level: str = "position") -> None:
     lines = [f"{d.model.source}: the initial state violates the constraints ({reason}):"]
     for row, value in rows_and_residuals:
         if abs(value) > TOLERANCE or not np.isfinite(value):

@@ -67,7 +67,7 @@ def initial_state(d, given: dict[str, float], params: dict[str, float], t0: floa
         return InitialState(values)
     from lagcli.analysis.constraint_solve import consistent_state   # numpy and scipy: only here
 
-    return consistent_state(d, given, params, t0, Origin(d, given, params, soft, sources))
+    return InitialState(*consistent_state(d, given, params, t0, Origin(d, given, params, soft, sources)))
 
 
 class Origin:

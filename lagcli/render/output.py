@@ -16,7 +16,7 @@
 `open_output` resolves and opens the target (so a bad `-o` fails before deriving or
 integrating) and yields an `Output` whose `stream` is written as the work goes on.
 Leaving the `with` block normally commits (the rename); an exception discards the
-temporary file, and lagcli.render.interrupts turns SIGTERM and SIGHUP into that exception
+temporary file, and lagcli.runtime.interrupts turns SIGTERM and SIGHUP into that exception
 too.  Only `kill -9` can leave a temporary file behind; it is recognisable by the
 `.lagcli.tmp` suffix (docs/simulate.md).
 """
@@ -32,7 +32,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from lagcli.errors import UsageError
-from lagcli.render.interrupts import uninterruptible
+from lagcli.runtime.interrupts import uninterruptible
 
 TEMP_SUFFIX = ".lagcli.tmp"
 STDOUT, FILE, STREAM = "stdout", "file", "stream"

@@ -3,7 +3,8 @@
 Templates live in the top-level `templates/` folder, installed as the package
 `lagcli.templates`, and are named `FILE.ext.jinja`. The environment is strict
 (an undefined variable is an error, never an empty string). Rendering returns
-text; only the caller writes files.
+text; only the caller writes files. Compiled templates are kept between commands
+(`lagcli.run.template_cache`, under the cache's trust rules).
 """
 from __future__ import annotations
 
@@ -14,6 +15,7 @@ import jinja2
 
 from lagcli.render.escape import FILTERS
 from lagcli.errors import EmitError
+from lagcli.run.template_cache import TemplateCache
 from lagcli.runtime.package_data import data_dir
 
 
@@ -32,6 +34,7 @@ def environment() -> jinja2.Environment:
         lstrip_blocks=True,
         keep_trailing_newline=True,
         autoescape=False,
+        bytecode_cache=TemplateCache(),
     )
     env.filters.update(FILTERS)
     return env

@@ -142,6 +142,15 @@ def _link_problem(link: os.stat_result) -> str | None:
     return None
 
 
+def existing_parents_problem(root: Path) -> str | None:
+    """`root_problem`'s test of the directories above `root`, those that exist: asked before
+    making a root where a problem would leave it unused (`root_problem` makes it first)."""
+    path = Path(os.path.abspath(root))
+    while not os.path.lexists(path.parent) and path.parent != path:
+        path = path.parent
+    return _parents_problem(path)
+
+
 def _parents_problem(path: Path) -> str | None:
     """Whoever can write a parent can swap the root itself (sticky directories excepted)."""
     for parent in path.parents:
@@ -193,11 +202,12 @@ class Entry:
     label: str = ""
 
 
-def load(key: str, executable: str | None = None) -> Entry | None:
+def load(key: str, executable: str | None = None, root: Path | None = None) -> Entry | None:
     """The entry `key` after every check, or None: missing, or damaged (then noted on
-    stderr and removed, so that the caller rebuilds it)."""
+    stderr and removed, so that the caller rebuilds it). `root`: a root of another kind of
+    entry, checked by its caller (`root_problem`), in place of the active one."""
     try:
-        directory = active_root() / key
+        directory = (root or active_root()) / key
     except OSError:                           # no usable root, not even a temporary one
         return None
     try:
@@ -315,14 +325,14 @@ def discard(directory: Path) -> None:
 # --- writing an entry ---------------------------------------------------------------
 
 @contextlib.contextmanager
-def new_entry(key: str):
+def new_entry(key: str, root: Path | None = None):
     """A private work directory for entry `key` (yielded), removed whatever happens:
     on an exception, on Ctrl-C, and on SIGTERM/SIGHUP (the process then still dies by
     that signal). Fill it, then `publish` it from inside the `with`. Raises OSError
-    when it cannot be made."""
+    when it cannot be made. `root` as in `load`."""
     try:
         with _signals_as_exceptions():
-            work = active_root() / f".{key}.{os.urandom(6).hex()}"   # named before it exists,
+            work = (root or active_root()) / f".{key}.{os.urandom(6).hex()}"   # named before it exists,
             try:                                                   # so no signal can orphan it
                 os.mkdir(work, 0o700)
                 yield work

@@ -14,7 +14,7 @@ import stat
 from dataclasses import dataclass
 from pathlib import Path
 
-from lagcli.run import cache
+from lagcli.run import cache, template_cache
 
 
 @dataclass(frozen=True)
@@ -32,6 +32,8 @@ class CacheInfo:
     entries: tuple[EntryInfo, ...]
     leftovers: int                         # work directories of interrupted runs (size included)
     size: int
+    templates: int = 0                     # compiled templates (`lagcli.run.template_cache`)
+    templates_size: int = 0
 
 
 def info() -> CacheInfo:
@@ -45,14 +47,24 @@ def info() -> CacheInfo:
             entries.append(_entry_info(path, name))
         else:
             leftovers += 1
-    return CacheInfo(root, problem, tuple(entries), leftovers, size)
+    templates = _own_directories(template_cache.template_root())
+    return CacheInfo(root, problem, tuple(entries), leftovers, size,
+                     len(templates), sum(_size(path) for _, path in templates))
 
 
-def clear() -> tuple[int, int]:
+def clear() -> tuple[int, int, int]:
     """Remove lagcli's entries and leftover work directories (the user's own only, nothing
-    else in the directory). Returns (directories removed, bytes freed)."""
+    else in the directory), and the compiled templates. Returns (directories removed, bytes
+    freed) of the run cache and the number of compiled templates removed."""
+    removed, freed = _remove(cache.cache_root())
+    templates, _ = _remove(template_cache.template_root())
+    return removed, freed, templates
+
+
+def _remove(root: Path) -> tuple[int, int]:
+    """Remove the user's entry and work directories of `root`: (how many, bytes freed)."""
     removed = freed = 0
-    for _, path in _own_directories(cache.cache_root()):
+    for _, path in _own_directories(root):
         size = _size(path)
         shutil.rmtree(path, ignore_errors=True)
         if not os.path.lexists(path):
@@ -102,12 +114,18 @@ def describe(summary: CacheInfo) -> str:
     if summary.leftovers:
         lines.append(f"left over by interrupted runs: {summary.leftovers} work directories "
                      "(`lagcli cache clear` removes them)")
+    if summary.templates:
+        lines.append(f"compiled templates: {summary.templates}, {human_size(summary.templates_size)} "
+                     f"in {template_cache.template_root()}")
     return "\n".join(lines) + "\n"
 
 
-def describe_cleared(removed: int, freed: int) -> str:
+def describe_cleared(removed: int, freed: int, templates: int = 0) -> str:
     """`lagcli cache clear` as text."""
-    return f"removed {removed} cache directories ({human_size(freed)}) from {cache.cache_root()}\n"
+    text = f"removed {removed} cache directories ({human_size(freed)}) from {cache.cache_root()}\n"
+    if templates:
+        text += f"removed {templates} compiled templates from {template_cache.template_root()}\n"
+    return text
 
 
 def human_size(size: int) -> str:

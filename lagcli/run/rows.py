@@ -6,7 +6,7 @@ invariants) or `sink.add_csv(block)` (the C backend: complete CSV lines of its d
 `%.17g`), and sets `sink.failure` ("at t = ...: reason") or `sink.interrupted` when the
 run ends early: the rows so far are already in the sink. Nothing in a backend grows
 with the number of rows. A row or block of rows is written and counted whole
-(`lagcli.render.interrupts.uninterruptible`), so the count reported after an
+(`lagcli.runtime.interrupts.uninterruptible`), so the count reported after an
 interruption is the number of rows in the output.
 
     RowSink     the base: counts the rows and keeps the last time
@@ -28,7 +28,7 @@ the top (an in-memory sink imports numpy when it first needs it).
 """
 from __future__ import annotations
 
-from lagcli.render.interrupts import uninterruptible
+from lagcli.runtime.interrupts import uninterruptible
 
 
 class RowSink:
