@@ -58,3 +58,39 @@ def test_size_walk_refuses_what_the_plain_walk_refuses():
         assert _verdict(E._check_size, tree, text, limits) == expected, text
         refused += expected is not None
     assert refused > 100
+
+
+def _sympy_expression(rng, depth=0):
+    import sympy as sp
+    x, y = sp.symbols("x y")
+    kind = rng.random()
+    if depth > 3 or kind < 0.25:
+        return rng.choice([x, y, sp.Integer(2), sp.Rational(1, 3), sp.Float(0.5), sp.pi,
+                           sp.I, sp.oo, sp.zoo, sp.nan] if rng.random() < 0.2 else [x, y, sp.Integer(3)])
+    if kind < 0.5:
+        return sp.Add(*(_sympy_expression(rng, depth + 1) for _ in range(rng.randint(2, 5))))
+    if kind < 0.7:
+        return sp.Mul(*(_sympy_expression(rng, depth + 1) for _ in range(rng.randint(2, 3))))
+    if kind < 0.85:
+        return rng.choice([sp.sin, sp.cos, sp.exp])(_sympy_expression(rng, depth + 1))
+    shared = _sympy_expression(rng, depth + 1)      # one subexpression at two places
+    return shared * sp.Symbol("z") + shared ** 2
+
+
+def test_result_checks_say_what_sympys_walks_say():
+    """`_tree_size` (remembered per subexpression) refuses where counting
+    `sympy.preorder_traversal` up to the bound refused; `_unreal` is `has(I, zoo, nan, oo)`."""
+    import sympy as sp
+
+    def exceeds(expr, limit):     # the check as it was written before the sizes were remembered
+        for count, _ in enumerate(sp.preorder_traversal(expr)):
+            if count > limit:
+                return True
+        return False
+
+    rng, sizes, unreal = random.Random(20261128), {}, {}
+    for _ in range(400):
+        expr = _sympy_expression(rng)
+        for limit in (0, 1, 5, 20, 100):
+            assert (E._tree_size(expr, sizes) > limit + 1) == exceeds(expr, limit), (expr, limit)
+        assert E._unreal(expr, unreal) == expr.has(sp.I, sp.zoo, sp.nan, sp.oo), expr

@@ -23,6 +23,7 @@ from lagcli.model.products import product
 from lagcli.model.sums import dot, total
 
 AXES = {"x": 0, "y": 1, "z": 2}
+_ZERO = sp.S.Zero     # the z components of a planar model's vectors
 
 
 @dataclass(frozen=True)
@@ -74,13 +75,15 @@ def _entry(terms: list, masses: dict) -> sp.Expr:
     """The sum of the (mass, dot product) pairs of one entry of M: a chain's points share
     their Jacobian columns, so an entry is mostly one dot product X times every mass,
     built as X (m_k + ... + m_n): one product, not n (the n^3 terms of a chain's M).
-    `masses`: the sums of masses formed so far (the entries M_ij of a chain with one
-    max(i, j) have the same one: summing it for each was the n^3 part of M)."""
+    `masses`: the sums of masses formed so far, by the masses' identities (the entries
+    M_ij of a chain with one max(i, j) have the same one: summing it for each was the n^3
+    part of M; hashing the masses' tuples by value then was most of what was left of it).
+    The masses stay alive in `terms` while `masses` is used, so their ids stay theirs."""
     first = terms[0][1]
     if all(entry is first for _, entry in terms):
-        key = tuple(mass for mass, _ in terms)
+        key = tuple([id(mass) for mass, _ in terms])     # by identity: no Python-level hash per mass
         if key not in masses:
-            masses[key] = total(key)
+            masses[key] = total([mass for mass, _ in terms])
         return product(masses[key], first)
     return total([product(mass, entry) for mass, entry in terms])
 
@@ -106,7 +109,8 @@ class _DotProducts:
         """The dot product of vectors u and w (numbers); None when it is zero."""
         key = (u, w)
         if key not in self.values:
-            value = total([product(x, y) for x, y in zip(self.vectors[u], self.vectors[w])])
+            value = total([product(x, y) for x, y in zip(self.vectors[u], self.vectors[w])
+                           if x is not _ZERO and y is not _ZERO])    # 0 * y is 0: y is finite
             self.values[key] = None if value == 0 else value
         return self.values[key]
 

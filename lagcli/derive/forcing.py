@@ -24,6 +24,8 @@ from lagcli.model.model_types import Model
 from lagcli.model.products import product
 from lagcli.model.sums import negated_terms, total
 
+_ZERO = sp.S.Zero     # 0 * y is 0 (y is finite): the z components of a planar model skipped
+
 
 def forcing(model: Model, D: TimeDerivative, Q_applied: sp.ImmutableMatrix, dV: list) -> sp.ImmutableMatrix:
     """F of M q'' = F, from the applied forces Q' and the gradient dV of V."""
@@ -48,6 +50,6 @@ def _subtract(terms, J, vector, mass) -> None:
     """terms_i += -mass * (J^T vector)_i, J given by its nonzero columns (`jacobian_columns`)."""
     vector = tuple(vector)
     for i, column in J:
-        entry = total([product(x, y) for x, y in zip(column, vector)])
+        entry = total([product(x, y) for x, y in zip(column, vector) if x is not _ZERO and y is not _ZERO])
         if entry != 0:
             terms[i].append(-product(mass, entry))

@@ -79,38 +79,42 @@ def free_symbols(expr: sp.Basic, memo: dict) -> frozenset:
     return found
 
 
-def derivative(expr: sp.Expr, var: sp.Symbol, memo: dict | None = None) -> sp.Expr:
+def derivative(expr: sp.Expr, var: sp.Symbol, memo: dict | None = None,
+               partials: dict | None = None) -> sp.Expr:
     """d expr / d var, the same expression as sympy's `expr.diff(var)`, much faster on big
     trees: subtrees free of `var` are skipped without visiting them (`free_symbols`), and
     sums, products, constant powers and smooth functions are differentiated here with
     sympy's own rules (Add, Mul and Pow `_eval_derivative`, Function's chain rule) rather
     than through a `Derivative` object per node. Anything else (Abs, sign, Piecewise, a
-    power with a varying exponent...) is left to sympy."""
+    power with a varying exponent...) is left to sympy. `partials`: the derivatives of the
+    sums' terms met, (term, var) -> derivative (`gradient`'s): a chain's potential holds
+    g m_k (-l_1 cos(q_1) - ... - l_k cos(q_k)) for every k, and the derivative of each
+    -l_i cos(q_i) was formed again for each k."""
     memo = {} if memo is None else memo
     if not isinstance(expr, sp.Basic) or var not in free_symbols(expr, memo):   # a plain 0 or number
         return sp.S.Zero
     if expr.is_Symbol:          # one whose free symbols hold var: var itself
         return sp.S.One
     if expr.is_Add:
-        return total([derivative(a, var, memo) for a in _terms_mentioning(expr, var, memo)])
+        return total([_term_derivative(a, var, memo, partials) for a in _terms_mentioning(expr, var, memo)])
     if expr.is_Mul:
         args, terms = list(expr.args), []
         for i, a in enumerate(args):
-            d = derivative(a, var, memo)
+            d = derivative(a, var, memo, partials)
             if d:
                 terms.append(reduce(product, args[:i] + [d] + args[i + 1:]))    # x * y, in turn
         return total(terms)
     if expr.is_Pow and var not in free_symbols(expr.exp, memo):
         base, exponent = expr.args
-        return expr * (derivative(base, var, memo) * exponent / base)
+        return expr * (derivative(base, var, memo, partials) * exponent / base)
     if isinstance(expr, TRIG):     # sympy's fdiff, its new call built directly (`trig_call`)
         arg = expr.args[0]
         rate = trig_call(sp.cos, arg) if isinstance(expr, sp.sin) else -trig_call(sp.sin, arg)
-        return product(rate, derivative(arg, var, memo))
+        return product(rate, derivative(arg, var, memo, partials))
     if isinstance(expr, sp.Function) and type(expr)._eval_derivative is sp.Function._eval_derivative:
         terms = []
         for i, a in enumerate(expr.args, start=1):
-            d = derivative(a, var, memo)
+            d = derivative(a, var, memo, partials)
             if not d.is_zero:
                 try:
                     terms.append(expr.fdiff(i) * d)
@@ -118,6 +122,17 @@ def derivative(expr: sp.Expr, var: sp.Symbol, memo: dict | None = None) -> sp.Ex
                     return expr.diff(var)
         return sp.Add(*terms)
     return expr.diff(var)
+
+
+def _term_derivative(term: sp.Expr, var: sp.Symbol, memo: dict, partials: dict | None) -> sp.Expr:
+    """`derivative(term, var)` of a sum's term, remembered in `partials` when given."""
+    if partials is None:
+        return derivative(term, var, memo)
+    key = (term, var)
+    found = partials.get(key)
+    if found is None:
+        found = partials[key] = derivative(term, var, memo, partials)
+    return found
 
 
 _BIG_SUM = 8     # sums of more terms than this are indexed by symbol (`_terms_mentioning`)
@@ -163,11 +178,13 @@ def gradient(expr: sp.Expr, variables, memo: dict, partials: dict | None = None)
     partials = {} if partials is None else partials
     for term in (expr.args if expr.is_Add else (expr,)):
         for v in free_symbols(term, memo):
-            if v in index:
+            place = index.get(v)        # each lookup hashes the expressions anew, in Python
+            if place is not None:
                 key = (term, v)
-                if key not in partials:
-                    partials[key] = derivative(term, v, memo)
-                parts[index[v]].append(partials[key])
+                found = partials.get(key)
+                if found is None:
+                    found = partials[key] = derivative(term, v, memo, partials)
+                parts[place].append(found)
     return [total(p) if expr.is_Add else (p[0] if p else sp.S.Zero) for p in parts]
 
 
@@ -297,6 +314,7 @@ class DependenceProbe:
         self.rng = random.Random(seed)
         self.points: list[tuple[dict, list[float] | None, dict]] = []   # (point, values, memo), in draw order
         self.mentions: dict = {}      # sum -> {symbol: the places of its terms that mention it}
+        self.term_lists: dict = {}    # (id of a point's values, id of a sum) -> its terms' values there
         self.exprs_mentioning: dict | None = None    # symbol -> the places of the exprs that mention it
 
     def _point(self, k: int) -> tuple[dict, list[float] | None, dict]:
@@ -340,6 +358,17 @@ class DependenceProbe:
                     self.exprs_mentioning.setdefault(s, []).append(k)
         return self.exprs_mentioning.get(symbol, [])
 
+    def term_values(self, expr: sp.Add, base: dict) -> list[float]:
+        """The values of the sum `expr`'s terms at a base point (`base`: the values of every
+        node there), a new list of them, listed once per point and sum (looking each term up
+        for each moved symbol was n^3 for a chain's V). Keyed by identity: the sums and the
+        points' values stay alive in `exprs` and `points`."""
+        key = (id(base), id(expr))
+        found = self.term_lists.get(key)
+        if found is None:
+            found = self.term_lists[key] = [base[term] for term in expr.args]
+        return list(found)
+
     def places(self, expr: sp.Add, symbol: sp.Symbol) -> list[int]:
         """The places of the terms of the sum `expr` that mention `symbol` (indexed once)."""
         index = self.mentions.get(expr)
@@ -370,7 +399,7 @@ class _Moved:
             if not expr.args:        # a leaf that mentions the symbol: the symbol
                 found = value_at(expr, {expr: self.at})
             elif expr.is_Add:
-                args = [self.base[term] for term in expr.args]
+                args = self.probe.term_values(expr, self.base)
                 for k in self.probe.places(expr, self.symbol):
                     args[k] = self.value(expr.args[k])
                 found = value_from_arguments(expr, args)
@@ -388,26 +417,35 @@ def _rough(expr: sp.Basic) -> bool:
 
 
 def _any_rough(exprs) -> bool:
-    """`_rough` of any of `exprs`, in one walk visiting each distinct subtree once (the
-    100-link chain's mass matrix has 170 000 nodes: more than `_rough` remembers)."""
-    stack, seen = list(exprs), set()
+    """`_rough` of any of `exprs`, in one walk visiting each subtree object once (the
+    100-link chain's mass matrix has 170 000 nodes: more than `_rough` remembers). Nodes
+    are told apart by identity (`id`, kept alive in `seen`): an equal copy is walked
+    again, but no node's Python-level `__hash__` is called (most of the walk's time)."""
+    stack, seen = list(exprs), {}
     while stack:
         node = stack.pop()
-        if node in seen:
+        key = id(node)
+        if key in seen:
             continue
         if isinstance(node, (sp.DiracDelta, sp.Heaviside, sp.Derivative)):
             return True
-        seen.add(node)
+        seen[key] = node
         stack.extend(node.args)
     return False
 
 
 def distinct_nodes(*exprs) -> set:
     """Every distinct subexpression of `exprs` (what `sympy.preorder_traversal` visits, each
-    once: big expressions share their parts, which a tree walk visits at every occurrence)."""
-    seen, stack = set(), list(exprs)
+    once: big expressions share their parts, which a tree walk visits at every occurrence).
+    An object met again is recognised by identity first (`id`, kept alive in `met`):
+    only the first meeting of each object calls its Python-level `__hash__`."""
+    seen, met, stack = set(), {}, list(exprs)
     while stack:
         node = stack.pop()
+        key = id(node)
+        if key in met:
+            continue
+        met[key] = node
         if node not in seen:
             seen.add(node)
             stack.extend(node.args)

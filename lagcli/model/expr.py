@@ -167,11 +167,12 @@ def parse(text: str, scope: Scope, loc: Loc, vector: bool = False, limits: Limit
     _check_size(tree, text, loc, limits)
     builder = scope.builder(scope, loc, text)
     value = builder.finish(builder.build(tree.body), vector)
+    sizes, unreal = scope.memo.setdefault("sizes", {}), scope.memo.setdefault("unreal", {})
     for part in getattr(value, "components", (value,)):
-        if _tree_size_exceeds(part, limits.result_nodes):
+        if _tree_size(part, sizes) > limits.result_nodes + 1:
             _fail(loc, f"expression is too large once names are substituted (more than {limits.result_nodes} "
                        "terms); split it or simplify the definitions it uses")
-        if part.has(sp.I, sp.zoo, sp.nan, sp.oo):
+        if _unreal(part, unreal):
             _fail(loc, f"{_short(text)!r} is complex or infinite; expressions must be real")
     return value
 
@@ -191,17 +192,86 @@ def parse_constant(text: str, loc: Loc, extra: Mapping[str, sp.Expr] | None = No
         _fail(loc, f"{_short(text)!r} {exc}", "a value must be a finite real number")
 
 
-def _tree_size_exceeds(expr: sp.Expr, limit: int) -> bool:
-    for count, _ in enumerate(sp.preorder_traversal(expr)):
-        if count > limit:
-            return True
-    return False
+def _tree_size(expr: sp.Expr, sizes: dict) -> int:
+    """The number of nodes `sympy.preorder_traversal(expr)` visits (a shared subexpression
+    at each occurrence), each subexpression's remembered in `sizes`: a chain's positions
+    share their terms, which counting the traversal walked again in every position.
+    (Counting the traversal up to a bound b said "too large" from b + 2 nodes on.)"""
+    found = sizes.get(expr)
+    if found is None:
+        found = sizes[expr] = 1 + sum(_tree_size(arg, sizes) for arg in expr.args)
+    return found
+
+
+_UNREAL = frozenset((sp.I, sp.zoo, sp.nan, sp.oo))
+
+
+def _unreal(expr: sp.Expr, memo: dict) -> bool:
+    """`expr.has(sp.I, sp.zoo, sp.nan, sp.oo)`, each subexpression's answer remembered in
+    `memo` (`has` walks the whole tree five times: once for all four, then once for each)."""
+    found = memo.get(expr)
+    if found is None:
+        found = memo[expr] = expr in _UNREAL or any(_unreal(arg, memo) for arg in expr.args)
+    return found
 
 
 def _check_size(tree: ast.AST, text: str, loc: Loc, limits: Limits) -> None:
+    """Refuse a tree of more than limits.nodes nodes or nested more than limits.depth deep.
+    Measured first by `_within_limits`; a tree beyond them is walked again by
+    `_refuse_size`, which says which bound it meets first, as it always did."""
+    if not _within_limits(tree, limits):
+        _refuse_size(tree, text, loc, limits)
+
+
+def _within_limits(tree: ast.AST, limits: Limits) -> bool:
+    """At most limits.nodes nodes and limits.depth levels, counted as `_refuse_size`
+    counts them. A name (with its context) or a number is counted where it is met, not
+    pushed and popped, and a binary operation's operator likewise: the nodes of a sum of
+    products, whose field-by-field walk was most of the time; any other node is taken
+    apart by its fields, as `_refuse_size` does."""
+    count, deepest, stack = 0, 0, [(tree, 0)]
+    while stack:
+        node, depth = stack.pop()
+        below = depth + 1
+        if type(node) is ast.BinOp:     # left, op (no fields), right
+            count += 2
+            left = node.left
+            continued = isinstance(node.op, _SUM_OPERATORS) and _is_sum(left)    # a sum continues its sum
+            children = ((left, depth if continued else below), (node.right, below))
+        else:
+            count += 1
+            children = []
+            for name in node._fields:
+                child = getattr(node, name, None)
+                if isinstance(child, ast.AST):
+                    children.append((child, below))
+                elif isinstance(child, list):
+                    children += [(item, below) for item in child if isinstance(item, ast.AST)]
+        reach = below if children else depth       # a child (a binary operation's operator at least) is one below
+        if reach > deepest:
+            deepest = reach
+        for child, at in children:
+            kind = type(child)
+            if kind is ast.Name:        # id, ctx (no fields)
+                count += 2
+                if at + 1 > deepest:
+                    deepest = at + 1
+            elif kind is ast.Constant:  # value, kind: no nodes
+                count += 1
+                if at > deepest:
+                    deepest = at
+            else:
+                stack.append((child, at))
+        if count > limits.nodes or deepest > limits.depth:
+            return False
+    return True
+
+
+def _refuse_size(tree: ast.AST, text: str, loc: Loc, limits: Limits) -> None:
     """Refuse a tree of more than limits.nodes nodes or nested more than limits.depth deep,
-    walking it depth first. (`ast.iter_child_nodes` inlined: a generator per node was most
-    of the time of this walk over a chain's positions.)"""
+    walking it depth first: the first bound met, in that order, is the one said.
+    (`ast.iter_child_nodes` inlined: a generator per node was most of the time of this
+    walk over a chain's positions.)"""
     count = 0
     stack = [(tree, 0)]
     while stack:

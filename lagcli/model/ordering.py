@@ -26,7 +26,7 @@ import functools
 
 from sympy.core.basic import Basic, _args_sortkey as _COMPARE_KEY, ordering_of_classes
 
-_FEW = 8       # lists up to this long of leaf-like expressions are sorted by their keys at once
+FEW = 8        # lists up to this long of leaf-like expressions are sorted by their keys at once
 _UNKNOWN = len(ordering_of_classes) + 1        # `_cmp_name`'s place of an unlisted class
 _PLACE: dict = {}
 for _k, _name in enumerate(ordering_of_classes):
@@ -74,7 +74,7 @@ def sort_args(args: list) -> None:
     if len(args) < 3:      # one comparison (`_pair_out_of_order`)
         _sort_one_class(args)
         return
-    if len(args) <= _FEW and all(_shallow(a) for a in args):   # the factors of a term: m3, l3, cos(q3)
+    if len(args) <= FEW and all(_shallow(a) for a in args):   # the factors of a term: m3, l3, cos(q3)
         try:
             args[:] = sorted(args, key=sort_key)
             return
@@ -86,7 +86,8 @@ def sort_args(args: list) -> None:
     for end in range(1, len(order) + 1):
         if end == len(order) or classes[order[end]] != classes[order[start]]:
             run = [args[k] for k in order[start:end]]
-            _sort_one_class(run)
+            if len(run) > 1:
+                _sort_one_class(run)
             result += run
             start = end
     args[:] = result
@@ -110,6 +111,17 @@ def _sort_one_class(args: list) -> None:
         args.sort(key=_COMPARE_KEY)
         return
     args[:] = [args[k] for k in order]
+
+
+def leaf_key(expr: Basic) -> tuple | None:
+    """`sort_key(expr)` of an expression of leaves (`_shallow`), None for a bigger one or
+    one without a key: what `sort_args` orders a few such expressions by."""
+    if not _shallow(expr):
+        return None
+    try:
+        return sort_key(expr)
+    except NoKey:
+        return None
 
 
 def _pair_out_of_order(a: Basic, b: Basic) -> bool:

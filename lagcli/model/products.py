@@ -12,12 +12,17 @@ radical, a float...) goes to `sympy.Mul`. tests/test_products.py compares both.
 """
 from __future__ import annotations
 
+import functools
+
 import sympy as sp
 from sympy.core.basic import Basic
+from sympy.core.parameters import global_parameters
 from sympy.core.sympify import _sympify
 from sympy.functions.elementary.exponential import ExpBase
 
-from lagcli.model.ordering import class_key, sort_args
+from lagcli.model.ordering import FEW, class_key, leaf_key, sort_args
+
+_ONE = sp.S.One
 
 
 def product(*factors) -> sp.Expr:
@@ -25,27 +30,57 @@ def product(*factors) -> sp.Expr:
     factors = [f if isinstance(f, Basic) else _sympify(f) for f in factors]
     if len(factors) == 2:
         a, b = factors
+        if a is _ONE and not b.is_Mul and global_parameters.evaluate:    # Mul drops its identity
+            return b
+        if b is _ONE and not a.is_Mul and global_parameters.evaluate:
+            return a
         if _symbol_and_sum(a, b) or _symbol_and_sum(b, a):     # a mass times a dot product, M_ij q''_j
             return sp.Mul._from_args((b, a) if class_key(type(b)) < class_key(type(a)) else (a, b), True)
         if _distributes(a, b):
             return sp.Mul(*factors)
-    number, plain = sp.S.One, []
+    number, plain, bases, keys = sp.S.One, [], [], []
     for factor in factors:
         for part in (factor.args if factor.is_Mul else (factor,)):
             if part.is_Rational:
                 number *= part
-            elif _plain(part):
-                plain.append(part)
-            else:
+                continue
+            found = _factor(part)
+            if found is None:
                 return sp.Mul(*factors)
-    bases = [p.base if p.is_Pow else p for p in plain]
+            plain.append(part)
+            bases.append(found[0])
+            keys.append(found[1])
     if number == 0 or len(set(bases)) != len(bases) or (len(plain) == 1 and plain[0].is_Add):
         return sp.Mul(*factors)
-    sort_args(plain)      # `Mul.flatten`'s order
+    _sort(plain, keys)      # `Mul.flatten`'s order
     args = plain if number == 1 else [number, *plain]
     if len(args) == 1:
         return args[0]
     return sp.Mul._from_args(args, True) if args else sp.S.One
+
+
+@functools.lru_cache(maxsize=1 << 16)     # a chain's products share their factors (m3, l3, cos(q3))
+def _factor(part: Basic) -> tuple | None:
+    """(its base, `leaf_key`) of a plain factor (`_plain`); None for any other."""
+    if not _plain(part):
+        return None
+    return (part.base if part.is_Pow else part), leaf_key(part)
+
+
+def _sort(plain: list, keys: list) -> None:
+    """`sort_args(plain)`, from the factors' `leaf_key`s where all have one (what sort_args
+    does then, without looking the keys up again)."""
+    if len(plain) < 2:
+        return
+    if len(plain) <= FEW and None not in keys:
+        try:
+            order = sorted(range(len(plain)), key=keys.__getitem__)
+        except TypeError:      # items of different kinds at one place
+            pass
+        else:
+            plain[:] = [plain[k] for k in order]
+            return
+    sort_args(plain)
 
 
 def _symbol_and_sum(a, b) -> bool:

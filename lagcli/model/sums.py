@@ -10,6 +10,8 @@ goes to `sympy.Add`. tests/test_sums.py compares both.
 """
 from __future__ import annotations
 
+import functools
+
 import sympy as sp
 from sympy.core.basic import Basic
 from sympy.core.mul import _keep_coeff
@@ -93,13 +95,25 @@ def _collect(args: list):
         if o.is_Rational:
             constant += o
             continue
-        if not _plain_term(o):
+        split = _split(o)
+        if split is None:
             return None
-        c, s = o.as_coeff_Mul() if o.is_Mul else (_ONE, o)
-        if not c.is_Rational:
-            return None
-        coefficients[s] = coefficients[s] + c if s in coefficients else c
+        c, s = split
+        found = coefficients.get(s)
+        coefficients[s] = c if found is None else found + c
     return constant, coefficients
+
+
+@functools.lru_cache(maxsize=1 << 16)
+def _split(o) -> tuple | None:
+    """(its rational number, the rest) of a plain term (`_plain_term`), as `Add.flatten`
+    splits it (`as_coeff_Mul`); None for any other term. Remembered: a chain's sums share
+    their terms (the k-th point's velocity holds the terms of the one before), and the rest
+    of a term with a number is a new product, hashed anew at every sum."""
+    if not _plain_term(o):
+        return None
+    c, s = o.as_coeff_Mul() if o.is_Mul else (_ONE, o)
+    return (c, s) if c.is_Rational else None
 
 
 def _plain_term(o) -> bool:
