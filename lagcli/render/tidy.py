@@ -633,7 +633,10 @@ def pull_signs(expr, memo: dict | None = None) -> sp.Expr:
     found = memo.get(expr)
     if found is not None:
         return expr if found is _UNCHANGED else found
-    args = [pull_signs(a, memo) for a in expr.args]
+    args = []
+    for a in expr.args:      # each child looked up here first: most are known (a call each cost more)
+        known = a if a.is_Atom else memo.get(a)
+        args.append(pull_signs(a, memo) if known is None else a if known is _UNCHANGED else known)
     flips = [i for i, a in enumerate(args) if a.is_Add and _mostly_negative(a)] if expr.is_Mul else []
     for i in flips:
         args[i] = -args[i]
