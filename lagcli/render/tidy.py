@@ -265,7 +265,8 @@ def tree_size(expr, cap: int) -> int:
         return found
     total = 1
     for arg in (expr._argset if hasattr(expr, "_argset") else expr.args):
-        total += tree_size(arg, cap - total)
+        size = _SIZES.get(arg)      # a known child without a call
+        total += tree_size(arg, cap - total) if size is None else size
         if total > cap:
             return total
     if len(_SIZES) >= _SIZES_KEPT:
