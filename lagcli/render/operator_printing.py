@@ -125,7 +125,7 @@ class RememberedPrecedence:
             sign = ""
         a, b, pow_paren = [], [], []      # numerator, denominator, 1/(x*y) kept in parentheses
         for item in (expr.as_ordered_factors() if self.order not in ('old', 'none') else Mul.make_args(expr)):
-            if item.is_commutative and isinstance(item, Pow) and bool(item.exp.as_coeff_Mul()[0] < 0):
+            if item.is_commutative and isinstance(item, Pow) and _negative_exponent(item.exp):
                 if item.exp is not S.NegativeOne:
                     b.append(_inverted(item))
                 else:
@@ -156,6 +156,13 @@ def _quotient(sign: str, a_str: list, b: list, b_str: list, pow_paren: list) -> 
     if len(b) == 1:
         return sign + '*'.join(a_str) + "/" + b_str[0]
     return sign + '*'.join(a_str) + "/(%s)" % '*'.join(b_str)
+
+
+def _negative_exponent(exponent) -> bool:
+    """StrPrinter's test `exponent.as_coeff_Mul()[0] < 0`, a rational exponent's sign read directly."""
+    if exponent.is_Rational:
+        return exponent.p < 0
+    return bool(exponent.as_coeff_Mul()[0] < 0)
 
 
 def _inverted(power):

@@ -265,7 +265,8 @@ def tree_size(expr, cap: int) -> int:
         return found
     total = 1
     for arg in (expr._argset if hasattr(expr, "_argset") else expr.args):
-        total += tree_size(arg, cap - total)
+        size = _SIZES.get(arg)      # a known child without a call
+        total += tree_size(arg, cap - total) if size is None else size
         if total > cap:
             return total
     if len(_SIZES) >= _SIZES_KEPT:
@@ -633,7 +634,10 @@ def pull_signs(expr, memo: dict | None = None) -> sp.Expr:
     found = memo.get(expr)
     if found is not None:
         return expr if found is _UNCHANGED else found
-    args = [pull_signs(a, memo) for a in expr.args]
+    args = []
+    for a in expr.args:      # each child looked up here first: most are known (a call each cost more)
+        known = a if a.is_Atom else memo.get(a)
+        args.append(pull_signs(a, memo) if known is None else a if known is _UNCHANGED else known)
     flips = [i for i, a in enumerate(args) if a.is_Add and _mostly_negative(a)] if expr.is_Mul else []
     for i in flips:
         args[i] = -args[i]

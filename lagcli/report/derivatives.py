@@ -72,9 +72,9 @@ def one_factor_derivative(expr, var, memo: dict, rates: dict | None = None) -> s
     product of them all, where calculus.derivative forms it factor by factor (each product
     sorting the sum of masses again). The same expression when f' is not a rational number
     and no factor but a leading one is, unless the first two factors are a rational number
-    and a sum (distributed in the factor-by-factor product); None otherwise. When f' is s * r with s = 1 or -1, the
-    product of the other factors and r is formed once for every variable (remembered in
-    `rates`) and negated for s = -1: d/dq_i and d/dq_j of a chain's
+    and a sum (distributed in the factor-by-factor product); None otherwise. When f' is s * r
+    with s = 1 or -1 and an earlier variable's f' was -s * r, the result is that variable's
+    derivative negated (remembered in `rates`): d/dq_i and d/dq_j of a chain's
     M_ij = l_i l_j (m_j + ... + m_n) cos(q_i - q_j) are -P and P, P = l_i l_j (...) sin(q_i - q_j)."""
     if not expr.is_Mul or any(a.is_Rational for a in expr.args[1:]):
         return None
@@ -87,17 +87,18 @@ def one_factor_derivative(expr, var, memo: dict, rates: dict | None = None) -> s
     if factor_rate.is_Rational or (expr.args[0].is_Rational and _distributed(factor_rate if k == 1 else expr.args[1])):
         return None
     sign, rest = factor_rate.as_coeff_Mul()
-    if sign is not sp.S.One and sign is not sp.S.NegativeOne:
-        return product(*expr.args[:k], factor_rate, *expr.args[k + 1:])
     key = (expr, k, rest)      # a triple: the rates' own keys are pairs (expr, var)
-    unit = rates.get(key)
-    if unit is None:
-        unit = rates[key] = product(*expr.args[:k], rest, *expr.args[k + 1:])
-    if sign is sp.S.One:
-        return unit
-    if not unit.is_Mul or (unit.args[0].is_Number and not unit.args[0].is_Rational):
-        return product(*expr.args[:k], factor_rate, *expr.args[k + 1:])
-    return -unit       # Mul.__neg__: the coefficient negated, as the product with -r has it
+    earlier = rates.get(key)   # (sign, derivative) for an earlier variable whose f' is +-rest too
+    if earlier is not None and (sign is sp.S.One or sign is sp.S.NegativeOne):
+        earlier_sign, found = earlier
+        if earlier_sign is sign:
+            return found
+        if found.is_Mul and (found.args[0].is_Rational or not found.args[0].is_Number):
+            return -found      # Mul.__neg__: the coefficient negated, as the product with -f' has it
+    found = product(*expr.args[:k], factor_rate, *expr.args[k + 1:])
+    if sign is sp.S.One or sign is sp.S.NegativeOne:
+        rates[key] = (sign, found)
+    return found
 
 
 def _distributed(second) -> bool:

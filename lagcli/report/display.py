@@ -64,8 +64,13 @@ def signed_sum(terms: Sequence[sp.Expr], print_expr: Callable[[sp.Expr], str],
 
 def _signed_piece(term: sp.Expr, print_expr: Callable[[sp.Expr], str]) -> tuple[bool, str]:
     """(negative, the term's magnitude printed, in parentheses when a sum)."""
-    negative = term.could_extract_minus_sign()
-    shown = -term if negative else term
+    if type(term) is sp.Mul:     # Mul.could_extract_minus_sign, its -term built once (it builds one to compare)
+        negated = -term
+        negative = term != negated and term.args[0].is_Number and term.args[0].is_extended_negative
+        shown = negated if negative else term
+    else:
+        negative = term.could_extract_minus_sign()
+        shown = -term if negative else term
     body = print_expr(shown)
     return negative, f"({body})" if shown.is_Add else body
 
@@ -119,7 +124,8 @@ class Display:
 
     def tidy(self, expr, sized: bool = False) -> sp.Expr:
         """expr tidied (`_tidy_tree`); `sized`: expr is known to be within TREE_MAX_NODES."""
-        expr = sp.sympify(expr)
+        if not isinstance(expr, sp.Basic):
+            expr = sp.sympify(expr)
         if not self._tidy_on:
             return expr
         cache = self._cache
