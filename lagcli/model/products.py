@@ -72,6 +72,10 @@ def _sort(plain: list, keys: list) -> None:
     does then, without looking the keys up again)."""
     if len(plain) < 2:
         return
+    if len(plain) == 2 and None in keys:     # as sort_args compares two, without finding the keys again
+        if plain[1].compare(plain[0]) < 0:
+            plain.reverse()
+        return
     if len(plain) <= FEW and None not in keys:
         try:
             order = sorted(range(len(plain)), key=keys.__getitem__)
