@@ -135,3 +135,23 @@ def test_negated_terms_sum_to_sympys_minus(seed):
     b = sp.Add(*(term() for _ in range(rng.randint(0, 6))))
     ours, theirs = total([*a, *negated_terms(b)]), sp.Add(*a) - b
     assert ours == theirs and ours.args == theirs.args and type(ours) is type(theirs), (a, b)
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.integers(0, 2**32 - 1))
+def test_negative_is_sympys_minus(seed):
+    """`negative(b)` is sympy's -b, a sum of products without numbers (kept in its order)
+    and any other sum (summed again) alike."""
+    rng = random.Random(seed)
+    commutative = [e for e in POOL if e.is_commutative]
+
+    def term():
+        factors = [rng.choice(commutative) for _ in range(rng.randint(1, 3))]
+        if rng.random() < 0.2:
+            factors.append(rng.choice(NUMBERS[:5]))
+        if rng.random() < 0.2:
+            factors.append(sp.Add(*(rng.choice(commutative) for _ in range(2))))
+        return sp.Mul(*factors)
+    b = sp.Add(*(term() for _ in range(rng.randint(1, 8))))
+    ours, theirs = negative(b), -b
+    assert ours == theirs and ours.args == theirs.args and type(ours) is type(theirs), b
