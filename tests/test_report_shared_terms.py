@@ -226,3 +226,33 @@ def test_velocity_buckets_are_the_christoffel_sums_by_sympy(spec, tmp_path):
                 if c != 0:
                     expected[qd[j] * qd[l]] = c
         assert shown.velocity_buckets(i) == expected, (spec, i)
+
+
+@settings(max_examples=80, deadline=None)
+@given(number=st.sampled_from([sp.Integer(-1), sp.Integer(2), sp.Rational(-1, 2)]),
+       factors=st.lists(_expressions(), min_size=1, max_size=4), var=st.sampled_from(q[:4]))
+def test_a_product_with_a_leading_number_and_its_shared_rates_are_calculus_derivatives(number, factors, var):
+    """A product with a leading number (a chain's -g m_k (l_1 cos(q_1) + ...)), derived for
+    two variables with one memo of rates (the product of the other factors shared when the
+    two derivatives differ in sign only), is the derivation's derivative, taken afresh."""
+    from lagcli.model import calculus
+    from lagcli.report.derivatives import derivative, one_factor_derivative
+
+    expr = sp.Mul(number, *factors)
+    memo, rates = {}, {}
+    for v in (var, q[(q.index(var) + 1) % 4], var):
+        direct = calculus.derivative(expr, v, {})
+        assert sp.srepr(derivative(expr, v, memo, rates)) == sp.srepr(direct), (expr, v)
+        found = one_factor_derivative(expr, v, {})
+        assert found is None or sp.srepr(found) == sp.srepr(direct), (expr, v)
+
+
+def test_angle_differences_derived_for_both_angles_share_their_product():
+    from lagcli.model import calculus
+    from lagcli.report.derivatives import derivative
+
+    memo, rates = {}, {}
+    for i, j, k in [(0, 3, 5), (2, 7, 1), (9, 10, 11)]:
+        for entry in (-c[i] * sp.Add(*m[k:]) * sp.cos(q[i] - q[j]), 3 * c[j] * sp.sin(q[j] - q[i] + q[k]) * m[i]):
+            for var in (q[i], q[j], q[k], q[i]):
+                assert sp.srepr(derivative(entry, var, memo, rates)) == sp.srepr(calculus.derivative(entry, var, {}))

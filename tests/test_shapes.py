@@ -138,3 +138,14 @@ def test_generated_code_tidied_by_shape_is_each_expression_tidied(tmp_path, n):
     for name, exprs in derived.groups().items():
         for expr, shaped in zip(exprs, getattr(by_shape, name)):
             assert sp.srepr(shaped) == sp.srepr(tidy_expression(expr, d.model.qd)), (name, expr)
+
+
+def test_a_renamed_call_is_the_node_sympy_builds():
+    from lagcli.render.shapes import trig_node
+
+    a, b = sp.symbols("a b", real=True)
+    for function in (sp.sin, sp.cos):
+        for arg in (a, a - b, b - a, 2 * a + b):
+            built, sympys = trig_node(function, arg), function(arg, evaluate=False)
+            assert sp.srepr(built) == sp.srepr(sympys) and built == sympys and hash(built) == hash(sympys)
+            assert built.nargs == sympys.nargs and built.is_real == sympys.is_real

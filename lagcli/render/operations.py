@@ -34,6 +34,9 @@ def count_ops(expr) -> int:
             total += _count_add(node, stack)
         elif node.is_Mul and _plain_product(node):
             total += _count_product(*_coefficient_and_factors(node), stack)
+        elif node.is_Mul and len(node.args) == 2 and node.args[0] is sp.S.NegativeOne and node.args[1].is_Add:
+            total += 1      # -(x + y) unevaluated: sympy counts its NEG, then each term alone (no ADD)
+            stack.extend(node.args[1].args)
         elif node.is_Pow and node.exp.is_Integer and node.exp > 0 and node.base is not sp.E:
             total += 1                         # the power; its positive integer exponent counts 0
             stack.append(node.base)

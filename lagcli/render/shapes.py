@@ -23,6 +23,7 @@ import functools
 from collections.abc import Callable
 
 import sympy as sp
+from sympy.core.basic import Basic
 
 TRIG = (sp.sin, sp.cos)
 
@@ -107,10 +108,24 @@ def renamed(expr: sp.Expr, rule: dict, nodes: dict, memo: dict | None = None) ->
         args = tuple(renamed(a, rule, nodes, memo) for a in expr.args)
         if expr.is_Add or expr.is_Mul:
             found = expr.func._from_args(args, expr.is_commutative)
+        elif type(expr) in TRIG:
+            found = trig_node(expr.func, args[0])
         else:
             found = expr.func(*args, evaluate=False)
         found = memo[expr] = nodes.setdefault(found, found)
     return found
+
+
+_NARGS = {f: f(sp.Symbol("x"), evaluate=False).nargs for f in TRIG}     # FiniteSet(1), immutable
+
+
+def trig_node(function, arg) -> sp.Expr:
+    """`function(arg, evaluate=False)` for sin or cos: the node sympy's `Application.__new__`
+    builds (its arguments, its `nargs`), without that constructor's cache lookup and its
+    new FiniteSet for `nargs` (most of the time of renaming a chain's M entry back)."""
+    node = Basic.__new__(function, arg)
+    node.nargs = _NARGS[function]
+    return node
 
 
 def _plain(expr, symbols: set, seen: set) -> bool:

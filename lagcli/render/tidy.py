@@ -337,11 +337,24 @@ def group_by_calls(expr) -> sp.Expr:
     the sum of their coefficients) * f: `sympy.collect` over the calls, in one pass."""
     groups: dict = {}     # the calls (in the canonical order of a product's factors) -> coefficients
     for term in sp.Add.make_args(expr):
-        calls, rest = [], []
-        for factor in sp.Mul.make_args(term):
-            (calls if factor.has(sp.Function) else rest).append(factor)
-        groups.setdefault(tuple(calls), []).append(product(*rest))
-    return sp.Add(*(product(common_factor(sp.Add(*coefficients)), product(*calls)) for calls, coefficients in groups.items()))
+        calls, rest = _calls_and_rest(term)
+        groups.setdefault(calls, []).append(rest)
+    return total([_grouped_term(common_factor(total(coefficients)), calls) for calls, coefficients in groups.items()])
+
+
+@functools.lru_cache(maxsize=1 << 15)     # a chain's potential: l_1 cos(q_1) in the sums of every mass
+def _calls_and_rest(term) -> tuple:
+    """(the factors of term calling a function, the product of the others)."""
+    calls, rest = [], []
+    for factor in sp.Mul.make_args(term):
+        (calls if factor.has(sp.Function) else rest).append(factor)
+    return tuple(calls), product(*rest)
+
+
+@functools.lru_cache(maxsize=1 << 15)
+def _grouped_term(coefficient, calls: tuple) -> sp.Expr:
+    """coefficient * the calls (`group_by_calls`' terms; most recur in the next sum of a chain's potential)."""
+    return product(coefficient, product(*calls))
 
 
 @functools.lru_cache(maxsize=1 << 15)     # the sums of masses of a chain recur in every entry
@@ -361,16 +374,10 @@ def common_factor(expr) -> sp.Expr:
         return expr        # distinct symbols, each times 1 or -1, not all -1: nothing in common
     split = []
     for term in expr.args:
-        number, rest = term.as_coeff_Mul()
-        if not number.is_Rational:
+        found = _number_and_powers(term)
+        if found is None:
             return sp.factor_terms(expr)
-        powers: dict = {}
-        for factor in sp.Mul.make_args(rest):
-            base, exponent = factor.as_base_exp()
-            if not (exponent.is_Integer and exponent > 0) or base.is_Number:
-                return sp.factor_terms(expr)
-            powers[base] = powers.get(base, 0) + int(exponent)
-        split.append((number, powers))
+        split.append(found)
     common = dict(split[0][1])
     for _, powers in split[1:]:
         common = {base: min(e, powers[base]) for base, e in common.items() if base in powers}
@@ -381,10 +388,36 @@ def common_factor(expr) -> sp.Expr:
     content = sp.Rational(numerator, denominator if all(n.q != 1 for n, _ in split) else 1)
     if all(number.is_negative for number, _ in split):
         content = -content
-    primitive = sp.Add(*(product(number / content, product(*(_power(b, e - common.get(b, 0)) for b, e in powers.items())))
-                         for number, powers in split))
+    if common:
+        primitive = total([product(number / content, product(*(_power(b, e - common.get(b, 0)) for b, e in powers.items())))
+                           for number, powers in split])
+    else:
+        primitive = total([_divided(term, content) for term in expr.args])
     return _keep_coeff(content, product(product(*(_power(b, e) for b, e in common.items())), primitive),
                        clear=True, sign=True)
+
+
+@functools.lru_cache(maxsize=1 << 15)    # a chain's potential: its sums share their terms
+def _number_and_powers(term) -> tuple | None:
+    """(rational number, {base: positive integer exponent}) of a term of `common_factor`'s
+    kind, None for any other term. The dict is shared: read it, never change it."""
+    number, rest = term.as_coeff_Mul()
+    if not number.is_Rational:
+        return None
+    powers: dict = {}
+    for factor in sp.Mul.make_args(rest):
+        base, exponent = factor.as_base_exp()
+        if not (exponent.is_Integer and exponent > 0) or base.is_Number:
+            return None
+        powers[base] = powers.get(base, 0) + int(exponent)
+    return number, powers
+
+
+@functools.lru_cache(maxsize=1 << 15)
+def _divided(term, content) -> sp.Expr:
+    """term / content rebuilt as `common_factor` rebuilds it when no power is common."""
+    number, powers = _number_and_powers(term)
+    return product(number / content, product(*(_power(b, e) for b, e in powers.items())))
 
 
 def _signed_symbols(add) -> bool:
@@ -438,7 +471,7 @@ def fold_angle_sums(expr) -> sp.Expr:
                 else:
                     break
         out += [number * rest * _KINDS[kind](x, y) for kind, numbers in kinds.items() for number in numbers]
-    return sp.Add(*out) if folded else expr     # nothing folded: the same terms, not re-added
+    return total(out) if folded else expr     # nothing folded: the same terms, not re-added
 
 
 _KINDS = {"cc": lambda x, y: sp.cos(x) * sp.cos(y), "ss": lambda x, y: sp.sin(x) * sp.sin(y),

@@ -73,9 +73,9 @@ def flat_weighted_sum(expr) -> tuple[list, sp.Expr] | None:
     shared_args = tuple(a for a in first if a is not differing[0])
     if not shared_args or any(a.is_Add for a in shared_args):
         return None
-    weights = []
+    weights, shared_set = [], set(shared_args)    # looked up by hash: sympy's == per pair was most of it
     for term in expr.args:
-        weight = [a for a in term.args if a not in shared_args]
+        weight = [a for a in term.args if a not in shared_set]
         if len(weight) != 1 or not weight[0].is_Symbol \
                 or tuple(a for a in term.args if a is not weight[0]) != shared_args:
             return None

@@ -3,19 +3,22 @@ dV/dq_i for the forces, da_i/dq_j for the gyroscopic matrix (`Display.differenti
 takes each once).
 
 They are the derivation's derivatives (`lagcli.model.calculus.derivative`, taken almost
-everywhere as the derivation takes them), with two shortcuts that give the same
+everywhere as the derivation takes them), with shortcuts that give the same
 expressions: a product in which one factor varies is the other factors times that
-factor's derivative, formed as one product (`one_factor_derivative`: a chain's M_ij), and
-the derivative of every sum and product met is remembered for the report (`rate`): a
-chain's potential holds g m_k (-l_1 cos(q_1) - ... - l_k cos(q_k)) for every k, all
-sharing the terms -l_i cos(q_i), whose derivative for q_i was formed again for each k.
-tests/test_report_shared_terms.py compares both with `calculus.derivative`.
+factor's derivative, formed as one product (`one_factor_derivative`: a chain's M_ij), that
+product shared by the variables whose derivatives differ only in sign (d/dq_i and d/dq_j
+of cos(q_i - q_j)), as is f'(u) of sin(u) and cos(u) (`_outer_rate`); and the derivative of
+every sum and product met is remembered for the report (`rate`): a chain's potential
+holds g m_k (-l_1 cos(q_1) - ... - l_k cos(q_k)) for every k, all sharing the terms
+-l_i cos(q_i), whose derivative for q_i was formed again for each k.
+tests/test_report_shared_terms.py compares them with `calculus.derivative`.
 """
 from __future__ import annotations
 
 import sympy as sp
 
 from lagcli.model import calculus
+from lagcli.model.angle_calls import TRIG, trig_call
 from lagcli.model.calculus import almost_everywhere
 from lagcli.model.products import product
 from lagcli.model.sums import total
@@ -35,6 +38,8 @@ def rate(expr, var, memo: dict, rates: dict) -> sp.Expr:
     with one varying factor `one_factor_derivative`'s; anything else is calculus.derivative's."""
     if not isinstance(expr, sp.Basic) or var not in calculus.free_symbols(expr, memo):
         return sp.S.Zero
+    if isinstance(expr, TRIG):       # calculus.derivative's rule, f'(u) formed once for every variable
+        return product(_outer_rate(expr, rates), rate(expr.args[0], var, memo, rates))
     if not (expr.is_Add or expr.is_Mul):
         return calculus.derivative(expr, var, memo)
     key = (expr, var)
@@ -50,20 +55,52 @@ def rate(expr, var, memo: dict, rates: dict) -> sp.Expr:
     return found
 
 
+def _outer_rate(call, rates: dict) -> sp.Expr:
+    """cos(u) for sin(u), -sin(u) for cos(u), as calculus.derivative forms them (`trig_call`),
+    remembered in `rates` under (call,): d/dq_i and d/dq_j of cos(q_i - q_j) share it."""
+    key = (call,)
+    found = rates.get(key)
+    if found is None:
+        arg = call.args[0]
+        found = rates[key] = trig_call(sp.cos, arg) if isinstance(call, sp.sin) else -trig_call(sp.sin, arg)
+    return found
+
+
 def one_factor_derivative(expr, var, memo: dict, rates: dict | None = None) -> sp.Expr | None:
     """`calculus.derivative` of a product in which one factor f varies (l3 l6 (m6 + ... + m40)
     cos(q3 - q6), an entry of a chain's M): the other factors times f' (by `rate`), one
     product of them all, where calculus.derivative forms it factor by factor (each product
-    sorting the sum of masses again). The same expression when no factor is a rational
-    number and f' is not one (a rational times a sum would be distributed in the
-    factor-by-factor product); None otherwise."""
-    if not expr.is_Mul or any(a.is_Rational for a in expr.args):
+    sorting the sum of masses again). The same expression when f' is not a rational number
+    and no factor but a leading one is, unless the first two factors are a rational number
+    and a sum (distributed in the factor-by-factor product); None otherwise. When f' is s * r with s = 1 or -1, the
+    product of the other factors and r is formed once for every variable (remembered in
+    `rates`) and negated for s = -1: d/dq_i and d/dq_j of a chain's
+    M_ij = l_i l_j (m_j + ... + m_n) cos(q_i - q_j) are -P and P, P = l_i l_j (...) sin(q_i - q_j)."""
+    if not expr.is_Mul or any(a.is_Rational for a in expr.args[1:]):
         return None
     moving = [k for k, a in enumerate(expr.args) if var in calculus.free_symbols(a, memo)]
     if len(moving) != 1:
         return None
     k = moving[0]
-    factor_rate = rate(expr.args[k], var, memo, {} if rates is None else rates)
-    if factor_rate.is_Rational:
+    rates = {} if rates is None else rates
+    factor_rate = rate(expr.args[k], var, memo, rates)
+    if factor_rate.is_Rational or (expr.args[0].is_Rational and _distributed(factor_rate if k == 1 else expr.args[1])):
         return None
-    return product(*expr.args[:k], factor_rate, *expr.args[k + 1:])
+    sign, rest = factor_rate.as_coeff_Mul()
+    if sign is not sp.S.One and sign is not sp.S.NegativeOne:
+        return product(*expr.args[:k], factor_rate, *expr.args[k + 1:])
+    key = (expr, k, rest)      # a triple: the rates' own keys are pairs (expr, var)
+    unit = rates.get(key)
+    if unit is None:
+        unit = rates[key] = product(*expr.args[:k], rest, *expr.args[k + 1:])
+    if sign is sp.S.One:
+        return unit
+    if not unit.is_Mul or (unit.args[0].is_Number and not unit.args[0].is_Rational):
+        return product(*expr.args[:k], factor_rate, *expr.args[k + 1:])
+    return -unit       # Mul.__neg__: the coefficient negated, as the product with -r has it
+
+
+def _distributed(second) -> bool:
+    """A rational number times `second` is a sum distributed (sympy's Mul of two factors): the
+    first step of calculus.derivative's factor-by-factor product of c * second * ..."""
+    return second.as_coeff_Mul()[1].is_Add

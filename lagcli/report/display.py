@@ -29,6 +29,7 @@ import sympy as sp
 
 from lagcli.model import calculus
 from lagcli.model.products import product
+from lagcli.model.sums import negated_terms, total
 from lagcli.derive.result import Derivation
 from lagcli.report.derivatives import derivative
 from lagcli.render.shapes import Shapes
@@ -83,12 +84,13 @@ class Display:
         self.q, self.qd, self.qdd, self.t = m.q, m.qd, m.qdd, m.t
         self.n = len(m.q)
         self._cache: dict = {}
+        self._flat_sums: dict = {}       # sum -> flat_weighted_sum(sum)
         self._parts: dict = {}
         self._signs: dict = {}
         self._free_symbols: dict = {}   # of every subexpression differentiated (calculus.free_symbols)
         self._differentiated: dict = {}  # (expr, var) -> d expr / d var
         self._rates: dict = {}           # (expr, var) -> d expr / d var of their parts (`derivatives.rate`)
-        self._merged: dict = {}          # (i, names) -> the parts `names` of equation i, by monomial
+        self._merged: dict = {}          # (i, names) -> the terms of the parts `names` of equation i
         self._bucket_terms: dict = {}    # (monomial, coefficient, sign) -> its terms (`ordered_terms`)
         self._monomials: dict = {}       # (j, l) -> q'_j q'_l
         self._tidy_on = simplify
@@ -120,22 +122,33 @@ class Display:
         expr = sp.sympify(expr)
         if not self._tidy_on:
             return expr
-        if expr not in self._cache:
-            if expr.is_Add and self._by_shape(expr, sized):
-                self._cache[expr] = self._tidy_by_shape(expr)   # the steps of the last sum of its shape
+        cache = self._cache
+        found = cache.get(expr)
+        if found is None:
+            if expr.is_Mul and all(cache.get(a) is a for a in expr.args):
+                found = expr       # what _tidy_tree finds for a product of tidy factors (a derivative of M_ij)
+            elif expr.is_Add and self._by_shape(expr, sized):
+                found = self._tidy_by_shape(expr)   # the steps of the last sum of its shape
             else:
-                self._cache[expr] = self._tidy_tree(expr, sized)
-        return self._cache[expr]
+                found = self._tidy_tree(expr, sized)
+            cache[expr] = found
+        return found
 
-    @staticmethod
-    def _by_shape(add, sized: bool = False) -> bool:
+    def _flat_weighted(self, add):
+        """`flat_weighted_sum(add)`, found once (`_by_shape` and `_tidy_tree` both ask)."""
+        found = self._flat_sums.get(add, self._flat_sums)
+        if found is self._flat_sums:
+            found = self._flat_sums[add] = flat_weighted_sum(add)
+        return found
+
+    def _by_shape(self, add, sized: bool = False) -> bool:
         """Worth tidying by its shape (a whole sum, or one inside a product: the dot
         product X of a chain's M entry X (m_k + ... + m_n)): small, not a weighted sum (whose X is tidied by its
         shape instead: renaming the whole sum costs as much as tidying it; nor one written
         flat, dV/dq_i = -g l_i m_i sin(q_i) - ... of a chain), not a sum of symbols
         (display_form keeps it)."""
         return (sized or small(add, TREE_MAX_NODES)) and not sum_of_symbols(add) and weighted_sum(add) is None \
-            and flat_weighted_sum(add) is None
+            and self._flat_weighted(add) is None
 
     def signs(self, expr) -> sp.Expr:
         """`pull_signs`, remembering every subexpression's result for this report."""
@@ -166,7 +179,7 @@ class Display:
             rebuilt = product(*args) if expr.is_Mul else expr.func(*args)
         if not rebuilt.is_Add:
             return rebuilt
-        flat = flat_weighted_sum(rebuilt)
+        flat = self._flat_weighted(rebuilt)
         if flat is not None and small(rebuilt) and expandable(rebuilt):   # display_form's own terms
             found = weighted_display_form(*flat, self.signs)
             if found is not None:
@@ -178,8 +191,8 @@ class Display:
     @functools.cached_property
     def T2(self) -> Terms:
         n, qd, M = self.n, self.qd, self.M
-        terms = [product(product(M[i][i], qd[i] ** 2), sp.S.Half) for i in range(n)]
-        terms += [product(product(M[i][j], qd[i]), qd[j]) for i in range(n) for j in range(i + 1, n)]
+        terms = [product(M[i][i], qd[i] ** 2, sp.S.Half) for i in range(n)]      # one product each: the same
+        terms += [product(M[i][j], qd[i], qd[j]) for i in range(n) for j in range(i + 1, n)]   # as two in turn
         return [self.signs(term) for term in terms if term != 0]
 
     @functools.cached_property
@@ -219,13 +232,13 @@ class Display:
 
     def generalized_force(self, i: int) -> sp.Expr:
         """Q_i = Q'_i - dV/dq_i."""
-        return self.tidy_assembled(self.Qp[i] - self.differentiate(self.V, self.q[i]))
+        return self.tidy_assembled(difference(self.Qp[i], self.differentiate(self.V, self.q[i])))
 
     @functools.cached_property
     def gyroscopic(self) -> list[list[sp.Expr]]:
         """gamma_ij = da_i/dq_j - da_j/dq_i."""
         q, a, n, d = self.q, self.a, self.n, self.differentiate
-        return [[self.tidy_assembled(d(a[i], q[j]) - d(a[j], q[i])) if i != j else sp.S.Zero
+        return [[self.tidy_assembled(difference(d(a[i], q[j]), d(a[j], q[i]))) if i != j else sp.S.Zero
                  for j in range(n)] for i in range(n)]
 
     def constraint_force(self, i: int) -> Terms:
@@ -297,7 +310,7 @@ class Display:
         mass_rate = {v: self._dM(i, j, t) for j, v in enumerate(qd)}
         gyroscopic = {v: g for v, g in zip(qd, self.gyroscopic[i])}
         a_t = self.differentiate(self.a[i], t)
-        position = self.differentiate(self.V, q[i]) - self.differentiate(self.T0, q[i])
+        position = difference(self.differentiate(self.V, q[i]), self.differentiate(self.T0, q[i]))
         forces: dict = {}
         for term in split(self.Qp[i]):
             coefficient, monomial = term.as_independent(*qd, as_Add=False)
@@ -308,13 +321,14 @@ class Display:
     def part_terms(self, i: int, names: Sequence[str]) -> Terms:
         """The terms of the parts `names` of equation i, merged by monomial and ordered."""
         key = (i, tuple(names))
-        if key not in self._merged:       # the equation and F_i merge the same parts
+        found = self._merged.get(key)
+        if found is None:       # the equation and F_i merge and order the same parts
             buckets: dict = {}
             for name in names:
                 for monomial, coefficient in self.parts(i)[name].items():
                     _add(buckets, monomial, coefficient)
-            self._merged[key] = buckets
-        return self._ordered(self._merged[key])
+            found = self._merged[key] = self._ordered(buckets)
+        return list(found)
 
     def acceleration_terms(self, i: int) -> Terms:
         return [self.signs(product(M_ij, a)) for M_ij, a in zip(self.M[i], self.qdd) if M_ij != 0]
@@ -403,5 +417,15 @@ PARTS = ("velocity", "mass_rate", "gyroscopic", "t1_rate", "position", "forces")
 
 
 def _add(buckets: dict, monomial, coefficient) -> None:
+    """buckets[monomial] += coefficient; a new monomial's coefficient is the object itself
+    (0 + x is x in sympy, found through five layers of its arithmetic)."""
     if coefficient != 0:
-        buckets[monomial] = buckets.get(monomial, sp.S.Zero) + coefficient
+        found = buckets.get(monomial)
+        buckets[monomial] = coefficient if found is None else found + coefficient
+
+
+def difference(a, b) -> sp.Expr:
+    """a - b, the same expression as sympy's: a + (-b), b's terms negated one by one and
+    summed once (`sums.total`; sympy's -b rebuilt the 40 terms of a chain's dV/dq_i by its
+    Mul and Add, and `x - 0` re-sorted x)."""
+    return total([a, *negated_terms(b)])
