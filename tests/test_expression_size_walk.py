@@ -1,6 +1,7 @@
-"""`_check_size` (lagcli/model/expr.py) walks the syntax tree with `ast.iter_child_nodes`
-inlined: it refuses the same texts, with the same message, as the plain walk written here
-with `ast.iter_child_nodes` itself."""
+"""`_check_size` (lagcli/model/expr.py) measures the syntax tree with its common nodes taken
+apart by their known fields: it refuses the same texts, with the same message, as the plain
+walk written here with `ast.iter_child_nodes` itself. The checks of the result, remembered
+per subexpression (`_tree_size`, `_unreal`), say what sympy's own walks said."""
 import ast
 import random
 

@@ -135,3 +135,35 @@ def test_negated_terms_sum_to_sympys_minus(seed):
     b = sp.Add(*(term() for _ in range(rng.randint(0, 6))))
     ours, theirs = total([*a, *negated_terms(b)]), sp.Add(*a) - b
     assert ours == theirs and ours.args == theirs.args and type(ours) is type(theirs), (a, b)
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.integers(0, 2**32 - 1))
+def test_negative_is_sympys_minus(seed):
+    """`negative(b)` is sympy's -b, a sum of products without numbers (kept in its order)
+    and any other sum (summed again) alike."""
+    rng = random.Random(seed)
+    commutative = [e for e in POOL if e.is_commutative]
+
+    def term():
+        factors = [rng.choice(commutative) for _ in range(rng.randint(1, 3))]
+        if rng.random() < 0.2:
+            factors.append(rng.choice(NUMBERS[:5]))
+        if rng.random() < 0.2:
+            factors.append(sp.Add(*(rng.choice(commutative) for _ in range(2))))
+        return sp.Mul(*factors)
+    b = sp.Add(*(term() for _ in range(rng.randint(1, 8))))
+    ours, theirs = negative(b), -b
+    assert ours == theirs and ours.args == theirs.args and type(ours) is type(theirs), b
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.integers(0, 2**32 - 1))
+def test_sort_keyed_is_sort_args(seed):
+    """`sort_keyed` (the arguments' leaf keys given) orders as `sort_args` and compare do."""
+    from lagcli.model.ordering import leaf_key, sort_keyed
+    rng = random.Random(seed)
+    args = list(dict.fromkeys(_expression(rng, depth=rng.choice([1, 2, 3])) for _ in range(rng.randint(1, 10))))
+    ours, theirs = list(args), sorted(args, key=functools.cmp_to_key(sp.Basic.compare))
+    sort_keyed(ours, [leaf_key(a) for a in ours])
+    assert ours == theirs and [type(e) for e in ours] == [type(e) for e in theirs], args

@@ -93,6 +93,52 @@ def sort_args(args: list) -> None:
     args[:] = result
 
 
+def sort_keyed(args: list, keys: list) -> None:
+    """`sort_args(args)` where each argument's `leaf_key` is known (`keys`; None for one
+    without): the same order, the keys not found again and nothing walked to find out
+    whether an argument is made of leaves (a product's factors: `products.product` looks
+    each up once; a 40-term sum of masses among them was walked at every product)."""
+    n = len(args)
+    if n < 2:
+        return
+    if n <= FEW and None not in keys:
+        try:
+            order = sorted(range(n), key=keys.__getitem__)
+        except TypeError:      # items of different kinds at one place
+            pass
+        else:
+            args[:] = [args[k] for k in order]
+            return
+    if n == 2:         # one comparison, of any classes
+        if _keyed_pair_out_of_order(args[0], args[1], keys[0], keys[1]):
+            args.reverse()
+        return
+    classes = [class_key(type(a)) for a in args]
+    order = sorted(range(n), key=classes.__getitem__)
+    result, start = [], 0
+    for end in range(1, n + 1):
+        if end == n or classes[order[end]] != classes[order[start]]:
+            run = order[start:end]
+            if len(run) == 2 and _keyed_pair_out_of_order(args[run[0]], args[run[1]], keys[run[0]], keys[run[1]]):
+                run.reverse()
+            members = [args[k] for k in run]
+            if len(run) > 2:
+                _sort_one_class(members)
+            result += members
+            start = end
+    args[:] = result
+
+
+def _keyed_pair_out_of_order(a: Basic, b: Basic, key_a: tuple | None, key_b: tuple | None) -> bool:
+    """`_pair_out_of_order(a, b)` with their `leaf_key`s known."""
+    if key_a is not None and key_b is not None:
+        try:
+            return key_b < key_a
+        except TypeError:      # items of different kinds at one place
+            pass
+    return b.compare(a) < 0
+
+
 def _sort_one_class(args: list) -> None:
     """`sort_args` of arguments of one class (or of two of any classes)."""
     if len(args) < 3:

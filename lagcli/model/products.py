@@ -20,7 +20,7 @@ from sympy.core.parameters import global_parameters
 from sympy.core.sympify import _sympify
 from sympy.functions.elementary.exponential import ExpBase
 
-from lagcli.model.ordering import FEW, class_key, leaf_key, sort_args
+from lagcli.model.ordering import class_key, leaf_key, sort_keyed
 
 _ONE = sp.S.One
 
@@ -52,7 +52,7 @@ def product(*factors) -> sp.Expr:
             keys.append(found[1])
     if number == 0 or len(set(bases)) != len(bases) or (len(plain) == 1 and plain[0].is_Add):
         return sp.Mul(*factors)
-    _sort(plain, keys)      # `Mul.flatten`'s order
+    sort_keyed(plain, keys)      # `Mul.flatten`'s order
     args = plain if number == 1 else [number, *plain]
     if len(args) == 1:
         return args[0]
@@ -65,22 +65,6 @@ def _factor(part: Basic) -> tuple | None:
     if not _plain(part):
         return None
     return (part.base if part.is_Pow else part), leaf_key(part)
-
-
-def _sort(plain: list, keys: list) -> None:
-    """`sort_args(plain)`, from the factors' `leaf_key`s where all have one (what sort_args
-    does then, without looking the keys up again)."""
-    if len(plain) < 2:
-        return
-    if len(plain) <= FEW and None not in keys:
-        try:
-            order = sorted(range(len(plain)), key=keys.__getitem__)
-        except TypeError:      # items of different kinds at one place
-            pass
-        else:
-            plain[:] = [plain[k] for k in order]
-            return
-    sort_args(plain)
 
 
 def _symbol_and_sum(a, b) -> bool:

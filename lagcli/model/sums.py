@@ -67,8 +67,13 @@ def dot(u, w) -> sp.Expr:
 
 def negative(expr: sp.Expr) -> sp.Expr:
     """`-expr`, the same expression: a sum's terms negated one by one (as `Mul(-1, sum)`
-    distributes) and summed by `total`."""
+    distributes) and summed by `total`. When every term is a product without a number
+    (l1*cos(q1): a chain's positions, its dV), each negated term is -1 times it, and
+    compare orders those as it ordered the terms (one more factor each, the same first
+    one): the sum keeps its order, not sorted again."""
     if expr.is_Add and expr.is_commutative and global_parameters.distribute:
+        if all(term.is_Mul and not term.args[0].is_Number for term in expr.args):
+            return sp.Add._from_args([_keep_coeff(sp.S.NegativeOne, term) for term in expr.args], True)
         return total(negated_terms(expr))
     return -expr
 
