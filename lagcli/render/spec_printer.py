@@ -37,8 +37,21 @@ class SpecPrinter(RememberedPrecedence, StrPrinter):
             return super()._print(expr, **kwargs)
         found = memo.get(expr)
         if found is None:
-            found = memo[expr] = super()._print(expr)
+            found = memo[expr] = self._dispatched(expr)
         return found
+
+    def _dispatched(self, expr) -> str:
+        """sympy's `Printer._print` of expr: for a sum, product, power or symbol the method
+        its own class names (the first one Printer._print's walk up the classes finds), at
+        once; anything else through that walk."""
+        name = _DIRECT.get(type(expr))
+        if name is None:
+            return super()._print(expr)
+        self._print_level += 1
+        try:
+            return getattr(self, name)(expr)
+        finally:
+            self._print_level -= 1
 
     def _print_Abs(self, expr):
         return f"abs({self._print(expr.args[0])})"
@@ -66,6 +79,8 @@ class SpecPrinter(RememberedPrecedence, StrPrinter):
 
     _print_NegativeInfinity = _print_ComplexInfinity = _print_NaN = _print_Infinity
 
+
+_DIRECT = {sp.Add: "_print_Add", sp.Mul: "_print_Mul", sp.Pow: "_print_Pow", sp.Symbol: "_print_Symbol"}
 
 _PRINTER = SpecPrinter()
 
