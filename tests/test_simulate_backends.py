@@ -66,14 +66,19 @@ def test_python_and_c_backends_agree(spec):
 
 
 WARM_PROBE = """
+import atexit
 import sys
 from lagcli.cli import main
-sys.argv = ["lagcli", "simulate", *sys.argv[1:]]
-try:
-    main()
-finally:
+
+
+def heavy_modules():      # an exit handler: `main` ends the process itself (`cli._end`)
     heavy = sorted({m.split(".")[0] for m in sys.modules} & {"sympy", "numpy", "scipy"})
     print("heavy modules:", ",".join(heavy) or "none", file=sys.stderr)
+
+
+atexit.register(heavy_modules)
+sys.argv = ["lagcli", "simulate", *sys.argv[1:]]
+main()
 """
 
 
