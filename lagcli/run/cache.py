@@ -71,12 +71,18 @@ def cache_root() -> Path:
 
 
 def cache_key(spec_path: str, spec_bytes: bytes, variant: str) -> str:
-    digest = hashlib.sha256()
-    for part in (spec_bytes, Path(spec_path).name.encode(), __version__.encode(),
-                 variant.encode(), source_fingerprint().encode()):
-        digest.update(len(part).to_bytes(8, "little"))
-        digest.update(part)
-    return digest.hexdigest()[:32]
+    return digest(spec_bytes, Path(spec_path).name.encode(), __version__.encode(),
+                  variant.encode(), source_fingerprint().encode())
+
+
+def digest(*parts: bytes) -> str:
+    """An entry's name: the SHA-256 of `parts`, each prefixed by its length (no two lists of
+    parts give the same bytes), cut to 32 hex digits (`ENTRY_NAME`)."""
+    sha = hashlib.sha256()
+    for part in parts:
+        sha.update(len(part).to_bytes(8, "little"))
+        sha.update(part)
+    return sha.hexdigest()[:32]
 
 
 def source_fingerprint() -> str:

@@ -23,7 +23,6 @@ same whether compiled now or read back.
 from __future__ import annotations
 
 import contextlib
-import hashlib
 from pathlib import Path
 
 import jinja2
@@ -72,10 +71,5 @@ class TemplateCache(jinja2.BytecodeCache):
 
 
 def entry_key(bucket: jinja2.bccache.Bucket) -> str:
-    digest = hashlib.sha256()
-    for part in (bucket.key, bucket.checksum, bc_magic.hex(), __version__):
-        data = part.encode()
-        digest.update(len(data).to_bytes(8, "little"))
-        digest.update(data)
-    return digest.hexdigest()[:32]
+    return cache.digest(*(part.encode() for part in (bucket.key, bucket.checksum, bc_magic.hex(), __version__)))
 
