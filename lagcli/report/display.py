@@ -32,6 +32,7 @@ from lagcli.model.products import product
 from lagcli.model.sums import negated_terms, total
 from lagcli.derive.result import Derivation
 from lagcli.report.derivatives import derivative
+from lagcli.render.dot_products import folded_dot_product
 from lagcli.render.shapes import Shapes
 from lagcli.render.tidy import DISPLAY_MAX_NODES, display_form, expandable, pull_signs, small, sum_of_symbols
 from lagcli.render.weighted import flat_weighted_sum, weighted_display_form, weighted_sum
@@ -64,9 +65,10 @@ def signed_sum(terms: Sequence[sp.Expr], print_expr: Callable[[sp.Expr], str],
 
 def _signed_piece(term: sp.Expr, print_expr: Callable[[sp.Expr], str]) -> tuple[bool, str]:
     """(negative, the term's magnitude printed, in parentheses when a sum)."""
-    if type(term) is sp.Mul:     # Mul.could_extract_minus_sign, its -term built once (it builds one to compare)
-        negated = -term
-        negative = term != negated and term.args[0].is_Number and term.args[0].is_extended_negative
+    if type(term) is sp.Mul:     # Mul.could_extract_minus_sign, its -term built once (it builds one to
+        leading = term.args[0]   # compare), and only for a negative leading number (else: not negative)
+        negated = -term if leading.is_Number and leading.is_extended_negative else term
+        negative = negated is not term and term != negated
         shown = negated if negative else term
     else:
         negative = term.could_extract_minus_sign()
@@ -92,7 +94,7 @@ class Display:
         self._flat_sums: dict = {}       # sum -> flat_weighted_sum(sum)
         self._parts: dict = {}
         self._signs: dict = {}
-        self._free_symbols: dict = {}   # of every subexpression differentiated (calculus.free_symbols)
+        self._free_symbols: dict = {}   # of M's entries and every subexpression differentiated (calculus.free_symbols)
         self._differentiated: dict = {}  # (expr, var) -> d expr / d var
         self._rates: dict = {}           # (expr, var) -> d expr / d var of their parts (`derivatives.rate`)
         self._merged: dict = {}          # (i, names) -> the terms of the parts `names` of equation i
@@ -103,7 +105,7 @@ class Display:
         n = self.n
         upper = {(i, j): self.tidy(d.mass_matrix[i, j]) for i in range(n) for j in range(i, n)}
         self.M = [[upper[min(i, j), max(i, j)] for j in range(n)] for i in range(n)]
-        self._free = {key: entry.free_symbols for key, entry in upper.items()}
+        self._free = {key: calculus.free_symbols(entry, self._free_symbols) for key, entry in upper.items()}
         self._derivatives: dict = {}
         self._mentions: dict = {}               # (i, j), i <= j -> indices of the coordinates M_ij mentions
         self._mentioning: list | None = None    # k -> the entries (i, j) that mention q_k
@@ -133,6 +135,8 @@ class Display:
         if found is None:
             if expr.is_Mul and all(cache.get(a) is a for a in expr.args):
                 found = expr       # what _tidy_tree finds for a product of tidy factors (a derivative of M_ij)
+            elif expr.is_Add and (folded := folded_dot_product(expr)) is not None:
+                found = folded     # what _tidy_tree finds for a chain's dot product, found directly
             elif expr.is_Add and self._by_shape(expr, sized):
                 found = self._tidy_by_shape(expr)   # the steps of the last sum of its shape
             else:
