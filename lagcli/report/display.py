@@ -106,9 +106,7 @@ class Display:
         upper = {(i, j): self.tidy(d.mass_matrix[i, j]) for i in range(n) for j in range(i, n)}
         self.M = [[upper[min(i, j), max(i, j)] for j in range(n)] for i in range(n)]
         self._free = {key: calculus.free_symbols(entry, self._free_symbols) for key, entry in upper.items()}
-        self._derivatives: dict = {}
-        self._mentions: dict = {}               # (i, j), i <= j -> indices of the coordinates M_ij mentions
-        self._mentioning: list | None = None    # k -> the entries (i, j) that mention q_k
+        self._derivatives: dict = {}     # (i, j, k), i <= j -> dM_ij/dq_k (`_dM`)
         self.a = [self.tidy(e) for e in d.t1_coefficients]
         self.T0 = self.tidy(d.T0)
         self.V = self.tidy(d.V)
@@ -257,25 +255,31 @@ class Display:
 
     # -- equations of motion ---------------------------------------------------------------
 
-    def _dM(self, i: int, j: int, var) -> sp.Expr:
-        """dM_ij/d var, each computed once (the velocity terms ask for most of them n times)."""
-        key = (min(i, j), max(i, j), var)
-        if key not in self._derivatives:
-            if var not in self._free[key[:2]]:
-                return sp.S.Zero
-            self._derivatives[key] = self.differentiate(self.M[i][j], var)
-        return self._derivatives[key]
+    def _dM(self, i: int, j: int, k: int) -> sp.Expr:
+        """dM_ij/dq_k, each computed once (the velocity terms ask for most of them n times),
+        kept under the indices (a tuple of ints hashes in C, a symbol's hash is a Python call)."""
+        key = (i, j, k) if i <= j else (j, i, k)
+        found = self._derivatives.get(key)
+        if found is None:
+            mentioned = k in self._mentions[key[:2]]
+            found = self._derivatives[key] = self.differentiate(self.M[i][j], self.q[k]) if mentioned else sp.S.Zero
+        return found
+
+    def _dM_dt(self, i: int, j: int) -> sp.Expr:
+        """dM_ij/dt (0 when M_ij does not mention t: always, for a scleronomic system)."""
+        entry = (i, j) if i <= j else (j, i)
+        return self.differentiate(self.M[i][j], self.t) if self.t in self._free[entry] else sp.S.Zero
 
     def velocity_buckets(self, i: int) -> dict:
         """c_i grouped by monomial: {q'_j q'_l: C_ijl} (see the module docstring), over
         the pairs (j, l) where a derivative in C_ijl can be nonzero (`_velocity_pairs`)."""
-        q, zero = self.q, sp.S.Zero
+        zero = sp.S.Zero
         out = {}
         for j, l in self._velocity_pairs(i):
             if j == l:
-                parts = (self._dM(i, j, q[j]), _negated(self._dM(j, j, q[i]), half=True))
+                parts = (self._dM(i, j, j), _negated(self._dM(j, j, i), half=True))
             else:
-                parts = _cancelled(self._dM(i, j, q[l]), self._dM(i, l, q[j]), self._dM(j, l, q[i]))
+                parts = _cancelled(self._dM(i, j, l), self._dM(i, l, j), self._dM(j, l, i))
             nonzero = [part for part in parts if part is not zero]
             if nonzero:      # sympy's Add drops zeros and returns a single term itself
                 coefficient = nonzero[0] if len(nonzero) == 1 else sp.Add(*nonzero)
@@ -295,18 +299,26 @@ class Display:
         """The pairs j <= l, in order, for which d_l M_ij, d_j M_il or d_i M_jl may be nonzero
         (the entry mentions that coordinate): ~n pairs per equation of a chain, whose
         entries mention two coordinates each, instead of all n^2 / 2."""
-        if self._mentioning is None:
-            index = {qk: k for k, qk in enumerate(self.q)}
-            self._mentions = {key: [index[s] for s in free if s in index] for key, free in self._free.items()}
-            self._mentioning = [[] for _ in range(self.n)]
-            for key, ks in self._mentions.items():
-                for k in ks:
-                    self._mentioning[k].append(key)
         pairs = set(self._mentioning[i])                            # d_i M_jl
         for other in range(self.n):                                 # d_l M_ij and d_j M_il
             for k in self._mentions[min(i, other), max(i, other)]:
                 pairs.add((min(other, k), max(other, k)))
         return sorted(pairs)
+
+    @functools.cached_property
+    def _mentions(self) -> dict:
+        """(i, j), i <= j -> the indices of the coordinates M_ij mentions."""
+        index = {qk: k for k, qk in enumerate(self.q)}
+        return {key: frozenset(index[s] for s in free if s in index) for key, free in self._free.items()}
+
+    @functools.cached_property
+    def _mentioning(self) -> list:
+        """k -> the entries (i, j), i <= j, that mention q_k."""
+        mentioning = [[] for _ in range(self.n)]
+        for key, ks in self._mentions.items():
+            for k in ks:
+                mentioning[k].append(key)
+        return mentioning
 
     def parts(self, i: int) -> dict[str, dict]:
         if i not in self._parts:
@@ -317,7 +329,7 @@ class Display:
         """The explicit form's terms of equation i, each {velocity monomial (1 for none): coefficient}:
         c, M_t q', gamma q', a_t, dV/dq - dT0/dq and -Q'."""
         qd, t, q = self.qd, self.t, self.q
-        mass_rate = {v: self._dM(i, j, t) for j, v in enumerate(qd)}
+        mass_rate = {v: self._dM_dt(i, j) for j, v in enumerate(qd)}
         gyroscopic = {v: g for v, g in zip(qd, self.gyroscopic[i])}
         a_t = self.differentiate(self.a[i], t)
         position = difference(self.differentiate(self.V, q[i]), self.differentiate(self.T0, q[i]))
