@@ -54,7 +54,7 @@ def _split(term) -> tuple | None:
     x, y = sorted((call.args[0] for call in calls), key=_name)
     if type(x) is not sp.Symbol or type(y) is not sp.Symbol or x.name == y.name:
         return None
-    rest = tuple(f for f in factors if f not in calls)
+    rest = tuple(f for f in factors if f is not calls[0] and f is not calls[1])    # by identity: no __eq__
     if not all(f.is_Symbol or (f.is_Pow and f.base.is_Symbol and f.exp.is_Integer and f.exp > 0) for f in rest):
         return None
     return type(calls[0]), number, rest, (x, y)

@@ -77,6 +77,13 @@ def _signed_piece(term: sp.Expr, print_expr: Callable[[sp.Expr], str]) -> tuple[
     return negative, f"({body})" if shown.is_Add else body
 
 
+def _tidies_to_itself(expr, cache: dict) -> bool:
+    """`Display.tidy(expr)` is known to be expr: neither a sum nor a product (`_tidy_tree`
+    leaves those as they are: sin(q1 - q2), new in each derivative of M), or one tidied
+    to itself before."""
+    return not (expr.is_Add or expr.is_Mul) or cache.get(expr) is expr
+
+
 def split(expr: sp.Expr) -> Terms:
     """The terms of a sum (none for 0)."""
     return [] if expr == 0 else list(sp.Add.make_args(expr))
@@ -98,7 +105,8 @@ class Display:
         self._differentiated: dict = {}  # (expr, var) -> d expr / d var
         self._rates: dict = {}           # (expr, var) -> d expr / d var of their parts (`derivatives.rate`)
         self._merged: dict = {}          # (i, names) -> the terms of the parts `names` of equation i
-        self._bucket_terms: dict = {}    # (monomial, coefficient, sign) -> its terms (`ordered_terms`)
+        self._bucket_terms: dict = {}    # (monomial, coefficient, sign) -> its terms, moving or not (`ordered_terms`)
+        self._places: dict = {}          # monomial -> its place among an equation's terms (`ordered_terms`)
         self._monomials: dict = {}       # (j, l) -> q'_j q'_l
         self._tidy_on = simplify
         self._tidy_by_shape = Shapes(functools.partial(self._tidy_tree, sized=True))
@@ -131,7 +139,7 @@ class Display:
         cache = self._cache
         found = cache.get(expr)
         if found is None:
-            if expr.is_Mul and all(cache.get(a) is a for a in expr.args):
+            if expr.is_Mul and all(_tidies_to_itself(a, cache) for a in expr.args):
                 found = expr       # what _tidy_tree finds for a product of tidy factors (a derivative of M_ij)
             elif expr.is_Add and (folded := folded_dot_product(expr)) is not None:
                 found = folded     # what _tidy_tree finds for a chain's dot product, found directly
@@ -368,40 +376,54 @@ class Display:
     def _ordered(self, buckets: dict) -> Terms:
         """Terms of degree 2 in q', then 1, then others depending on q', then free of q' (`ordered_terms`)."""
         return ordered_terms(buckets, self.qd, self.tidy_assembled, self.signs, 1, self._free_symbols,
-                             self._bucket_terms)
+                             self._bucket_terms, self._places)
 
 
 def ordered_terms(buckets: dict, velocities: Sequence, tidy: Callable, signs: Callable = pull_signs,
-                  sign: int = 1, memo: dict | None = None, made: dict | None = None) -> Terms:
+                  sign: int = 1, memo: dict | None = None, made: dict | None = None,
+                  places: dict | None = None) -> Terms:
     """The terms of an equation without its q'' terms, in the lecture notes' order, from
     {velocity monomial (1 for none): coefficient}: degree 2 in q', then 1 (by coordinate),
     then others depending on q', then free of q'. Each coefficient (times `sign`) is
     tidied by `tidy` and its sign pulled out by `signs`; the coefficient of 1 gives one
     term per summand. The derive report's equations and the Routh reduction's use this.
-    `made` remembers the terms of each (monomial, coefficient, sign) (`bucket_terms`):
-    the equations, F and the explicit form's parts share their coefficients."""
+    `made` remembers the terms of each (monomial, coefficient, sign) (`bucket_terms`) and
+    which of them mention a velocity, `places` each monomial's place (both for one list
+    of velocities): the equations, F and the explicit form's parts share their coefficients."""
     index = {v: k for k, v in enumerate(velocities)}
     memo = {} if memo is None else memo
     made = {} if made is None else made
+    places = {} if places is None else places
 
     def key(monomial):
-        powers = monomial.as_powers_dict()
-        if all(base in index and e.is_Integer for base, e in powers.items()) or monomial == 1:
-            degree = sum(int(e) for base, e in powers.items() if base in index)
-            indices = tuple(sorted(index[b] for b, e in powers.items() if b in index for _ in range(int(e))))
-            return (0, -degree, indices, "")
-        return (1, 0, (), sp.default_sort_key(monomial))   # not a monomial in q': after them
+        found = places.get(monomial)
+        if found is None:
+            found = places[monomial] = _place(monomial, index)
+        return found
 
+    moving_set = set(velocities)
     out: Terms = []
+    moving: list = []
     for monomial in sorted(buckets, key=key):
         entry = (monomial, buckets[monomial], sign)
         found = made.get(entry)
         if found is None:
-            found = made[entry] = bucket_terms(monomial, buckets[monomial], tidy, signs, sign)
-        out.extend(found)
-    moving_set = set(velocities)
-    moving = [not calculus.free_symbols(term, memo).isdisjoint(moving_set) for term in out]
+            terms = bucket_terms(monomial, buckets[monomial], tidy, signs, sign)
+            found = made[entry] = (terms, [not calculus.free_symbols(t, memo).isdisjoint(moving_set) for t in terms])
+        out.extend(found[0])
+        moving.extend(found[1])
     return [term for term, m in zip(out, moving) if m] + [term for term, m in zip(out, moving) if not m]
+
+
+def _place(monomial, index: dict) -> tuple:
+    """The sort key of a monomial in `ordered_terms`: by degree in the velocities (`index`:
+    velocity -> its coordinate's index), then by coordinates; anything else after them."""
+    powers = monomial.as_powers_dict()
+    if all(base in index and e.is_Integer for base, e in powers.items()) or monomial == 1:
+        degree = sum(int(e) for base, e in powers.items() if base in index)
+        indices = tuple(sorted(index[b] for b, e in powers.items() if b in index for _ in range(int(e))))
+        return (0, -degree, indices, "")
+    return (1, 0, (), sp.default_sort_key(monomial))   # not a monomial in q': after them
 
 
 def bucket_terms(monomial, coefficient, tidy: Callable, signs: Callable, sign: int) -> Terms:
