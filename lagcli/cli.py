@@ -19,6 +19,7 @@ import click
 os.environ.setdefault("SYMPY_CACHE_SIZE", "20000")
 
 from lagcli import commands  # noqa: E402
+from lagcli.model import collector
 from lagcli.version import __version__
 from lagcli.cli_options import LanguageChoice, note, quiet, quiet_option, settings_options, step_options
 from lagcli.targets import LANGUAGES
@@ -487,6 +488,7 @@ def _progress_bar(t_end: float):
 
 def main() -> NoReturn:
     """The `lagcli` command (the console script, `python -m lagcli`)."""
+    collector.for_one_command()
     try:
         cli(prog_name="lagcli")
     except SystemExit as done:

@@ -57,6 +57,7 @@ def check_summary(path: str) -> str:
 
     derivation = _derive(path)
     check_derivation_units(derivation)
+    derivation.forcing   # computed on first use and refused then, as by every command that uses F (representable.py)
     return render("report/check.txt.jinja", c=check_content(derivation))
 
 

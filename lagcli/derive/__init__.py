@@ -2,54 +2,48 @@
 
 `derive(model)` is a pure function returning a complete, frozen `Derivation`
 (see `result.py` for the equation forms and sign conventions). Large
-expressions are never simplified here; tests and reports decide that.
+expressions are never simplified here; tests and reports decide that. The
+forcing F, the equations M q'' - F and the total generalized forces are the
+Derivation's to compute on first use (`forcing.py`): reports never read them.
 """
 from __future__ import annotations
 
 import sympy as sp
 
-from lagcli.model.calculus import TimeDerivative, almost_everywhere, depends_on, gradient, numerically_zero
+from lagcli.model.calculus import TimeDerivative, almost_everywhere, depends_on, numerically_zero
 from lagcli.derive.constraints import constraint_bias, constraint_matrix, constraint_rows
 from lagcli.derive.dissipation import damper_forces_on
 from lagcli.derive.energy import energies
-from lagcli.derive.forcing import forcing
+from lagcli.derive.forcing import nonzero_rows
 from lagcli.derive.forces import applied_generalized_forces
 from lagcli.derive.invariants import (LagrangianProbe, conserved_quantities, ignorable_coordinates,
                                       jacobi_integral, jacobi_obstacle, momenta)
-from lagcli.derive.result import Derivation, Equation
+from lagcli.derive.result import Derivation
 from lagcli.derive.event_functions import event_functions
 from lagcli.model.model_types import Model
 from lagcli.model.products import product
-from lagcli.model.sums import dot, negated_terms, negative, total
+from lagcli.model.sums import dot, total
 
 __all__ = ["derive", "Derivation"]
 
 
 def derive(model: Model) -> Derivation:
     D = TimeDerivative(model.t, model.q, model.qd, model.qdd)
-    qd, qdd = sp.Matrix(model.qd), sp.Matrix(model.qdd)
+    qd = sp.Matrix(model.qd)
     e = energies(model, D)
     M, a = e.mass_matrix, e.t1_coefficients
     n = len(model.q)
-    nonzero = _rows_of(M)       # the nonzero entries (M of n uncoupled coordinates has n of n^2)
+    nonzero = nonzero_rows(M)   # the nonzero entries (M of n uncoupled coordinates has n of n^2)
     row_sums = [total([product(qd[i], M_ij) for i, M_ij in nonzero[j]]) for j in range(n)]   # (q'^T M)_j
     T2 = total([product(row_sums[j], qd[j]) for j in range(n)]) / 2                          # q'^T M q' / 2
     T1 = dot(a, qd)
     T = total([total([T2, T1]), e.T0])       # T2 + T1 + T0 (sympy's `+` sorted V's terms anew)
     L = total([T, -e.V])
     Q_applied = almost_everywhere(applied_generalized_forces(model, D))
-    dV = gradient(e.V, model.q, D.free, D.partials)
-    F = almost_everywhere(forcing(model, D, Q_applied, dV))
-    Q_minus_dV = [total([Q, negative(dV_i)]) for Q, dV_i in zip(Q_applied, dV)]
-
-    # M q'' - F, as sympy's `-` builds it (Add(a, -b)), its terms sorted once (`negated_terms`)
-    lhs = [total([*(product(M_ij, qdd[j]) for j, M_ij in nonzero[i]), *negated_terms(F[i])]) for i in range(n)]
     rows = constraint_rows(model)
     A = constraint_matrix(model, rows)
     multipliers = tuple(r.multiplier for r in rows)
-    lam = sp.Matrix(multipliers)
-    constraint_force = A.T * lam if rows else sp.zeros(len(model.q), 1)
-    equations = tuple(Equation(qi, lhs[i], constraint_force[i]) for i, qi in enumerate(model.q))
+    constraint_force = A.T * sp.Matrix(multipliers) if rows else sp.zeros(n, 1)
 
     probe = LagrangianProbe(M, a, e.T0, e.V)
     ignorable = ignorable_coordinates(model, probe, Q_applied, rows)
@@ -60,9 +54,7 @@ def derive(model: Model) -> Derivation:
     return Derivation(
         model=model, T=T, T2=T2, T1=T1, T0=e.T0, V=e.V, L=L,
         mass_matrix=M, t1_coefficients=a,
-        generalized_forces=almost_everywhere(sp.Matrix(n, 1, Q_minus_dV)),
         nonconservative_forces=Q_applied,
-        forcing=F, equations=equations,
         constraints=rows, constraint_matrix=A, constraint_bias=constraint_bias(model, rows, D),
         multipliers=multipliers,
         generalized_constraint_forces=sp.ImmutableMatrix(constraint_force),
@@ -74,14 +66,6 @@ def derive(model: Model) -> Derivation:
         scleronomic=_is_scleronomic(model),
         events=event_functions(model),
     )
-
-
-def _rows_of(M) -> list[list[tuple[int, sp.Expr]]]:
-    """(j, M_ij) of the nonzero entries of each row i (M is symmetric: also its columns)."""
-    rows: list[list] = [[] for _ in range(M.rows)]
-    for (i, j), entry in sorted(M.todok().items()):
-        rows[i].append((j, entry))
-    return rows
 
 
 def _particle_constraint_forces(model: Model, D: TimeDerivative) -> dict:

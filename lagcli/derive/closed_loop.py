@@ -23,5 +23,5 @@ def closed_loop(d, laws: dict | None = None):
         raise UsageError(f"{model.source}: --closed-loop needs input laws (simulate: inputs: in the spec); "
                          "this spec has none")
     symbols = {u.name: u for u in model.input_symbols}
-    subs = {symbols[name]: sp.sympify(expr) for name, expr in given.items()}
-    return dataclasses.replace(d, forcing=sp.ImmutableMatrix(d.forcing.xreplace(subs)))
+    laws = tuple((symbols[name], sp.sympify(expr)) for name, expr in given.items())
+    return dataclasses.replace(d, input_laws=laws)     # F is computed with them (Derivation.forcing)

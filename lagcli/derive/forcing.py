@@ -13,22 +13,32 @@ This is Kane's form of the same equations: each row is a short sum over points,
 which is both faster to derive and cheaper to evaluate than the Christoffel form
 (`explicit.py`, kept for reports; the tests check both agree). The extra `kinetic:`
 energy K has no points, so its terms come from Lagrange's operator directly.
+
+A `Derivation` computes F, the equations' left-hand sides M q'' - F and the total
+generalized forces Q' - dV/dq from its M, V and Q' on first use (lagcli/derive/result.py):
+the functions here take those, not the derivation's intermediate values.
 """
 from __future__ import annotations
 
 import sympy as sp
 
-from lagcli.model.calculus import TimeDerivative, derivative, jacobian_columns
+from lagcli.model.calculus import TimeDerivative, almost_everywhere, derivative, gradient, jacobian_columns
 from lagcli.derive.energy import body_angular_velocity
 from lagcli.model.model_types import Model
 from lagcli.model.products import product
-from lagcli.model.sums import negated_terms, total
+from lagcli.model.sums import negated_terms, negative, total
 
 _ZERO = sp.S.Zero     # 0 * y is 0 (y is finite): the z components of a planar model skipped
 
 
-def forcing(model: Model, D: TimeDerivative, Q_applied: sp.ImmutableMatrix, dV: list) -> sp.ImmutableMatrix:
+def potential_gradient(model: Model, V: sp.Expr) -> list[sp.Expr]:
+    """dV/dq_i, one per coordinate."""
+    return gradient(V, model.q, {}, {})
+
+
+def forcing(model: Model, Q_applied: sp.ImmutableMatrix, dV: list) -> sp.ImmutableMatrix:
     """F of M q'' = F, from the applied forces Q' and the gradient dV of V."""
+    D = TimeDerivative(model.t, model.q, model.qd, model.qdd)
     q, qd, n = model.q, model.qd, len(model.q)
     terms = [[Q_applied[i], *negated_terms(dV[i])] for i in range(n)]   # each F_i summed (sorted) once
     for mass, r in model.mass_points:
@@ -43,7 +53,27 @@ def forcing(model: Model, D: TimeDerivative, Q_applied: sp.ImmutableMatrix, dV: 
         K = model.kinetic
         for i, (qi, v) in enumerate(zip(q, qd)):
             terms[i].append(-(D(derivative(K, v), accelerations=False) - derivative(K, qi)))
-    return sp.ImmutableMatrix(n, 1, [total(row) for row in terms])
+    return almost_everywhere(sp.ImmutableMatrix(n, 1, [total(row) for row in terms]))
+
+
+def equation_lhs(M: sp.MatrixBase, F: sp.MatrixBase, qdd) -> list[sp.Expr]:
+    """M q'' - F, row by row, as sympy's `-` builds it (Add(a, -b)), each row's terms sorted
+    once (`negated_terms`)."""
+    return [total([*(product(M_ij, qdd[j]) for j, M_ij in row), *negated_terms(F_i)])
+            for row, F_i in zip(nonzero_rows(M), F)]
+
+
+def total_generalized_forces(Q_applied: sp.MatrixBase, dV: list) -> sp.ImmutableMatrix:
+    """Q' - dV/dq: the total generalized forces by virtual work."""
+    return almost_everywhere(sp.Matrix(len(dV), 1, [total([Q, negative(dV_i)]) for Q, dV_i in zip(Q_applied, dV)]))
+
+
+def nonzero_rows(M: sp.MatrixBase) -> list[list[tuple[int, sp.Expr]]]:
+    """(j, M_ij) of the nonzero entries of each row i (M is symmetric: also its columns)."""
+    rows: list[list] = [[] for _ in range(M.rows)]
+    for (i, j), entry in sorted(M.todok().items()):
+        rows[i].append((j, entry))
+    return rows
 
 
 def _subtract(terms, J, vector, mass) -> None:

@@ -4,11 +4,21 @@ Each number of a spec is bounded as it is parsed (lagcli/model/expr.py: at most 
 nonzero at least 1e-300, at most 1000 exact digits), but the derivation multiplies them:
 a mass of 1e299 at a position 1e299 x gives T = 5e896 x'^2, which every output (a
 report, generated code, a run) would print as a number no double can hold (inf in C and
-numpy). So right after the derivation, T, V, Q', the constraint rows, M and F are
+numpy). So right after the derivation, T, V, Q', the constraint rows and M are
 checked: an infinite, undefined or complex value, or a constant beyond those bounds, is
 a located error (exit status 2) naming the quantity and the constant. The location is
 the spec item that contributes the constant (a particle, a body, a spring, `kinetic:`,
 `potential:`), found only when there is a problem (one element at a time).
+
+F (M q'' = F) is checked when it is first computed (`Derivation.forcing`, on first use),
+with the same message: every output that computes in doubles reads F (generated code,
+runs, linearize, equilibria...), so each refuses such a spec as before, with the
+located exit-2 error every command gives a `LagcliError`; `lagcli check` computes F
+to refuse it too. A derive report never computes F: it prints M, V, Q' and what it
+rebuilds from them (lagcli/report/display.py) as exact numbers in text, never as
+doubles, so a constant of F beyond the double range there (V = 1e299 x^100 printed with
+its force -1e301 x^99) is printed exactly, not wrongly; checking F for it would cost
+computing F, most of what the report is spared.
 """
 from __future__ import annotations
 
@@ -35,23 +45,31 @@ def refuse_unrepresentable(d) -> None:
     identically, or holds a constant beyond double precision."""
     if _all_representable(d):
         return
-    problems = _problems(d, _quantities(d))
-    if not problems:           # M and F are made of T, V and Q': checked when those pass
-        problems = _problems(d, _matrices(d))
+    problems = _problems(d.model, _quantities(d))
+    if not problems:           # M is made of T: checked when T passes
+        problems = _problems(d.model, _rows("the mass matrix's row of {}", d.mass_matrix, d.model))
+    if problems:
+        raise SpecError(problems)
+
+
+def refuse_unrepresentable_forcing(model, F: sp.MatrixBase) -> None:
+    """SpecError naming each force F_i of `model`'s equations (F just computed) that holds a
+    constant beyond double precision (F is made of T, V and Q', checked before)."""
+    problems = _problems(model, _rows("the force F_{} of its equation", F, model))
     if problems:
         raise SpecError(problems)
 
 
 def _all_representable(d) -> bool:
     """True when no quantity holds a problem: the leaves of all of them, in one walk (T holds
-    M's entries and F shares T's parts: walking each quantity apart walked M three times).
+    M's entries: walking each quantity apart walked M twice).
     Each quantity's leaves are among these, so a problem of one is a problem here."""
-    values = [value for _, value, _ in _quantities(d)] + [d.mass_matrix, d.forcing]
+    values = [value for _, value, _ in _quantities(d)] + [d.mass_matrix]
     leaves = _leaves(values)
     return not any(s in leaves for s in _NOT_FINITE) and out_of_range(None, leaves) is None
 
 
-def _problems(d, quantities) -> list[Problem]:
+def _problems(model, quantities) -> list[Problem]:
     problems = []
     for what, value, loc in quantities:
         leaves = _leaves(value)
@@ -62,7 +80,7 @@ def _problems(d, quantities) -> list[Problem]:
             continue
         constant = out_of_range(value, leaves)
         if constant is not None:
-            problems.append(Problem(_culprit(d.model, what, loc), f"{what} holds the constant {_short(constant)}, "
+            problems.append(Problem(_culprit(model, what, loc), f"{what} holds the constant {_short(constant)}, "
                                     f"{_why(constant)}", _HINT_RANGE))
     return problems
 
@@ -109,13 +127,11 @@ def _quantities(d):
                spec.loc or model.loc("constraints"))
 
 
-def _matrices(d):
-    """(what, row, where) of M and F, row by row when one holds a problem."""
-    model = d.model
-    for what, matrix in (("the mass matrix's row of {}", d.mass_matrix), ("the force F_{} of its equation", d.forcing)):
-        if out_of_range(matrix) is not None:      # rare: only then row by row, for the location
-            yield from ((what.format(q.name), matrix.row(i), model.loc(f"coordinates[{i}]"))
-                        for i, q in enumerate(model.q))
+def _rows(what: str, matrix, model):
+    """(what, row, where) of a matrix (M or F), row by row when it holds a problem."""
+    if out_of_range(matrix) is not None:      # rare: only then row by row, for the location
+        yield from ((what.format(q.name), matrix.row(i), model.loc(f"coordinates[{i}]"))
+                    for i, q in enumerate(model.q))
 
 
 def _culprit(model, what: str, where):

@@ -67,11 +67,8 @@ class Derivation:
     L: sp.Expr
     mass_matrix: sp.ImmutableMatrix          # n x n
     t1_coefficients: sp.ImmutableMatrix      # n x 1, the a_i of T1 = a . q'
-    # forces
-    generalized_forces: sp.ImmutableMatrix   # n x 1, total Q_j by virtual work (= -dV/dq + Q')
+    # forces (F, the equations and the total generalized forces: computed on first use, below)
     nonconservative_forces: sp.ImmutableMatrix  # n x 1, Q'_j (applied forces not in V)
-    forcing: sp.ImmutableMatrix              # F, so that M q'' = F + A^T lambda
-    equations: tuple[Equation, ...]
     # constraints
     constraints: tuple[ConstraintRow, ...]
     constraint_matrix: sp.ImmutableMatrix    # A, m x n (0 x n when unconstrained)
@@ -88,6 +85,49 @@ class Derivation:
     scleronomic: bool
     no_jacobi_reason: str | None = None      # why there is no Jacobi integral, in words
     events: tuple = ()                       # lagcli.derive.event_functions.EventFunction per spec event
+    input_laws: tuple = ()                   # (input symbol, law) substituted into F: the closed loop
+
+    # F and what is made of it are computed on first use: a report rebuilds what it prints
+    # from M, a, T0, V and Q' (lagcli/report/display.py) and never reads them, and F is a
+    # quarter of the derivation's time at 40 links. They depend on the fields above only.
+    @functools.cached_property
+    def _potential_gradient(self) -> list[sp.Expr]:
+        """dV/dq, in F and in the generalized forces."""
+        from lagcli.derive.forcing import potential_gradient
+
+        return potential_gradient(self.model, self.V)
+
+    @functools.cached_property
+    def _open_loop_forcing(self) -> sp.ImmutableMatrix:
+        """F with the inputs as symbols, refused when a constant is beyond double precision."""
+        from lagcli.derive.forcing import forcing
+        from lagcli.derive.representable import refuse_unrepresentable_forcing
+
+        F = forcing(self.model, self.nonconservative_forces, self._potential_gradient)
+        refuse_unrepresentable_forcing(self.model, F)
+        return F
+
+    @functools.cached_property
+    def forcing(self) -> sp.ImmutableMatrix:
+        """F, so that M q'' = F + A^T lambda (n x 1); `input_laws` substituted (closed_loop.py)."""
+        F = self._open_loop_forcing
+        return sp.ImmutableMatrix(F.xreplace(dict(self.input_laws))) if self.input_laws else F
+
+    @functools.cached_property
+    def equations(self) -> tuple[Equation, ...]:
+        """M q'' - F = A^T lambda, one per coordinate (F with the inputs as symbols)."""
+        from lagcli.derive.forcing import equation_lhs
+
+        lhs = equation_lhs(self.mass_matrix, self._open_loop_forcing, self.model.qdd)
+        return tuple(Equation(q, lhs_i, C) for q, lhs_i, C
+                     in zip(self.model.q, lhs, self.generalized_constraint_forces))
+
+    @functools.cached_property
+    def generalized_forces(self) -> sp.ImmutableMatrix:
+        """n x 1, the total Q_j by virtual work: Q' - dV/dq."""
+        from lagcli.derive.forcing import total_generalized_forces
+
+        return total_generalized_forces(self.nonconservative_forces, self._potential_gradient)
 
     # Whether Q' has a potential is for reports only: searched on first use (it may integrate).
     @functools.cached_property
