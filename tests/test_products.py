@@ -33,3 +33,24 @@ def test_product_is_sympys_mul():
         ours, theirs = product(*factors), sp.Mul(*factors)
         assert product(1, factors[0]) == sp.Mul(1, factors[0])
         assert ours == theirs and ours.args == theirs.args and type(ours) is type(theirs), factors
+
+
+def test_products_of_small_calls_are_sympys_mul():
+    """Factors that are small but not made of leaves (cos(q1 - q2), sin(2*q3 - q10)**2: keyed
+    whole by `leaf_key`), several of one class in a product, are ordered as sympy's Mul orders them."""
+    rng = random.Random(20261128)
+    qs = sp.symbols("q1 q2 q3 q10 q11 q20", real=True)
+    others = list(sp.symbols("l1 l2 l10 m2 q1_dot q2_ddot", real=True)) + [sp.Add(*sp.symbols("m2 m3 m10"))]
+
+    def call():
+        x, y = rng.sample(qs, 2)
+        angle = rng.choice([x - y, x + y, 2 * x - y, x, -x + 3 * y])
+        found = rng.choice([sp.sin, sp.cos])(angle)
+        return found ** rng.choice([1, 1, 2, -1]) if rng.random() < 0.3 else found
+    for _ in range(2000):
+        factors = [call() for _ in range(rng.randint(1, 4))] + rng.sample(others, rng.randint(0, 4))
+        if rng.random() < 0.3:
+            factors.append(rng.choice([sp.Integer(-1), sp.Rational(1, 2), sp.Integer(3)]))
+        rng.shuffle(factors)
+        ours, theirs = product(*factors), sp.Mul(*factors)
+        assert ours == theirs and ours.args == theirs.args and type(ours) is type(theirs), factors

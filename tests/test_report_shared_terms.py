@@ -55,13 +55,14 @@ def test_signed_sum_with_remembered_pieces_is_the_direct_sum(index_sets, order):
 @given(index_sets=st.lists(indices, min_size=2, max_size=4))
 def test_ordered_terms_with_remembered_buckets_are_the_direct_terms(index_sets):
     made: dict = {}
+    places: dict = {}
     tidy = display_form
     for index_set in index_sets:
         i, j, k = index_set
         buckets = {qd[i] ** 2: _terms(index_set)[1], qd[i] * qd[j]: _terms(index_set)[0],
                    qd[k]: c[k] * m[i] - c[j] * m[i], sp.S.One: _terms(index_set)[4] + c[i] * sp.sin(q[j])}
         for sign in (1, -1):
-            shared = ordered_terms(buckets, qd, tidy, sign=sign, made=made)
+            shared = ordered_terms(buckets, qd, tidy, sign=sign, made=made, places=places)
             direct = ordered_terms(buckets, qd, tidy, sign=sign)
             assert [sp.srepr(t) for t in shared] == [sp.srepr(t) for t in direct]
 

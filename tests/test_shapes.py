@@ -141,7 +141,7 @@ def test_generated_code_tidied_by_shape_is_each_expression_tidied(tmp_path, n):
 
 
 def test_a_renamed_call_is_the_node_sympy_builds():
-    from lagcli.render.shapes import trig_node
+    from lagcli.model.angle_calls import trig_node
 
     a, b = sp.symbols("a b", real=True)
     for function in (sp.sin, sp.cos):

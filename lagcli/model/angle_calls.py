@@ -11,13 +11,20 @@ and the leading term negative, the leading term being the one with the first sym
 sympy's order (its name; `lagcli.targets.minus_sign` makes the same argument for any sum).
 So `trig_call(sp.cos, q2 - q1)` is `cos(q1 - q2)` and `trig_call(sp.sin, q2 - q1)` is
 `-sin(q1 - q2)`, the very objects sympy returns (tests/test_angle_calls.py compares them).
-Any other argument goes to sympy.
+The call is built as `trig_node` builds it, not by sympy's unevaluated constructor (its
+cache lookup and a new FiniteSet for `nargs`: a 40-link chain's report builds 780 cosines
+and 780 sines of angle differences), and remembered: a call asked for again is the same
+object, as sympy's cache gives it. Any other argument goes to sympy.
 """
 from __future__ import annotations
 
 import sympy as sp
+from sympy.core.basic import Basic
 
 TRIG = (sp.sin, sp.cos)
+_NARGS = {f: f(sp.Symbol("x"), evaluate=False).nargs for f in TRIG}     # FiniteSet(1), immutable
+_CALLS: dict = {}        # (function, plain angle) -> its call (`trig_call`), bounded
+_CALLS_KEPT = 1 << 16
 
 
 def trig_call(function, arg) -> sp.Expr:
@@ -26,9 +33,29 @@ def trig_call(function, arg) -> sp.Expr:
     if sign is None:
         return function(arg)
     if sign > 0:
-        return function(arg, evaluate=False)
-    positive = function(-arg, evaluate=False)
+        return _remembered_node(function, arg)
+    positive = _remembered_node(function, -arg)
     return positive if function is sp.cos else -positive
+
+
+def trig_node(function, arg) -> sp.Expr:
+    """`function(arg, evaluate=False)` for sin or cos: the node sympy's `Application.__new__`
+    builds (its arguments, its `nargs`), without that constructor's cache lookup and its
+    new FiniteSet for `nargs`."""
+    node = Basic.__new__(function, arg)
+    node.nargs = _NARGS[function]
+    return node
+
+
+def _remembered_node(function, arg) -> sp.Expr:
+    """`trig_node(function, arg)`, one object for each call."""
+    key = (function, arg)
+    found = _CALLS.get(key)
+    if found is None:
+        if len(_CALLS) >= _CALLS_KEPT:
+            _CALLS.clear()
+        found = _CALLS[key] = trig_node(function, arg)
+    return found
 
 
 def _plain_sign(arg) -> int | None:

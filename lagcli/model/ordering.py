@@ -27,6 +27,7 @@ import functools
 from sympy.core.basic import Basic, _args_sortkey as _COMPARE_KEY, ordering_of_classes
 
 FEW = 8        # lists up to this long of leaf-like expressions are sorted by their keys at once
+SMALL = 12     # nodes: an expression this small has a `leaf_key` even when it is not made of leaves
 _UNKNOWN = len(ordering_of_classes) + 1        # `_cmp_name`'s place of an unlisted class
 _PLACE: dict = {}
 for _k, _name in enumerate(ordering_of_classes):
@@ -160,9 +161,11 @@ def _sort_one_class(args: list) -> None:
 
 
 def leaf_key(expr: Basic) -> tuple | None:
-    """`sort_key(expr)` of an expression of leaves (`_shallow`), None for a bigger one or
+    """`sort_key(expr)` of an expression of leaves (`_shallow`) or a small one (at most
+    SMALL nodes: cos(q1 - q2), which a chain's report multiplies thousands of times; a
+    product with an unkeyed factor is sorted class by class), None for a bigger one or
     one without a key: what `sort_args` orders a few such expressions by."""
-    if not _shallow(expr):
+    if not (_shallow(expr) or _nodes_left(expr, SMALL) >= 0):
         return None
     try:
         return sort_key(expr)
@@ -181,6 +184,16 @@ def _pair_out_of_order(a: Basic, b: Basic) -> bool:
         except (NoKey, TypeError):    # TypeError: items of different kinds at one place
             pass
     return b.compare(a) < 0
+
+
+def _nodes_left(expr: Basic, budget: int) -> int:
+    """budget less the number of nodes of expr; negative (not all counted) when it has more."""
+    budget -= 1
+    for arg in expr.args:
+        if budget < 0:
+            break
+        budget = _nodes_left(arg, budget)
+    return budget
 
 
 def _shallow(expr: Basic) -> bool:

@@ -23,9 +23,8 @@ import functools
 from collections.abc import Callable
 
 import sympy as sp
-from sympy.core.basic import Basic
 
-TRIG = (sp.sin, sp.cos)
+from lagcli.model.angle_calls import TRIG, trig_node
 
 
 class Shapes:
@@ -114,18 +113,6 @@ def renamed(expr: sp.Expr, rule: dict, nodes: dict, memo: dict | None = None) ->
             found = expr.func(*args, evaluate=False)
         found = memo[expr] = nodes.setdefault(found, found)
     return found
-
-
-_NARGS = {f: f(sp.Symbol("x"), evaluate=False).nargs for f in TRIG}     # FiniteSet(1), immutable
-
-
-def trig_node(function, arg) -> sp.Expr:
-    """`function(arg, evaluate=False)` for sin or cos: the node sympy's `Application.__new__`
-    builds (its arguments, its `nargs`), without that constructor's cache lookup and its
-    new FiniteSet for `nargs` (most of the time of renaming a chain's M entry back)."""
-    node = Basic.__new__(function, arg)
-    node.nargs = _NARGS[function]
-    return node
 
 
 def _plain(expr, symbols: set, seen: set) -> bool:

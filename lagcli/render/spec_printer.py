@@ -19,17 +19,31 @@ class SpecPrinter(RememberedPrecedence, StrPrinter):
     """`remember`: keep the string of every subexpression printed and every precedence
     found (`RememberedPrecedence`), for a printer that prints many expressions sharing
     parts (a report of a 40-link chain prints the same sums of masses thousands of times,
-    and its products' factors recur in thousands of terms). A subexpression prints the
-    same wherever it stands (the parentheses around it are its parent's), so the bytes do
-    not change. Without `remember` (the printer `spec_str` keeps for the process) nothing
-    is kept."""
+    and its products' factors recur in thousands of terms), and every factor's text in its
+    parent's parentheses (`parenthesize`). A subexpression prints the same wherever it
+    stands (the parentheses around it are its parent's), so the bytes do not change.
+    Without `remember` (the printer `spec_str` keeps for the process) nothing is kept."""
     _default_settings = {**StrPrinter._default_settings, "order": "none"}
 
     def __init__(self, settings=None, remember: bool = False):
         super().__init__(settings)
         self._memo: dict | None = {} if remember else None
+        self._parenthesized: dict | None = {} if remember else None     # (item, level, strict) -> text
         if not remember:
             self._precedences = None
+
+    def parenthesize(self, item, level, strict=False) -> str:
+        """sympy's `parenthesize` (`RememberedPrecedence`'s), each answer remembered with
+        `remember`: a product's factors are printed inside thousands of products (one call
+        here instead of three, each with its own lookup)."""
+        memo = self._parenthesized
+        if memo is None:
+            return super().parenthesize(item, level, strict)
+        key = (item, level, strict)
+        found = memo.get(key)
+        if found is None:
+            found = memo[key] = super().parenthesize(item, level, strict)
+        return found
 
     def _print(self, expr, **kwargs) -> str:
         memo = self._memo

@@ -657,6 +657,7 @@ def pull_signs(expr, memo: dict | None = None) -> sp.Expr:
 _UNCHANGED = object()
 
 
+@functools.lru_cache(maxsize=1 << 15)    # a chain's sums of masses stand in thousands of its reports' terms
 def _mostly_negative(add) -> bool:
     """More negative terms than positive ones, or as many and the leading one negative."""
     signs = [term.could_extract_minus_sign() for term in add.args]

@@ -39,7 +39,7 @@ def rate(expr, var, memo: dict, rates: dict) -> sp.Expr:
     if not isinstance(expr, sp.Basic) or var not in calculus.free_symbols(expr, memo):
         return sp.S.Zero
     if isinstance(expr, TRIG):       # calculus.derivative's rule, f'(u) formed once for every variable
-        return product(_outer_rate(expr, rates), rate(expr.args[0], var, memo, rates))
+        return _times_rate(_outer_rate(expr, rates), rate(expr.args[0], var, memo, rates))
     if not (expr.is_Add or expr.is_Mul):
         return calculus.derivative(expr, var, memo)
     key = (expr, var)
@@ -64,6 +64,23 @@ def _outer_rate(call, rates: dict) -> sp.Expr:
         arg = call.args[0]
         found = rates[key] = trig_call(sp.cos, arg) if isinstance(call, sp.sin) else -trig_call(sp.sin, arg)
     return found
+
+
+def _times_rate(outer, inner) -> sp.Expr:
+    """product(outer, inner) for f'(u) (`_outer_rate`), at once for the inner rates 1 and -1
+    of an angle q_i - q_j: outer itself (sympy's, so already in its canonical form), or a
+    call c or -c negated as sympy negates it (-(-sin(u)) is sin(u), -cos(u) is -1 times
+    cos(u), as product builds them)."""
+    if inner is sp.S.One:
+        return outer
+    if inner is sp.S.NegativeOne and (isinstance(outer, TRIG) or _negated_call(outer)):
+        return -outer
+    return product(outer, inner)
+
+
+def _negated_call(expr) -> bool:
+    """expr is -1 times a sin or cos call."""
+    return expr.is_Mul and len(expr.args) == 2 and expr.args[0] is sp.S.NegativeOne and isinstance(expr.args[1], TRIG)
 
 
 def one_factor_derivative(expr, var, memo: dict, rates: dict | None = None) -> sp.Expr | None:

@@ -32,6 +32,7 @@ from lagcli.model.products import product
 from lagcli.model.sums import negated_terms, total
 from lagcli.derive.result import Derivation
 from lagcli.report.derivatives import derivative
+from lagcli.render.dot_products import folded_dot_product
 from lagcli.render.shapes import Shapes
 from lagcli.render.tidy import DISPLAY_MAX_NODES, display_form, expandable, pull_signs, small, sum_of_symbols
 from lagcli.render.weighted import flat_weighted_sum, weighted_display_form, weighted_sum
@@ -64,15 +65,23 @@ def signed_sum(terms: Sequence[sp.Expr], print_expr: Callable[[sp.Expr], str],
 
 def _signed_piece(term: sp.Expr, print_expr: Callable[[sp.Expr], str]) -> tuple[bool, str]:
     """(negative, the term's magnitude printed, in parentheses when a sum)."""
-    if type(term) is sp.Mul:     # Mul.could_extract_minus_sign, its -term built once (it builds one to compare)
-        negated = -term
-        negative = term != negated and term.args[0].is_Number and term.args[0].is_extended_negative
+    if type(term) is sp.Mul:     # Mul.could_extract_minus_sign, its -term built once (it builds one to
+        leading = term.args[0]   # compare), and only for a negative leading number (else: not negative)
+        negated = -term if leading.is_Number and leading.is_extended_negative else term
+        negative = negated is not term and term != negated
         shown = negated if negative else term
     else:
         negative = term.could_extract_minus_sign()
         shown = -term if negative else term
     body = print_expr(shown)
     return negative, f"({body})" if shown.is_Add else body
+
+
+def _tidies_to_itself(expr, cache: dict) -> bool:
+    """`Display.tidy(expr)` is known to be expr: neither a sum nor a product (`_tidy_tree`
+    leaves those as they are: sin(q1 - q2), new in each derivative of M), or one tidied
+    to itself before."""
+    return not (expr.is_Add or expr.is_Mul) or cache.get(expr) is expr
 
 
 def split(expr: sp.Expr) -> Terms:
@@ -92,21 +101,20 @@ class Display:
         self._flat_sums: dict = {}       # sum -> flat_weighted_sum(sum)
         self._parts: dict = {}
         self._signs: dict = {}
-        self._free_symbols: dict = {}   # of every subexpression differentiated (calculus.free_symbols)
+        self._free_symbols: dict = {}   # of M's entries and every subexpression differentiated (calculus.free_symbols)
         self._differentiated: dict = {}  # (expr, var) -> d expr / d var
         self._rates: dict = {}           # (expr, var) -> d expr / d var of their parts (`derivatives.rate`)
         self._merged: dict = {}          # (i, names) -> the terms of the parts `names` of equation i
-        self._bucket_terms: dict = {}    # (monomial, coefficient, sign) -> its terms (`ordered_terms`)
+        self._bucket_terms: dict = {}    # (monomial, coefficient, sign) -> its terms, moving or not (`ordered_terms`)
+        self._places: dict = {}          # monomial -> its place among an equation's terms (`ordered_terms`)
         self._monomials: dict = {}       # (j, l) -> q'_j q'_l
         self._tidy_on = simplify
         self._tidy_by_shape = Shapes(functools.partial(self._tidy_tree, sized=True))
         n = self.n
         upper = {(i, j): self.tidy(d.mass_matrix[i, j]) for i in range(n) for j in range(i, n)}
         self.M = [[upper[min(i, j), max(i, j)] for j in range(n)] for i in range(n)]
-        self._free = {key: entry.free_symbols for key, entry in upper.items()}
-        self._derivatives: dict = {}
-        self._mentions: dict = {}               # (i, j), i <= j -> indices of the coordinates M_ij mentions
-        self._mentioning: list | None = None    # k -> the entries (i, j) that mention q_k
+        self._free = {key: calculus.free_symbols(entry, self._free_symbols) for key, entry in upper.items()}
+        self._derivatives: dict = {}     # (i, j, k), i <= j -> dM_ij/dq_k (`_dM`)
         self.a = [self.tidy(e) for e in d.t1_coefficients]
         self.T0 = self.tidy(d.T0)
         self.V = self.tidy(d.V)
@@ -131,8 +139,10 @@ class Display:
         cache = self._cache
         found = cache.get(expr)
         if found is None:
-            if expr.is_Mul and all(cache.get(a) is a for a in expr.args):
+            if expr.is_Mul and all(_tidies_to_itself(a, cache) for a in expr.args):
                 found = expr       # what _tidy_tree finds for a product of tidy factors (a derivative of M_ij)
+            elif expr.is_Add and (folded := folded_dot_product(expr)) is not None:
+                found = folded     # what _tidy_tree finds for a chain's dot product, found directly
             elif expr.is_Add and self._by_shape(expr, sized):
                 found = self._tidy_by_shape(expr)   # the steps of the last sum of its shape
             else:
@@ -253,25 +263,31 @@ class Display:
 
     # -- equations of motion ---------------------------------------------------------------
 
-    def _dM(self, i: int, j: int, var) -> sp.Expr:
-        """dM_ij/d var, each computed once (the velocity terms ask for most of them n times)."""
-        key = (min(i, j), max(i, j), var)
-        if key not in self._derivatives:
-            if var not in self._free[key[:2]]:
-                return sp.S.Zero
-            self._derivatives[key] = self.differentiate(self.M[i][j], var)
-        return self._derivatives[key]
+    def _dM(self, i: int, j: int, k: int) -> sp.Expr:
+        """dM_ij/dq_k, each computed once (the velocity terms ask for most of them n times),
+        kept under the indices (a tuple of ints hashes in C, a symbol's hash is a Python call)."""
+        key = (i, j, k) if i <= j else (j, i, k)
+        found = self._derivatives.get(key)
+        if found is None:
+            mentioned = k in self._mentions[key[:2]]
+            found = self._derivatives[key] = self.differentiate(self.M[i][j], self.q[k]) if mentioned else sp.S.Zero
+        return found
+
+    def _dM_dt(self, i: int, j: int) -> sp.Expr:
+        """dM_ij/dt (0 when M_ij does not mention t: always, for a scleronomic system)."""
+        entry = (i, j) if i <= j else (j, i)
+        return self.differentiate(self.M[i][j], self.t) if self.t in self._free[entry] else sp.S.Zero
 
     def velocity_buckets(self, i: int) -> dict:
         """c_i grouped by monomial: {q'_j q'_l: C_ijl} (see the module docstring), over
         the pairs (j, l) where a derivative in C_ijl can be nonzero (`_velocity_pairs`)."""
-        q, zero = self.q, sp.S.Zero
+        zero = sp.S.Zero
         out = {}
         for j, l in self._velocity_pairs(i):
             if j == l:
-                parts = (self._dM(i, j, q[j]), _negated(self._dM(j, j, q[i]), half=True))
+                parts = (self._dM(i, j, j), _negated(self._dM(j, j, i), half=True))
             else:
-                parts = _cancelled(self._dM(i, j, q[l]), self._dM(i, l, q[j]), self._dM(j, l, q[i]))
+                parts = _cancelled(self._dM(i, j, l), self._dM(i, l, j), self._dM(j, l, i))
             nonzero = [part for part in parts if part is not zero]
             if nonzero:      # sympy's Add drops zeros and returns a single term itself
                 coefficient = nonzero[0] if len(nonzero) == 1 else sp.Add(*nonzero)
@@ -291,18 +307,26 @@ class Display:
         """The pairs j <= l, in order, for which d_l M_ij, d_j M_il or d_i M_jl may be nonzero
         (the entry mentions that coordinate): ~n pairs per equation of a chain, whose
         entries mention two coordinates each, instead of all n^2 / 2."""
-        if self._mentioning is None:
-            index = {qk: k for k, qk in enumerate(self.q)}
-            self._mentions = {key: [index[s] for s in free if s in index] for key, free in self._free.items()}
-            self._mentioning = [[] for _ in range(self.n)]
-            for key, ks in self._mentions.items():
-                for k in ks:
-                    self._mentioning[k].append(key)
         pairs = set(self._mentioning[i])                            # d_i M_jl
         for other in range(self.n):                                 # d_l M_ij and d_j M_il
             for k in self._mentions[min(i, other), max(i, other)]:
                 pairs.add((min(other, k), max(other, k)))
         return sorted(pairs)
+
+    @functools.cached_property
+    def _mentions(self) -> dict:
+        """(i, j), i <= j -> the indices of the coordinates M_ij mentions."""
+        index = {qk: k for k, qk in enumerate(self.q)}
+        return {key: frozenset(index[s] for s in free if s in index) for key, free in self._free.items()}
+
+    @functools.cached_property
+    def _mentioning(self) -> list:
+        """k -> the entries (i, j), i <= j, that mention q_k."""
+        mentioning = [[] for _ in range(self.n)]
+        for key, ks in self._mentions.items():
+            for k in ks:
+                mentioning[k].append(key)
+        return mentioning
 
     def parts(self, i: int) -> dict[str, dict]:
         if i not in self._parts:
@@ -313,7 +337,7 @@ class Display:
         """The explicit form's terms of equation i, each {velocity monomial (1 for none): coefficient}:
         c, M_t q', gamma q', a_t, dV/dq - dT0/dq and -Q'."""
         qd, t, q = self.qd, self.t, self.q
-        mass_rate = {v: self._dM(i, j, t) for j, v in enumerate(qd)}
+        mass_rate = {v: self._dM_dt(i, j) for j, v in enumerate(qd)}
         gyroscopic = {v: g for v, g in zip(qd, self.gyroscopic[i])}
         a_t = self.differentiate(self.a[i], t)
         position = difference(self.differentiate(self.V, q[i]), self.differentiate(self.T0, q[i]))
@@ -352,40 +376,54 @@ class Display:
     def _ordered(self, buckets: dict) -> Terms:
         """Terms of degree 2 in q', then 1, then others depending on q', then free of q' (`ordered_terms`)."""
         return ordered_terms(buckets, self.qd, self.tidy_assembled, self.signs, 1, self._free_symbols,
-                             self._bucket_terms)
+                             self._bucket_terms, self._places)
 
 
 def ordered_terms(buckets: dict, velocities: Sequence, tidy: Callable, signs: Callable = pull_signs,
-                  sign: int = 1, memo: dict | None = None, made: dict | None = None) -> Terms:
+                  sign: int = 1, memo: dict | None = None, made: dict | None = None,
+                  places: dict | None = None) -> Terms:
     """The terms of an equation without its q'' terms, in the lecture notes' order, from
     {velocity monomial (1 for none): coefficient}: degree 2 in q', then 1 (by coordinate),
     then others depending on q', then free of q'. Each coefficient (times `sign`) is
     tidied by `tidy` and its sign pulled out by `signs`; the coefficient of 1 gives one
     term per summand. The derive report's equations and the Routh reduction's use this.
-    `made` remembers the terms of each (monomial, coefficient, sign) (`bucket_terms`):
-    the equations, F and the explicit form's parts share their coefficients."""
+    `made` remembers the terms of each (monomial, coefficient, sign) (`bucket_terms`) and
+    which of them mention a velocity, `places` each monomial's place (both for one list
+    of velocities): the equations, F and the explicit form's parts share their coefficients."""
     index = {v: k for k, v in enumerate(velocities)}
     memo = {} if memo is None else memo
     made = {} if made is None else made
+    places = {} if places is None else places
 
     def key(monomial):
-        powers = monomial.as_powers_dict()
-        if all(base in index and e.is_Integer for base, e in powers.items()) or monomial == 1:
-            degree = sum(int(e) for base, e in powers.items() if base in index)
-            indices = tuple(sorted(index[b] for b, e in powers.items() if b in index for _ in range(int(e))))
-            return (0, -degree, indices, "")
-        return (1, 0, (), sp.default_sort_key(monomial))   # not a monomial in q': after them
+        found = places.get(monomial)
+        if found is None:
+            found = places[monomial] = _place(monomial, index)
+        return found
 
+    moving_set = set(velocities)
     out: Terms = []
+    moving: list = []
     for monomial in sorted(buckets, key=key):
         entry = (monomial, buckets[monomial], sign)
         found = made.get(entry)
         if found is None:
-            found = made[entry] = bucket_terms(monomial, buckets[monomial], tidy, signs, sign)
-        out.extend(found)
-    moving_set = set(velocities)
-    moving = [not calculus.free_symbols(term, memo).isdisjoint(moving_set) for term in out]
+            terms = bucket_terms(monomial, buckets[monomial], tidy, signs, sign)
+            found = made[entry] = (terms, [not calculus.free_symbols(t, memo).isdisjoint(moving_set) for t in terms])
+        out.extend(found[0])
+        moving.extend(found[1])
     return [term for term, m in zip(out, moving) if m] + [term for term, m in zip(out, moving) if not m]
+
+
+def _place(monomial, index: dict) -> tuple:
+    """The sort key of a monomial in `ordered_terms`: by degree in the velocities (`index`:
+    velocity -> its coordinate's index), then by coordinates; anything else after them."""
+    powers = monomial.as_powers_dict()
+    if all(base in index and e.is_Integer for base, e in powers.items()) or monomial == 1:
+        degree = sum(int(e) for base, e in powers.items() if base in index)
+        indices = tuple(sorted(index[b] for b, e in powers.items() if b in index for _ in range(int(e))))
+        return (0, -degree, indices, "")
+    return (1, 0, (), sp.default_sort_key(monomial))   # not a monomial in q': after them
 
 
 def bucket_terms(monomial, coefficient, tidy: Callable, signs: Callable, sign: int) -> Terms:
