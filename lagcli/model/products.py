@@ -22,7 +22,7 @@ from sympy.functions.elementary.exponential import ExpBase
 
 from lagcli.model.ordering import class_key, leaf_key, sort_keyed
 
-_ONE = sp.S.One
+_ONE, _ZERO = sp.S.One, sp.S.Zero
 
 
 def product(*factors) -> sp.Expr:
@@ -50,10 +50,11 @@ def product(*factors) -> sp.Expr:
             plain.append(part)
             bases.append(found[0])
             keys.append(found[1])
-    if number == 0 or len(set(bases)) != len(bases) or (len(plain) == 1 and plain[0].is_Add):
+    # a product of rational numbers is sympy's singleton 0 or 1 when it is one: compared by identity
+    if number is _ZERO or len(set(bases)) != len(bases) or (len(plain) == 1 and plain[0].is_Add):
         return sp.Mul(*factors)
     sort_keyed(plain, keys)      # `Mul.flatten`'s order
-    args = plain if number == 1 else [number, *plain]
+    args = plain if number is _ONE else [number, *plain]
     if len(args) == 1:
         return args[0]
     return sp.Mul._from_args(args, True) if args else sp.S.One
