@@ -45,7 +45,7 @@ def derive(model: Model) -> Derivation:
     probe = LagrangianProbe(M, a, e.T0, e.V)
     ignorable = ignorable_coordinates(model, probe, Q_applied, rows)
     no_jacobi = jacobi_obstacle(model, probe, Q_applied, rows)
-    h = None if no_jacobi else jacobi_integral(model, T2, e.T0, e.V, probe.memo)
+    h = None if no_jacobi else jacobi_integral(model, T2, e.T0, e.V, probe)
     energy = total([T, e.V])
     energy_is_jacobi = h is not None and numerically_zero([T1 + 2 * e.T0])
     return Derivation(
