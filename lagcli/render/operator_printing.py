@@ -12,7 +12,10 @@ remembers the answer per expression (unless the printer sets `_precedences` to N
 printer kept for the whole process) and gives the answer of a product without a leading
 number directly (it cannot be negative). A printer whose sympy class prints sums or
 products its own way (Octave's `_print_Mul`, Rust's both, StrPrinter's `_print_Mul`) keeps
-that: the mixin defers to it (`_generic`). tests/test_operator_printing.py compares the
+that: the mixin defers to it (`_generic`). The spec language's product of factors that
+are neither numbers nor powers with a negative exponent or an integer base (a report's
+term) is its factors' texts joined by '*' at once: StrPrinter's sign, number and
+denominator walk does nothing else with them. tests/test_operator_printing.py compares the
 text with sympy's printers on random expressions.
 """
 from __future__ import annotations

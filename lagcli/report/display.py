@@ -13,7 +13,9 @@ derivation at random states):
 
 An expression is a list of terms in the order the lecture notes write them (q''
 terms first, then velocity terms by degree, then terms free of q'); the printers
-join them with signs pulled out (`signed_sum`). The velocity terms of equation i
+join them with signs pulled out (`signed_sum`); a term that is a tidied coefficient times
+velocities has its signs pulled out without a walk when that is known to keep it
+(`signed_product`). The velocity terms of equation i
 are grouped by monomial q'_j q'_l, with coefficients from the derivatives of the
 tidied M (the Christoffel symbols of the notes' explicit form):
 
