@@ -111,3 +111,32 @@ def test_spec_printer_prints_what_sympys_str_printer_prints(exprs):
     for expr in [*exprs, sp.Mul(*exprs), -sp.Add(*exprs), *(-e for e in exprs)]:
         assert spec_str(expr) == reference.doprint(expr), expr
         assert remembering(expr) == reference.doprint(expr), expr
+
+
+def test_spec_printer_prints_plain_products_as_sympys_str_printer():
+    """Products of symbols, their powers, calls and sums, without a number (a report's terms:
+    l1*l7*q7_dot**2*(m7 + m8)*sin(q1 - q7), printed factor by factor), and the same products
+    with a number, a negative or fractional power or an integer base among them, against
+    sympy's StrPrinter, on seeded random products."""
+    import random
+
+    from lagcli.render.spec_printer import remembering_spec_str, spec_str
+
+    names = sp.symbols("q1 q2 q10 m1 m2 m10 l1 l2 g x_b Z", real=True)
+    reference = StrPrinter({"order": "none"})
+    remembering = remembering_spec_str()
+    for seed in range(400):
+        rng = random.Random(seed)
+
+        def factor():
+            s = rng.choice(names)
+            return rng.choice([s, s, s ** rng.choice([2, 3, -1, -2, sp.S.Half, -sp.S.Half]), sp.sin(s - rng.choice(names)),
+                               sp.cos(s), s + rng.choice(names) + rng.choice(names), -s + rng.choice(names),
+                               sp.Pow(2, s), sp.Pow(sp.Integer(3), 2, evaluate=False)])
+
+        expr = sp.Mul(*(factor() for _ in range(rng.randint(2, 6))))
+        if rng.random() < 0.3:
+            expr = rng.choice([-1, 2, -sp.Rational(3, 4), sp.pi]) * expr
+        for shown in (expr, sp.Mul._from_args(expr.args) if expr.is_Mul else expr):
+            assert spec_str(shown) == reference.doprint(shown), shown
+            assert remembering(shown) == reference.doprint(shown), shown

@@ -12,7 +12,10 @@ remembers the answer per expression (unless the printer sets `_precedences` to N
 printer kept for the whole process) and gives the answer of a product without a leading
 number directly (it cannot be negative). A printer whose sympy class prints sums or
 products its own way (Octave's `_print_Mul`, Rust's both, StrPrinter's `_print_Mul`) keeps
-that: the mixin defers to it (`_generic`). tests/test_operator_printing.py compares the
+that: the mixin defers to it (`_generic`). The spec language's product of factors that
+are neither numbers nor powers with a negative exponent or an integer base (a report's
+term) is its factors' texts joined by '*' at once: StrPrinter's sign, number and
+denominator walk does nothing else with them. tests/test_operator_printing.py compares the
 text with sympy's printers on random expressions.
 """
 from __future__ import annotations
@@ -115,6 +118,8 @@ class RememberedPrecedence:
         sign of the common coefficients 1 and -1 known without comparing numbers."""
         prec = self.precedence_of(expr)
         args = expr.args
+        if self.order in ('old', 'none') and all(_numerator_factor(a) for a in args):
+            return '*'.join([self.parenthesize(x, prec, strict=False) for x in args])   # a report's term
         if args[0] is S.One or any(isinstance(a, Number) or a.is_Pow and all(ai.is_Integer for ai in a.args)
                                    for a in args[1:]):
             return StrPrinter._print_Mul(self, expr)     # unevaluated: every factor shown as it is
@@ -156,6 +161,18 @@ def _quotient(sign: str, a_str: list, b: list, b_str: list, pow_paren: list) -> 
     if len(b) == 1:
         return sign + '*'.join(a_str) + "/" + b_str[0]
     return sign + '*'.join(a_str) + "/(%s)" % '*'.join(b_str)
+
+
+def _numerator_factor(factor) -> bool:
+    """A factor `_print_str_Mul` prints as it is in the numerator: no number (no sign or
+    denominator to pull out), no power with an integer base or a negative exponent; a
+    product of such factors prints as its factors, in order, joined by '*'."""
+    if isinstance(factor, Number):
+        return False
+    if isinstance(factor, Pow) or factor.is_Pow:
+        exponent = factor.exp
+        return exponent.is_Rational and exponent.p > 0 and not factor.base.is_Integer
+    return True
 
 
 def _negative_exponent(exponent) -> bool:

@@ -293,11 +293,52 @@ def display_form(expr) -> sp.Expr:
 
 def display_steps(expr) -> sp.Expr:
     """`display_form`'s steps on a small expr."""
+    grouped = expr if separate_calls(expr) else _grouped_calls(expr)
+    result = pull_signs(common_factor(grouped))
+    return result if count_ops(result) <= count_ops(expr) else pull_signs(expr)
+
+
+def _grouped_calls(expr) -> sp.Expr:
+    """`display_form`'s steps before the common factors: expand, the Pythagorean identity,
+    angle sums folded, terms grouped by their calls."""
     result = expr if is_expanded(expr) else expand(expr)
     if result.has(sp.sin, sp.cos):
         result = fold_angle_sums(pythagorean(result))
-    result = pull_signs(common_factor(group_by_calls(result)))
-    return result if count_ops(result) <= count_ops(expr) else pull_signs(expr)
+    return group_by_calls(result)
+
+
+def separate_calls(expr) -> bool:
+    """expr is a sum whose every term is a rational number times symbols (and positive
+    integer powers of them) times one sin or cos of a symbol, a different call in each
+    term (the sums of a chain's potential, l1 cos(q1) + ... + lk cos(qk)): `_grouped_calls`
+    gives such a sum back as it is (it is expanded; no sin or cos is squared, no term
+    has two to fold; each group of calls is one term, its coefficient tidy already).
+    tests/test_tidy_separate_calls.py compares both ways."""
+    if not expr.is_Add or not expr.is_commutative:
+        return False
+    calls = set()
+    for term in expr.args:
+        call = _single_call(term)
+        if call is None or call in calls:
+            return False
+        calls.add(call)
+    return True
+
+
+def _single_call(term):
+    """The one factor sin(x) or cos(x), x a symbol, of a term c * symbols * that call; else None."""
+    if not term.is_Mul:
+        return None
+    call = None
+    for factor in term.args:
+        if type(factor) in (sp.sin, sp.cos):
+            if call is not None or not factor.args[0].is_Symbol:
+                return None
+            call = factor
+        elif not (factor.is_Rational or factor.is_Symbol
+                  or (factor.is_Pow and factor.base.is_Symbol and factor.exp.is_Integer and factor.exp > 0)):
+            return None
+    return call
 
 
 def sum_of_symbols(expr) -> bool:

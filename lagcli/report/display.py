@@ -13,7 +13,9 @@ derivation at random states):
 
 An expression is a list of terms in the order the lecture notes write them (q''
 terms first, then velocity terms by degree, then terms free of q'); the printers
-join them with signs pulled out (`signed_sum`). The velocity terms of equation i
+join them with signs pulled out (`signed_sum`); a term that is a tidied coefficient times
+velocities has its signs pulled out without a walk when that is known to keep it
+(`signed_product`). The velocity terms of equation i
 are grouped by monomial q'_j q'_l, with coefficients from the derivatives of the
 tidied M (the Christoffel symbols of the notes' explicit form):
 
@@ -170,6 +172,10 @@ class Display:
         """`pull_signs`, remembering every subexpression's result for this report."""
         return pull_signs(expr, self._signs)
 
+    def signed(self, coefficient, *factors) -> sp.Expr:
+        """`signs` of the product of a tidied coefficient and velocities (`signed_product`)."""
+        return signed_product(coefficient, *factors, signs=self.signs)
+
     def tidy_assembled(self, expr) -> sp.Expr:
         """An expression assembled from tidied parts (a derivative, a sum of them): tidied
         again only when it is small (DISPLAY_MAX_NODES); a big one keeps the form of its
@@ -207,13 +213,13 @@ class Display:
     @functools.cached_property
     def T2(self) -> Terms:
         n, qd, M = self.n, self.qd, self.M
-        terms = [product(M[i][i], qd[i] ** 2, sp.S.Half) for i in range(n)]      # one product each: the same
-        terms += [product(M[i][j], qd[i], qd[j]) for i in range(n) for j in range(i + 1, n)]   # as two in turn
-        return [self.signs(term) for term in terms if term != 0]
+        terms = [self.signed(M[i][i], qd[i] ** 2, sp.S.Half) for i in range(n)]      # one product each: the
+        terms += [self.signed(M[i][j], qd[i], qd[j]) for i in range(n) for j in range(i + 1, n)]   # same as two
+        return [term for term in terms if term != 0]
 
     @functools.cached_property
     def T1(self) -> Terms:
-        return [self.signs(product(a, v)) for a, v in zip(self.a, self.qd) if a != 0]
+        return [self.signed(a, v) for a, v in zip(self.a, self.qd) if a != 0]
 
     @property
     def T(self) -> Terms:
@@ -236,7 +242,7 @@ class Display:
         return self.T2 + [-e for e in split(self.T0)] + split(self.V)
 
     def momentum(self, s: int) -> Terms:
-        terms = [self.signs(product(M_sj, v)) for M_sj, v in zip(self.M[s], self.qd) if M_sj != 0]
+        terms = [self.signed(M_sj, v) for M_sj, v in zip(self.M[s], self.qd) if M_sj != 0]
         return terms + split(self.a[s])
 
     def conserved(self, kind: str, name: str) -> Terms:
@@ -259,7 +265,7 @@ class Display:
 
     def constraint_force(self, i: int) -> Terms:
         """C_i = sum_j lambda_j a_ji."""
-        return [self.signs(product(lam, row[i])) for lam, row in zip(self.d.multipliers, self.A) if row[i] != 0]
+        return [self.signed(row[i], lam) for lam, row in zip(self.d.multipliers, self.A) if row[i] != 0]
 
     # -- equations of motion ---------------------------------------------------------------
 
@@ -361,7 +367,7 @@ class Display:
         return list(found)
 
     def acceleration_terms(self, i: int) -> Terms:
-        return [self.signs(product(M_ij, a)) for M_ij, a in zip(self.M[i], self.qdd) if M_ij != 0]
+        return [self.signed(M_ij, a) for M_ij, a in zip(self.M[i], self.qdd) if M_ij != 0]
 
     def equation(self, i: int) -> Terms:
         """sum_j M_ij q''_j + c_i + (M_t q')_i + (gamma q')_i + a_t,i + dV/dq_i - dT0/dq_i - Q'_i."""
@@ -434,7 +440,27 @@ def bucket_terms(monomial, coefficient, tidy: Callable, signs: Callable, sign: i
         return []
     if monomial == 1:
         return [signs(term) for term in split(coefficient)]
-    return [signs(product(coefficient, monomial))]
+    return [signed_product(coefficient, monomial, signs=signs)]
+
+
+def signed_product(coefficient, *factors, signs: Callable = pull_signs) -> sp.Expr:
+    """signs(product(coefficient, *factors)), `signs` pull_signs (or one remembering its
+    results): the product itself, without pull_signs' walk, when that is known to keep it
+    (`_keeps_signs`): the report's terms, a tidied coefficient times velocities."""
+    term = product(coefficient, *factors)
+    return term if _keeps_signs(term, coefficient, signs) else signs(term)
+
+
+def _keeps_signs(term, coefficient, signs: Callable) -> bool:
+    """pull_signs(term) is term, for the product `term` of coefficient and other factors:
+    coefficient is no sum and `signs` keeps it, and each factor of term is an atom, a
+    power of atoms or one of coefficient's own factors (by identity). pull_signs flips
+    only the sums among a product's factors, and those are coefficient's, which it kept
+    (tests/test_report_signed_product.py)."""
+    if not term.is_Mul or coefficient.is_Add or signs(coefficient) is not coefficient:
+        return False
+    own = {id(a) for a in (coefficient.args if coefficient.is_Mul else (coefficient,))}
+    return all(a.is_Atom or (a.is_Pow and a.base.is_Atom and a.exp.is_Atom) or id(a) in own for a in term.args)
 
 
 def _cancelled(first, second, subtracted) -> tuple:
