@@ -13,8 +13,7 @@ import sympy as sp
 from lagcli.model.calculus import TimeDerivative, almost_everywhere, depends_on, numerically_zero
 from lagcli.derive.constraints import constraint_bias, constraint_matrix, constraint_rows
 from lagcli.derive.dissipation import damper_forces_on
-from lagcli.derive.energy import energies
-from lagcli.derive.forcing import nonzero_rows
+from lagcli.derive.energy import energies, quadratic_part
 from lagcli.derive.forces import applied_generalized_forces
 from lagcli.derive.invariants import (LagrangianProbe, conserved_quantities, ignorable_coordinates,
                                       jacobi_integral, jacobi_obstacle, momenta)
@@ -33,9 +32,7 @@ def derive(model: Model) -> Derivation:
     e = energies(model, D)
     M, a = e.mass_matrix, e.t1_coefficients
     n = len(model.q)
-    nonzero = nonzero_rows(M)   # the nonzero entries (M of n uncoupled coordinates has n of n^2)
-    row_sums = [total([product(qd[i], M_ij) for i, M_ij in nonzero[j]]) for j in range(n)]   # (q'^T M)_j
-    T2 = total([product(row_sums[j], qd[j]) for j in range(n)]) / 2                          # q'^T M q' / 2
+    T2 = quadratic_part(M, model.qd)
     T1 = dot(a, qd)
     T = total([total([T2, T1]), e.T0])       # T2 + T1 + T0 (sympy's `+` sorted V's terms anew)
     L = total([T, -e.V])
@@ -48,7 +45,7 @@ def derive(model: Model) -> Derivation:
     probe = LagrangianProbe(M, a, e.T0, e.V)
     ignorable = ignorable_coordinates(model, probe, Q_applied, rows)
     no_jacobi = jacobi_obstacle(model, probe, Q_applied, rows)
-    h = None if no_jacobi else jacobi_integral(model, T2, e.T0, e.V, probe.memo)
+    h = None if no_jacobi else jacobi_integral(model, T2, e.T0, e.V, probe)
     energy = total([T, e.V])
     energy_is_jacobi = h is not None and numerically_zero([T1 + 2 * e.T0])
     return Derivation(

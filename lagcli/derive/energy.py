@@ -19,11 +19,13 @@ import sympy as sp
 
 from lagcli.model.calculus import TimeDerivative, almost_everywhere, derivative, jacobian_columns, matrix_of_entries
 from lagcli.model.model_types import Model, RigidBody, elementary_rotation
+from lagcli.model.ordering import class_key
 from lagcli.model.products import product
 from lagcli.model.sums import dot, total
 
 AXES = {"x": 0, "y": 1, "z": 2}
 _ZERO = sp.S.Zero     # the z components of a planar model's vectors
+_SUM_CLASS = class_key(sp.Add)
 
 
 @dataclass(frozen=True)
@@ -136,6 +138,43 @@ def _add_products(M, a, T0, J, inertia, v_t, mass, dots: _DotProducts) -> None:
     if moving:
         entry = dots(v_t, I_v)
         T0.append(product(product(mass, entry if entry is not None else 0), sp.S.Half))
+
+
+def quadratic_part(M: sp.MatrixBase, qd) -> sp.Expr:
+    """T2 = 1/2 q'^T M q', summed row by row over M's nonzero entries (M of n uncoupled
+    coordinates has n of n^2): 1/2 sum_j ((q'^T M)_j q'_j)."""
+    row_sums = [total([_times_velocity(qd[i], M_ij) for i, M_ij in row]) for row in nonzero_rows(M)]
+    return total([product(row_sums[j], qd[j]) for j in range(len(qd))]) / 2
+
+
+def _times_velocity(velocity: sp.Symbol, entry: sp.Expr) -> sp.Expr:
+    """velocity * entry, the same expression as `product` builds. An entry that is a product
+    of sums (a chain's X (m_k + ... + m_n)) takes the velocity where sympy's order puts it,
+    without sorting the factors again: Mul keeps a rational number first and orders a
+    symbol and a sum by their classes alone (`Basic.compare`, `class_key`). 1 600 such
+    products at 40 links."""
+    if not (velocity.is_Symbol and velocity.is_commutative and _is_product_of_sums(entry)):
+        return product(velocity, entry)
+    number, sums = (entry.args[:1], entry.args[1:]) if entry.args[0].is_Rational else ((), entry.args)
+    if class_key(type(velocity)) < _SUM_CLASS:
+        return sp.Mul._from_args((*number, velocity, *sums), True)
+    return sp.Mul._from_args((*number, *sums, velocity), True)
+
+
+def _is_product_of_sums(entry: sp.Expr) -> bool:
+    """A commutative product of sums, maybe times a rational number."""
+    if not (entry.is_Mul and entry.is_commutative):
+        return False
+    factors = entry.args[1:] if entry.args[0].is_Rational else entry.args
+    return all(factor.is_Add for factor in factors)
+
+
+def nonzero_rows(M: sp.MatrixBase) -> list[list[tuple[int, sp.Expr]]]:
+    """(j, M_ij) of the nonzero entries of each row i (M is symmetric: also its columns)."""
+    rows: list[list] = [[] for _ in range(M.rows)]
+    for (i, j), entry in sorted(M.todok().items()):
+        rows[i].append((j, entry))
+    return rows
 
 
 def _split_extra_kinetic(model: Model):

@@ -23,7 +23,7 @@ from __future__ import annotations
 import sympy as sp
 
 from lagcli.model.calculus import TimeDerivative, almost_everywhere, derivative, gradient, jacobian_columns
-from lagcli.derive.energy import body_angular_velocity
+from lagcli.derive.energy import body_angular_velocity, nonzero_rows
 from lagcli.model.model_types import Model
 from lagcli.model.products import product
 from lagcli.model.sums import negated_terms, negative, total
@@ -66,14 +66,6 @@ def equation_lhs(M: sp.MatrixBase, F: sp.MatrixBase, qdd) -> list[sp.Expr]:
 def total_generalized_forces(Q_applied: sp.MatrixBase, dV: list) -> sp.ImmutableMatrix:
     """Q' - dV/dq: the total generalized forces by virtual work."""
     return almost_everywhere(sp.Matrix(len(dV), 1, [total([Q, negative(dV_i)]) for Q, dV_i in zip(Q_applied, dV)]))
-
-
-def nonzero_rows(M: sp.MatrixBase) -> list[list[tuple[int, sp.Expr]]]:
-    """(j, M_ij) of the nonzero entries of each row i (M is symmetric: also its columns)."""
-    rows: list[list] = [[] for _ in range(M.rows)]
-    for (i, j), entry in sorted(M.todok().items()):
-        rows[i].append((j, entry))
-    return rows
 
 
 def _subtract(terms, J, vector, mass) -> None:

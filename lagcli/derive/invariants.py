@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import sympy as sp
 
-from lagcli.model.calculus import DependenceProbe, depends_on, free_symbols, numerically_zero
+from lagcli.model.calculus import DependenceProbe, depends_on, free_symbols, leaves, numerically_zero
 from lagcli.derive.result import Conserved
 from lagcli.model.sums import total
 
@@ -32,10 +32,15 @@ class LagrangianProbe:
 
     def __init__(self, M, a, T0, V):
         upper = [entry for (i, j), entry in sorted(M.todok().items()) if i <= j]
-        self.groups = [[T0 - V], [e for e in a if e != 0], upper]
-        self.memo: dict = {}     # free symbols of shared subexpressions (M's entries: in T2 too), found once
-        self.names = [set().union(*(free_symbols(sp.sympify(e), self.memo) for e in g)) for g in self.groups]
+        self.groups = [[T0 - V], [e for e in a if e != 0], upper]     # M's last (`mentions`)
+        self.memo: dict = {}     # free symbols of shared subexpressions, found once (the probes')
+        self.names = [_symbols_of(group) for group in self.groups]
         self.probes: list[DependenceProbe | None] = [None] * len(self.groups)
+
+    def mentions(self, symbol: sp.Symbol, *exprs) -> bool:
+        """Is `symbol` among the free symbols of M (or more, `_symbols_of`) or of `exprs`
+        (structurally, not probed)?"""
+        return symbol in self.names[-1] or any(symbol in free_symbols(sp.sympify(e), self.memo) for e in exprs)
 
     def depends_on(self, symbol: sp.Symbol) -> bool:
         for k, group in enumerate(self.groups):
@@ -46,6 +51,14 @@ class LagrangianProbe:
             if self.probes[k].depends_on(symbol):
                 return True
         return False
+
+
+def _symbols_of(exprs) -> set:
+    """The free symbols of `exprs`, or more: those of their leaves (a bound variable too),
+    found in one walk that hashes only the leaves (`calculus.leaves`; remembering every
+    subexpression's set of symbols cost most of the probe's set-up). More is safe: a
+    symbol found here is then probed."""
+    return set().union(*(leaf.free_symbols for leaf in leaves(*map(sp.sympify, exprs))))
 
 
 def ignorable_coordinates(model, probe: LagrangianProbe, Q_applied, rows) -> tuple[sp.Symbol, ...]:
@@ -69,12 +82,14 @@ def _zero(exprs) -> bool:
     return not exprs or numerically_zero(exprs)
 
 
-def jacobi_integral(model, T2, T0, V, memo: dict | None = None) -> sp.Expr:
+def jacobi_integral(model, T2, T0, V, probe: LagrangianProbe) -> sp.Expr:
     """h = T2 - T0 + V (at t = 0 when an explicit t cancels out of L but not of h's form);
-    conserved only when `jacobi_obstacle` finds nothing. `memo`: free symbols already found
-    (`free_symbols`)."""
+    conserved only when `jacobi_obstacle` finds nothing. h's symbols are among those of M
+    (T2 = 1/2 q'^T M q'), the velocities, T0 and V, so t is looked for there (`probe`
+    knows M's): walking h for it walked T2's n^2 products again. (When t is there but
+    cancels out of h, the substitution finds none and returns h itself.)"""
     h = total([total([T2, -T0]), V])
-    return h.subs(model.t, 0) if depends_on(h, (model.t,), {} if memo is None else memo) else h
+    return h.subs(model.t, 0) if probe.mentions(model.t, T0, V) else h
 
 
 def jacobi_obstacle(model, probe: LagrangianProbe, Q_applied, rows) -> str | None:

@@ -28,7 +28,7 @@ import sympy as sp
 
 from lagcli.derive.energy import kinetic_parts, potential_energy
 from lagcli.errors import Problem, SpecError
-from lagcli.model.calculus import TimeDerivative, distinct_nodes
+from lagcli.model.calculus import TimeDerivative, leaves
 from lagcli.model.constants import LARGEST
 from lagcli.model.expr import MAX_EXACT_NUMBER_DIGITS, exact_digits
 
@@ -99,10 +99,10 @@ def out_of_range(value, leaves: set | None = None) -> sp.Number | None:
 
 
 def _leaves(value) -> set:
-    """The atoms of an expression or matrix (what `atoms()` finds), each distinct subtree
-    visited once: T and F of a chain share their sums, and walking them as trees (`has`,
-    `atoms`) was most of this check's time."""
-    return {node for node in distinct_nodes(*_flat(value)) if not node.args}
+    """The atoms of an expression or matrix (what `atoms()` finds), each subtree object
+    visited once (`calculus.leaves`): T and F of a chain share their sums, and walking them
+    as trees (`has`, `atoms`) was most of this check's time."""
+    return leaves(*_flat(value))
 
 
 def _flat(value) -> list:

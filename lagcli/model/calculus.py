@@ -452,6 +452,27 @@ def distinct_nodes(*exprs) -> set:
     return seen
 
 
+def leaves(*exprs) -> set:
+    """The atoms of `exprs` (the nodes without arguments, what `atoms()` finds), each node
+    object visited once and told apart by identity (`id`, kept alive in `met`): only the
+    leaves are hashed, not every distinct subexpression as in `distinct_nodes` (a chain's T
+    holds n^2 new products q_i' M_ij). An equal copy of a subtree is walked again: never
+    more nodes than there are objects."""
+    found, met, stack = set(), {}, list(exprs)
+    while stack:
+        node = stack.pop()
+        key = id(node)
+        if key in met:
+            continue
+        met[key] = node
+        args = node.args
+        if args:
+            stack.extend(args)
+        else:
+            found.add(node)
+    return found
+
+
 def matrix_of_entries(rows: int, columns: int, entries: dict, kind=sp.Matrix) -> sp.MatrixBase:
     """The `kind` (sp.Matrix or sp.ImmutableMatrix) matrix with the nonzero `entries`
     ((i, j) -> value). What `kind(sp.SparseMatrix(rows, columns, entries))` returns (sympy
