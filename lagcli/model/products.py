@@ -36,6 +36,8 @@ def product(*factors) -> sp.Expr:
             return a
         if _symbol_and_sum(a, b) or _symbol_and_sum(b, a):     # a mass times a dot product, M_ij q''_j
             return sp.Mul._from_args((b, a) if class_key(type(b)) < class_key(type(a)) else (a, b), True)
+        if _two_sums(a, b) and global_parameters.evaluate:     # a chain's M_ij: a dot product times its masses
+            return sp.Mul._from_args((b, a) if b.compare(a) < 0 else (a, b), True)
         if _distributes(a, b):
             return sp.Mul(*factors)
     number, plain, bases, keys = sp.S.One, [], [], []
@@ -71,6 +73,12 @@ def _factor(part: Basic) -> tuple | None:
 def _symbol_and_sum(a, b) -> bool:
     """A commutative symbol and sum: plain, with distinct bases (`_plain`)."""
     return a.is_Symbol and b.is_Add and a.is_commutative is True and b.is_commutative is True
+
+
+def _two_sums(a, b) -> bool:
+    """Two different commutative sums: flatten keeps each as one factor (a sum's own
+    number is not pulled out) and sorts the two by `Basic.compare`."""
+    return a.is_Add and b.is_Add and a.is_commutative is True and b.is_commutative is True and a != b
 
 
 def _distributes(a, b) -> bool:

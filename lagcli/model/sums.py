@@ -65,15 +65,26 @@ def dot(u, w) -> sp.Expr:
     return total([product(a, b) for a, b in zip(u, w) if a != 0 and b != 0])
 
 
-def negative(expr: sp.Expr) -> sp.Expr:
+def negative(expr: sp.Expr, negated: dict | None = None) -> sp.Expr:
     """`-expr`, the same expression: a sum's terms negated one by one (as `Mul(-1, sum)`
     distributes) and summed by `total`. When every term is a product without a number
     (l1*cos(q1): a chain's positions, its dV), each negated term is -1 times it, and
     compare orders those as it ordered the terms (one more factor each, the same first
-    one): the sum keeps its order, not sorted again."""
+    one): the sum keeps its order, not sorted again. `negated` (term -> -term), when
+    given, makes -term of a term met before the object made then (a chain's positions
+    repeat the terms of the one before: the memos of their parts then find them by
+    identity, not by comparing equal copies)."""
     if expr.is_Add and expr.is_commutative and global_parameters.distribute:
         if all(term.is_Mul and not term.args[0].is_Number for term in expr.args):
-            return sp.Add._from_args([_keep_coeff(sp.S.NegativeOne, term) for term in expr.args], True)
+            if negated is None:
+                return sp.Add._from_args([_keep_coeff(sp.S.NegativeOne, term) for term in expr.args], True)
+            terms = []
+            for term in expr.args:
+                found = negated.get(term)
+                if found is None:
+                    found = negated[term] = _keep_coeff(sp.S.NegativeOne, term)
+                terms.append(found)
+            return sp.Add._from_args(terms, True)
         return total(negated_terms(expr))
     return -expr
 
