@@ -78,7 +78,8 @@ def _symbol_and_sum(a, b) -> bool:
 def _two_sums(a, b) -> bool:
     """Two different commutative sums: flatten keeps each as one factor (a sum's own
     number is not pulled out) and sorts the two by `Basic.compare`."""
-    return a.is_Add and b.is_Add and a.is_commutative is True and b.is_commutative is True and a != b
+    return (type(a) is sp.Add and type(b) is sp.Add and a.is_commutative is True and b.is_commutative is True
+            and a != b)
 
 
 def _distributes(a, b) -> bool:
