@@ -34,7 +34,9 @@ def total(terms) -> sp.Expr:
         return args[0] if args else _ZERO
     if len(args) == 2 and _two_products(*args):      # a chain's dot products: l1*l2*(c1*c2 + s1*s2)
         a, b = args
-        return sp.Add._from_args((b, a) if b.compare(a) < 0 else (a, b), True)
+        order = b.compare(a)       # 0 for equal ones (2*a); different hashes: not equal
+        if order and hash(a) != hash(b):
+            return sp.Add._from_args((b, a) if order < 0 else (a, b), True)
     collected = _collect(args)
     if collected is None:
         return sp.Add(*terms)
@@ -62,10 +64,10 @@ def total(terms) -> sp.Expr:
 
 
 def _two_products(a, b) -> bool:
-    """Two different commutative products without a number: flatten keeps both (no like
-    terms, nothing to add) and sorts them by `Basic.compare`."""
+    """Two commutative products without a number: flatten keeps both when they differ (no
+    like terms, nothing to add) and sorts them by `Basic.compare`."""
     return (type(a) is sp.Mul and type(b) is sp.Mul and not a.args[0].is_Number and not b.args[0].is_Number
-            and a.is_commutative is True and b.is_commutative is True and a != b)
+            and a.is_commutative is True and b.is_commutative is True)
 
 
 def dot(u, w) -> sp.Expr:
