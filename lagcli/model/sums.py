@@ -43,10 +43,10 @@ def total(terms) -> sp.Expr:
     constant, coefficients = collected
     result = []
     for s, c in coefficients.items():
-        if c.is_zero:
-            continue
         if c is _ONE:
             result.append(s)
+        elif c.is_zero:
+            continue
         elif s.is_Mul:
             result.append(s._new_rawargs(*((c,) + s.args)))     # as flatten: c in front
         elif s.is_Add:
@@ -133,10 +133,13 @@ def _collect(args: list):
         if o.is_Rational:
             constant += o
             continue
-        split = _split(o)
-        if split is None:
-            return None
-        c, s = split
+        if type(o) is sp.Mul and not o.args[0].is_Number and o.is_commutative is True:
+            c, s = _ONE, o         # `_split` of a product without a number: itself, nothing to remember
+        else:
+            split = _split(o)
+            if split is None:
+                return None
+            c, s = split
         found = coefficients.get(s)
         coefficients[s] = c if found is None else found + c
     return constant, coefficients
