@@ -107,7 +107,12 @@ def scaled(number: sp.Rational, expr: sp.Expr) -> sp.Expr:
     `total` (sympy's `Add`, whose first call imports sympy.tensor: 0.04 s of a command)."""
     if number.is_Rational and number is not _ONE and not number.is_zero and expr.is_Add \
             and expr.is_commutative and global_parameters.distribute and global_parameters.evaluate:
-        return total([_keep_coeff(number, term) for term in expr.args])
+        terms = [_keep_coeff(number, term) for term in expr.args]
+        if all(type(term) is sp.Mul and not term.args[0].is_Number for term in expr.args):
+            # number * each product: compare orders those as it ordered the products (one more
+            # factor each, the same first one), as in `negative`: not sorted again (T2's 1/2)
+            return sp.Add._from_args(terms, True)
+        return total(terms)
     return number * expr
 
 
