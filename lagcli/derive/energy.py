@@ -114,7 +114,7 @@ class _DotProducts:
         if key not in self.values:
             value = total([product(x, y) for x, y in zip(self.vectors[u], self.vectors[w])
                            if x is not _ZERO and y is not _ZERO])    # 0 * y is 0: y is finite
-            self.values[key] = None if value == 0 else value
+            self.values[key] = None if value is _ZERO or (type(value) is not sp.Add and value == 0) else value
         return self.values[key]
 
 
