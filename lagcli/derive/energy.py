@@ -195,7 +195,7 @@ def potential_energy(model: Model) -> sp.Expr:
     (adding term by term rebuilt the growing sum: n^2 for n springs)."""
     terms = [model.potential]
     if model.gravity is not None:
-        terms += [-(mass * dot(model.gravity, r)) for mass, r in model.mass_points]
+        terms += [-product(mass, dot(model.gravity, r)) for mass, r in model.mass_points]     # Mul's, no flatten
     for spring in model.springs:
         delta = spring.end_a - spring.end_b
         squared = delta.dot(delta)
