@@ -273,9 +273,10 @@ class Display:
 
     @functools.cached_property
     def gyroscopic(self) -> list[list[sp.Expr]]:
-        """gamma_ij = da_i/dq_j - da_j/dq_i."""
-        q, a, n, d = self.q, self.a, self.n, self.differentiate
-        return [[self.tidy_assembled(difference(d(a[i], q[j]), d(a[j], q[i]))) if i != j else sp.S.Zero
+        """gamma_ij = da_i/dq_j - da_j/dq_i (0 at once when a_i = a_j = 0: a system with no T1)."""
+        q, a, n, d, zero = self.q, self.a, self.n, self.differentiate, sp.S.Zero
+        return [[self.tidy_assembled(difference(d(a[i], q[j]), d(a[j], q[i])))
+                 if i != j and (a[i] is not zero or a[j] is not zero) else zero
                  for j in range(n)] for i in range(n)]
 
     def constraint_force(self, i: int) -> Terms:
@@ -517,7 +518,7 @@ PARTS = ("velocity", "mass_rate", "gyroscopic", "t1_rate", "position", "forces")
 def _add(buckets: dict, monomial, coefficient) -> None:
     """buckets[monomial] += coefficient; a new monomial's coefficient is the object itself
     (0 + x is x in sympy, found through five layers of its arithmetic)."""
-    if coefficient != 0:
+    if coefficient is not sp.S.Zero and coefficient != 0:     # the zeros of M_t q' and gamma q', at once
         found = buckets.get(monomial)
         buckets[monomial] = coefficient if found is None else found + coefficient
 
