@@ -134,6 +134,8 @@ def column_clash(name: str, coordinates: set[str] | frozenset[str]) -> str:
 
 @dataclass(frozen=True)
 class State:
+    """A state of y = [q, q'], in spec order."""
+
     name: str
     kind: str                    # "coordinate" | "velocity"
     coordinate: str              # the coordinate it belongs to (itself for a coordinate)
@@ -143,6 +145,8 @@ class State:
 
 @dataclass(frozen=True)
 class Parameter:
+    """A parameter of p, with its default value."""
+
     name: str
     default: float
     unit: str | None = None      # the spec's `unit:` (None: none given)
@@ -162,6 +166,8 @@ class Input:
 
 @dataclass(frozen=True)
 class Multiplier:
+    """A constraint multiplier, one per constraint row."""
+
     name: str
     constraint: str | None       # the constraint's `name:`, if any
     kind: str                    # "holonomic" | "nonholonomic"
@@ -169,6 +175,8 @@ class Multiplier:
 
 @dataclass(frozen=True)
 class Column:
+    """A column of the CSV output, with its kind (`COLUMN_KINDS`)."""
+
     name: str
     kind: str                    # one of COLUMN_KINDS
     of: str | None = None        # momentum: its coordinate

@@ -54,3 +54,19 @@ def test_products_of_small_calls_are_sympys_mul():
         rng.shuffle(factors)
         ours, theirs = product(*factors), sp.Mul(*factors)
         assert ours == theirs and ours.args == theirs.args and type(ours) is type(theirs), factors
+
+
+def test_repeated_bases_are_combined_as_sympys_mul():
+    """A base met more than once (l1*cos(q1) times itself, x * x**-2, Abs(x) * Abs(x) with x
+    real, which sympy's Pow turns into x**2) gives sympy's Mul, whichever path takes it."""
+    rng = random.Random(20261129)
+    x, y = sp.symbols("x y", real=True)
+    z, q1 = sp.symbols("z q1")
+    bases = [x, y, z, q1, sp.cos(q1), sp.sin(x - y), sp.Abs(x), sp.Abs(z), sp.exp(z), x + y]
+    for _ in range(3000):
+        chosen = [rng.choice(bases) for _ in range(rng.randint(2, 5))]
+        factors = [b ** rng.choice([1, 1, 2, -1, -2, 3]) for b in chosen]
+        if rng.random() < 0.3:
+            factors.append(rng.choice([sp.Integer(-1), sp.Rational(1, 2), sp.Integer(3)]))
+        ours, theirs = product(*factors), sp.Mul(*factors)
+        assert ours == theirs and ours.args == theirs.args and type(ours) is type(theirs), factors

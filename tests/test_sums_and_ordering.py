@@ -8,7 +8,7 @@ from hypothesis import given, settings, strategies as st
 
 from lagcli.model.ordering import sort_args, sort_key
 from lagcli.model.products import product
-from lagcli.model.sums import dot, negated_terms, negative, total
+from lagcli.model.sums import dot, negated_terms, negative, scaled, total
 
 x, y, z = sp.symbols("x y z", real=True)
 m1, m10, m2, q1, q10 = sp.symbols("m1 m10 m2 q1 q10")
@@ -135,6 +135,20 @@ def test_negated_terms_sum_to_sympys_minus(seed):
     b = sp.Add(*(term() for _ in range(rng.randint(0, 6))))
     ours, theirs = total([*a, *negated_terms(b)]), sp.Add(*a) - b
     assert ours == theirs and ours.args == theirs.args and type(ours) is type(theirs), (a, b)
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.integers(0, 2**32 - 1))
+def test_scaled_is_sympys_product_with_a_number(seed):
+    """`scaled(c, e)` is sympy's c*e: a sum distributed term by term (T2 = 1/2 (...)), a sum
+    with a number of its own (2*(x + y)), a non-sum and any other number left to sympy."""
+    rng = random.Random(seed)
+    number = rng.choice(NUMBERS[:5] + [sp.Integer(-2), sp.Rational(5, 3)])
+    expr = _expression(rng)
+    if rng.random() < 0.6:
+        expr = sp.Add(*(_expression(rng, 1) for _ in range(rng.randint(2, 5))))
+    ours, theirs = scaled(number, expr), number * expr
+    assert ours == theirs and ours.args == theirs.args and type(ours) is type(theirs), (number, expr)
 
 
 @settings(max_examples=300, deadline=None)

@@ -21,7 +21,7 @@ from lagcli.derive.result import Derivation
 from lagcli.derive.event_functions import event_functions
 from lagcli.model.model_types import Model
 from lagcli.model.products import product
-from lagcli.model.sums import dot, total
+from lagcli.model.sums import dot, negated_terms, total
 
 __all__ = ["derive", "Derivation"]
 
@@ -35,7 +35,7 @@ def derive(model: Model) -> Derivation:
     T2 = quadratic_part(M, model.qd)
     T1 = dot(a, qd)
     T = total([total([T2, T1]), e.T0])       # T2 + T1 + T0 (sympy's `+` sorted V's terms anew)
-    L = total([T, -e.V])
+    L = total([T, *negated_terms(e.V)])      # T - V
     Q_applied = almost_everywhere(applied_generalized_forces(model, D))
     rows = constraint_rows(model)
     A = constraint_matrix(model, rows)

@@ -21,7 +21,7 @@ from lagcli.model.calculus import TimeDerivative, almost_everywhere, derivative,
 from lagcli.model.model_types import Model, RigidBody, elementary_rotation
 from lagcli.model.ordering import class_key
 from lagcli.model.products import product
-from lagcli.model.sums import dot, total
+from lagcli.model.sums import dot, scaled, total
 
 AXES = {"x": 0, "y": 1, "z": 2}
 _ZERO = sp.S.Zero     # the z components of a planar model's vectors
@@ -144,7 +144,7 @@ def quadratic_part(M: sp.MatrixBase, qd) -> sp.Expr:
     """T2 = 1/2 q'^T M q', summed row by row over M's nonzero entries (M of n uncoupled
     coordinates has n of n^2): 1/2 sum_j ((q'^T M)_j q'_j)."""
     row_sums = [total([_times_velocity(qd[i], M_ij) for i, M_ij in row]) for row in nonzero_rows(M)]
-    return total([product(row_sums[j], qd[j]) for j in range(len(qd))]) / 2
+    return scaled(sp.S.Half, total([product(row_sums[j], qd[j]) for j in range(len(qd))]))
 
 
 def _times_velocity(velocity: sp.Symbol, entry: sp.Expr) -> sp.Expr:

@@ -24,7 +24,7 @@ import sympy as sp
 
 from lagcli.model.calculus import DependenceProbe, depends_on, free_symbols, leaves, numerically_zero
 from lagcli.derive.result import Conserved
-from lagcli.model.sums import total
+from lagcli.model.sums import negated_terms, total
 
 
 class LagrangianProbe:
@@ -32,7 +32,7 @@ class LagrangianProbe:
 
     def __init__(self, M, a, T0, V):
         upper = [entry for (i, j), entry in sorted(M.todok().items()) if i <= j]
-        self.groups = [[T0 - V], [e for e in a if e != 0], upper]     # M's last (`mentions`)
+        self.groups = [[total([T0, *negated_terms(V)])], [e for e in a if e != 0], upper]     # T0 - V; M's last (`mentions`)
         self.memo: dict = {}     # free symbols of shared subexpressions, found once (the probes')
         self.names = [_symbols_of(group) for group in self.groups]
         self.probes: list[DependenceProbe | None] = [None] * len(self.groups)

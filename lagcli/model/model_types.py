@@ -19,6 +19,8 @@ from lagcli.interface import Settings  # noqa: F401 - the run settings and their
 
 @dataclass(frozen=True)
 class ParameterInfo:
+    """A parameter's symbol, its value and how reports name it."""
+
     symbol: sp.Symbol
     value: float
     latex: str | None
@@ -38,6 +40,8 @@ class InputInfo:
 
 @dataclass(frozen=True)
 class PointMass:
+    """A particle: its mass at an inertial position."""
+
     name: str
     mass: sp.Expr
     position: sp.ImmutableMatrix      # 3 x 1 (z = 0 for planar specs)
@@ -46,6 +50,8 @@ class PointMass:
 
 @dataclass(frozen=True)
 class RigidBody:
+    """A rigid body: mass, inertia and position of its centre of mass, orientation."""
+
     name: str
     mass: sp.Expr
     inertia: sp.ImmutableMatrix       # 3 x 3 about the CM, body axes (planar: diag(0, 0, Izz))
@@ -74,6 +80,8 @@ def elementary_rotation(axis: str, angle: sp.Expr) -> sp.Matrix:
 
 @dataclass(frozen=True)
 class AppliedForce:
+    """A force acting at `point` and/or a torque acting on `body`."""
+
     point: sp.ImmutableMatrix | None  # 3 x 1 inertial position where the force acts
     force: sp.ImmutableMatrix | None  # 3 x 1, inertial components
     body: str | None                  # body the torque acts on
@@ -83,6 +91,8 @@ class AppliedForce:
 
 @dataclass(frozen=True)
 class LinearSpring:
+    """A linear spring between two points."""
+
     end_a: sp.ImmutableMatrix         # 3 x 1 positions of the two ends
     end_b: sp.ImmutableMatrix
     stiffness: sp.Expr
@@ -92,6 +102,8 @@ class LinearSpring:
 
 @dataclass(frozen=True)
 class LinearDamper:
+    """A linear dashpot between two points."""
+
     end_a: sp.ImmutableMatrix         # 3 x 1 positions of the two ends
     end_b: sp.ImmutableMatrix
     damping: sp.Expr                  # c: force = c x (rate of change of the length)
@@ -112,6 +124,8 @@ class RollingContact:
 
 @dataclass(frozen=True)
 class ConstraintSpec:
+    """A constraint `expr` = 0 (holonomic; nonholonomic when linear in the velocities)."""
+
     label: str | None
     expr: sp.Expr
     loc: Loc | None = None
@@ -142,6 +156,8 @@ class EventSpec:
 
 @dataclass(frozen=True)
 class Model:
+    """The whole model: symbols, bodies, forces and energies of one spec (module docstring)."""
+
     name: str
     description: str
     source: str                       # spec file path as given

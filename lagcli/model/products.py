@@ -51,8 +51,13 @@ def product(*factors) -> sp.Expr:
             bases.append(found[0])
             keys.append(found[1])
     # a product of rational numbers is sympy's singleton 0 or 1 when it is one: compared by identity
-    if number is _ZERO or len(set(bases)) != len(bases) or (len(plain) == 1 and plain[0].is_Add):
+    if number is _ZERO or (len(plain) == 1 and plain[0].is_Add):
         return sp.Mul(*factors)
+    if len(set(bases)) != len(bases):      # l1*cos(q1) times itself: a diagonal dot product
+        combined = _combined_powers(plain, bases)
+        if combined is None:
+            return sp.Mul(*factors)
+        plain, keys = combined
     sort_keyed(plain, keys)      # `Mul.flatten`'s order
     args = plain if number is _ONE else [number, *plain]
     if len(args) == 1:
@@ -66,6 +71,27 @@ def _factor(part: Basic) -> tuple | None:
     if not _plain(part):
         return None
     return (part.base if part.is_Pow else part), leaf_key(part)
+
+
+def _combined_powers(plain: list, bases: list) -> tuple[list, list] | None:
+    """The factors with a repeated base combined as `Mul.flatten` combines them (x * x**2 ->
+    x**3), with their `leaf_key`s; None unless every repeated base is a symbol or call whose
+    exponents add up to a nonzero integer (a sum's powers, x * x**-1: left to sympy). Adding
+    the exponents here also keeps sympy's `Add` (whose first call imports sympy.tensor, 0.04 s)
+    out of a chain's derivation."""
+    exponents: dict = {}
+    for part, base in zip(plain, bases):
+        exponent = int(part.exp) if part.is_Pow else 1
+        exponents[base] = exponents.get(base, 0) + exponent
+    combined = []
+    for base, exponent in exponents.items():
+        if exponent == 0 or not (base.is_Symbol or isinstance(base, sp.Function)):
+            return None
+        power = base if exponent == 1 else sp.Pow(base, exponent)
+        if power is not base and not (power.is_Pow and power.base == base):    # Abs(x)**2 is x**2, x real
+            return None
+        combined.append(power)
+    return combined, [leaf_key(part) for part in combined]
 
 
 def _symbol_and_sum(a, b) -> bool:

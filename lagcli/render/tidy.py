@@ -603,7 +603,7 @@ def _eliminate_square(expr, drop, keep, nested: dict | None = None) -> sp.Expr:
     powers = {p for p in powers_in(expr) if p.base == drop and p.exp.is_Integer and p.exp >= 2}
     if not powers:
         return expr
-    table = {p: drop ** (int(p.exp) % 2) * (1 - keep ** 2) ** (int(p.exp) // 2) for p in powers}
+    table = {p: drop ** (int(p.exp) % 2) * total([sp.S.One, -keep ** 2]) ** (int(p.exp) // 2) for p in powers}
     nested = {} if nested is None else nested
     terms = []
     for term in sp.Add.make_args(expr):      # expr is expanded: only terms with a power change
@@ -612,7 +612,7 @@ def _eliminate_square(expr, drop, keep, nested: dict | None = None) -> sp.Expr:
         else:
             terms.extend(_binomial_terms(term, powers, keep)
                          or sp.Add.make_args(_expanded_term(term, table, nested)))
-    return sp.Add(*terms)
+    return total(terms)
 
 
 def _expanded_term(term, table: dict, nested: dict) -> sp.Expr:

@@ -21,6 +21,7 @@ import sympy as sp
 from sympy.core.mul import _keep_coeff
 
 from lagcli.model.products import product
+from lagcli.model.sums import total
 from lagcli.render.operations import count_ops
 from lagcli.render.tidy import (DISPLAY_MAX_NODES, MAX_POWER, _square_arguments, common_factor,
                                 is_expanded, pull_signs)
@@ -36,7 +37,7 @@ def weighted_display_form(weights, shared, signs=pull_signs) -> sp.Expr | None:
         return None
     number, powers, calls = split
     first = product(weights[0], shared)                            # every term counts as this one
-    grouped = product(_keep_coeff(number, product(*powers, sp.Add(*weights)), clear=True, sign=True), product(*calls))
+    grouped = product(_keep_coeff(number, product(*powers, total(weights)), clear=True, sign=True), product(*calls))
     result = signs(common_factor(grouped))
     negative = number.is_negative
     whole = len(weights) * count_ops(-first if negative else first) + len(weights) - 1 + negative

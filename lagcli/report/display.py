@@ -213,7 +213,7 @@ class Display:
         if all(new is old for new, old in zip(args, expr.args)):
             rebuilt = expr
         else:       # sympy's Mul without its general flatten (M's entries: X' times the sum of masses)
-            rebuilt = product(*args) if expr.is_Mul else expr.func(*args)
+            rebuilt = product(*args) if expr.is_Mul else total(args) if expr.is_Add else expr.func(*args)
         if not rebuilt.is_Add:
             return rebuilt
         flat = self._flat_weighted(rebuilt)
@@ -335,7 +335,7 @@ class Display:
         key = (j, l)
         found = self._monomials.get(key)
         if found is None:
-            found = self._monomials[key] = self.qd[j] * self.qd[l]
+            found = self._monomials[key] = product(self.qd[j], self.qd[l])
         return found
 
     def _velocity_pairs(self, i: int) -> list[tuple[int, int]]:

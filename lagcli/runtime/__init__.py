@@ -20,7 +20,6 @@ from __future__ import annotations
 
 import ast
 import functools
-from importlib import resources
 
 C_RUNTIME = ("lagcli_model.h", "lagcli_linalg.h", "lagcli_ode.h", "lagcli_ode.c", "lagcli_driver.h", "lagcli_driver.c",
              "lagcli_variational.h", "lagcli_variational.c", "lagcli_events.h", "lagcli_events.c")
@@ -32,6 +31,8 @@ OCTAVE_EVENT_RUNTIME = ("lagcli_event_loop.m", "lagcli_event_report.m")
 
 @functools.lru_cache(maxsize=None)
 def _texts(folder: str, names: tuple[str, ...]) -> tuple[tuple[str, str], ...]:
+    from importlib import resources     # imported on use: ~3 ms that `derive` would pay for nothing
+
     where = resources.files(__name__).joinpath(folder)
     return tuple((name, where.joinpath(name).read_text(encoding="utf-8")) for name in names)
 
@@ -86,6 +87,8 @@ def python_event_loop() -> str:
 def _python_code(name: str) -> str:
     """The file's code from the comment line `# --- ` that opens it, after the docstring
     (and after lagcli's own imports of what the generated module has above it)."""
+    from importlib import resources
+
     text = resources.files(__name__).joinpath(name).read_text(encoding="utf-8")
     lines = text.splitlines(keepends=True)
     docstring_end = ast.parse(text).body[0].end_lineno

@@ -29,6 +29,8 @@ Vector = tuple[Src, ...]  # 2 or 3 components (one dimension per spec), or one V
 
 @dataclass(frozen=True)
 class Coordinate:
+    """A generalized coordinate q: its name, LaTeX and unit."""
+
     name: str
     latex: str | None
     loc: Loc
@@ -37,6 +39,8 @@ class Coordinate:
 
 @dataclass(frozen=True)
 class Parameter:
+    """A named constant of the system and its value."""
+
     name: str
     value: Src  # a constant expression (numbers, pi, other parameters are NOT allowed)
     latex: str | None
@@ -69,6 +73,8 @@ class Named:
 
 @dataclass(frozen=True)
 class Particle:
+    """A point mass at `position`."""
+
     name: str
     mass: Src
     position: Vector
@@ -129,6 +135,8 @@ class Damper:
 
 @dataclass(frozen=True)
 class Constraint:
+    """An item of `constraints:`: `expr` = 0 (holonomic; nonholonomic when linear in the velocities)."""
+
     name: str | None
     expr: Src
     loc: Loc
@@ -168,6 +176,8 @@ class Rolling:
 
 @dataclass(frozen=True)
 class SimulateSettings:
+    """The spec's `simulate:` (None: not given, the run interface's default applies)."""
+
     t_end: Src | None = None
     dt: Src | None = None
     method: str | None = None
@@ -193,6 +203,8 @@ class Event:
 
 @dataclass(frozen=True)
 class Spec:
+    """A whole validated spec (docs/spec.md)."""
+
     file: str
     name: str
     description: str

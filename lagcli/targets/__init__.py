@@ -67,6 +67,8 @@ from lagcli.errors import EmitError
 
 @dataclass(frozen=True)
 class Language:
+    """An output language of `generate`: where its code is and what its output is."""
+
     name: str
     module: str           # imported on use, by name: generating C must not import the LaTeX
                           # printer, and the registry imports no report (latex is one of them)
