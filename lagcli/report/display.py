@@ -31,13 +31,13 @@ import sympy as sp
 
 from lagcli.model import calculus
 from lagcli.model.products import product
-from lagcli.model.sums import negated_terms, total
+from lagcli.model.sums import negated_terms, negative, total
 from lagcli.derive.result import Derivation
 from lagcli.report.derivatives import angle_entry_rates, derivative
 from lagcli.render.dot_products import folded_dot_product
 from lagcli.render.shapes import Shapes
-from lagcli.render.tidy import (DISPLAY_MAX_NODES, display_form, expandable, pull_signs, small, sum_of_symbols,
-                                tree_size)
+from lagcli.render.tidy import (DISPLAY_MAX_NODES, display_form, pull_signs, small, sum_of_symbols, tree_size,
+                                weighted_expandable)
 from lagcli.render.weighted import flat_weighted_sum, weighted_display_form, weighted_sum
 
 TREE_MAX_NODES = 5000     # tidy the parts of expressions up to this size (tree nodes)
@@ -217,7 +217,7 @@ class Display:
         if not rebuilt.is_Add:
             return rebuilt
         flat = self._flat_weighted(rebuilt)
-        if flat is not None and small(rebuilt) and expandable(rebuilt):   # display_form's own terms
+        if flat is not None and small(rebuilt) and weighted_expandable(len(flat[0]), flat[1]):   # display_form's own terms
             found = weighted_display_form(*flat, self.signs)
             if found is not None:
                 return found
@@ -527,4 +527,6 @@ def difference(a, b) -> sp.Expr:
     """a - b, the same expression as sympy's: a + (-b), b's terms negated one by one and
     summed once (`sums.total`; sympy's -b rebuilt the 40 terms of a chain's dV/dq_i by its
     Mul and Add, and `x - 0` re-sorted x)."""
+    if a is sp.S.Zero:       # Q_i = -dV/dq_i: total(b's negated terms) is negative(b), which keeps
+        return negative(b)   # a sum of products without numbers in its order instead of sorting it
     return total([a, *negated_terms(b)])
