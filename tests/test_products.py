@@ -56,6 +56,25 @@ def test_products_of_small_calls_are_sympys_mul():
         assert ours == theirs and ours.args == theirs.args and type(ours) is type(theirs), factors
 
 
+def test_products_of_two_sums_are_sympys_mul():
+    """A dot product times a sum of masses (a chain's M_ij: `product`'s two-sum path) is
+    sympy's Mul, equal sums (a square) and sums with numbers among them."""
+    rng = random.Random(20261128)
+    m = sp.symbols("m1:6", real=True)
+    l1, l2, q1, q2 = sp.symbols("l1 l2 q1 q2", real=True)
+    x = sp.Symbol("x")
+    sums = [sp.Add(*m[k:]) for k in range(4)] + [
+        l1 * l2 * sp.cos(q1) * sp.cos(q2) + l1 * l2 * sp.sin(q1) * sp.sin(q2),
+        l1**2 * sp.cos(q1)**2 + l1**2 * sp.sin(q1)**2, x + 1, 2 * x + sp.Rational(1, 2), sp.cos(q1) - x,
+        sp.Float(0.5) + x, m[0] + m[1]]
+    for _ in range(500):
+        a, b = rng.choice(sums), rng.choice(sums)
+        if rng.random() < 0.1:
+            b = sp.Add(*a.args)      # an equal copy
+        ours, theirs = product(a, b), sp.Mul(a, b)
+        assert ours == theirs and ours.args == theirs.args and type(ours) is type(theirs), (a, b)
+
+
 def test_repeated_bases_are_combined_as_sympys_mul():
     """A base met more than once (l1*cos(q1) times itself, x * x**-2, Abs(x) * Abs(x) with x
     real, which sympy's Pow turns into x**2) gives sympy's Mul, whichever path takes it."""

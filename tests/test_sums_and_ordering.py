@@ -181,3 +181,65 @@ def test_sort_keyed_is_sort_args(seed):
     ours, theirs = list(args), sorted(args, key=functools.cmp_to_key(sp.Basic.compare))
     sort_keyed(ours, [leaf_key(a) for a in ours])
     assert ours == theirs and [type(e) for e in ours] == [type(e) for e in theirs], args
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.integers(0, 2**32 - 1))
+def test_two_products_are_sympys_add(seed):
+    """The sum of two products (a chain's dot products: `total`'s two-term path) is sympy's
+    Add, like products (2*a), products with numbers and the chain's own alike."""
+    rng = random.Random(seed)
+    l1, l2, q1, q2 = sp.symbols("l1 l2 q1 q2", real=True)
+    chain = [product(l1 * sp.cos(q1), l2 * sp.cos(q2)), product(l1 * sp.sin(q1), l2 * sp.sin(q2)),
+             product(l1 * sp.cos(q1), l1 * sp.cos(q1)), l1 * l2 * sp.sin(q1 - q2)]
+
+    def term():
+        if rng.random() < 0.3:
+            return rng.choice(chain)
+        factors = [_expression(rng, depth=2) for _ in range(rng.randint(2, 3))]
+        if rng.random() < 0.2:
+            factors.append(rng.choice(NUMBERS[:7]))
+        return sp.Mul(*factors)
+    a = term()
+    b = a if rng.random() < 0.2 else term()
+    for terms in ([a, b], [b, a]):
+        ours, theirs = total(terms), sp.Add(*terms)
+        assert ours == theirs and ours.args == theirs.args and type(ours) is type(theirs), terms
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.integers(0, 2**32 - 1))
+def test_negative_with_remembered_terms_is_sympys_minus(seed):
+    """`negative(b, negated)` is sympy's -b however many sums share the memo `negated`,
+    and a term of a sum of products without numbers, met again, is negated to the object
+    made the first time."""
+    rng = random.Random(seed)
+    commutative = [e for e in POOL if e.is_commutative]
+    terms = [sp.Mul(*(rng.choice(commutative) for _ in range(rng.randint(2, 3)))) for _ in range(8)]
+    negated: dict = {}
+    for _ in range(4):
+        b = sp.Add(*rng.sample(terms, rng.randint(1, 6)))
+        ours, theirs = negative(b, negated), -b
+        assert ours == theirs and ours.args == theirs.args and type(ours) is type(theirs), b
+        if b.is_Add and all(t.is_Mul and not t.args[0].is_Number for t in b.args):    # the chain's sums
+            again = negative(b, negated)
+            assert all(x is y for x, y in zip(again.args, ours.args))
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.integers(0, 2**32 - 1))
+def test_scaled_sum_of_products_is_sympys(seed):
+    """`scaled(c, b)` of a sum of products without numbers (T2 = 1/2 (q1'*M_1j*q_j' + ...):
+    kept in its order, not sorted again) is sympy's c*b."""
+    rng = random.Random(seed)
+    commutative = [e for e in POOL if e.is_commutative]
+
+    def term():
+        factors = [rng.choice(commutative) for _ in range(rng.randint(1, 4))]
+        if rng.random() < 0.2:
+            factors.append(sp.Add(*(rng.choice(commutative) for _ in range(2))))
+        return sp.Mul(*factors)
+    number = rng.choice([sp.Rational(1, 2), sp.Integer(2), sp.Integer(-1), sp.Rational(-3, 4)])
+    b = sp.Add(*(term() for _ in range(rng.randint(2, 10))))
+    ours, theirs = scaled(number, b), number * b
+    assert ours == theirs and ours.args == theirs.args and type(ours) is type(theirs), (number, b)

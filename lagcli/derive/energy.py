@@ -26,6 +26,7 @@ from lagcli.model.sums import dot, scaled, total
 AXES = {"x": 0, "y": 1, "z": 2}
 _ZERO = sp.S.Zero     # the z components of a planar model's vectors
 _SUM_CLASS = class_key(sp.Add)
+_UNKNOWN = object()     # a pair of vectors whose dot product is not formed yet
 
 
 @dataclass(frozen=True)
@@ -81,12 +82,12 @@ def _entry(terms: list, masses: dict) -> sp.Expr:
     M_ij of a chain with one max(i, j) have the same one: summing it for each was the n^3
     part of M; hashing the masses' tuples by value then was most of what was left of it).
     The masses stay alive in `terms` while `masses` is used, so their ids stay theirs."""
-    first = terms[0][1]
-    if all(entry is first for _, entry in terms):
-        key = tuple([id(mass) for mass, _ in terms])     # by identity: no Python-level hash per mass
+    weights, entries = zip(*terms)
+    if len(set(map(id, entries))) == 1:        # one object (identities, compared in C)
+        key = tuple(map(id, weights))     # by identity: no Python-level hash per mass
         if key not in masses:
-            masses[key] = total([mass for mass, _ in terms])
-        return product(masses[key], first)
+            masses[key] = total(weights)
+        return product(masses[key], entries[0])
     return total([product(mass, entry) for mass, entry in terms])
 
 
@@ -125,10 +126,13 @@ def _add_products(M, a, T0, J, inertia, v_t, mass, dots: _DotProducts) -> None:
     columns = [dots.number(column) for _, column in J]
     weighted = columns if inertia is None else [dots.number(tuple(inertia * sp.Matrix(column))) for _, column in J]
     v_t, I_v = dots.number(tuple(v_t)), dots.number(tuple(I_v))
-    for k, (i, _) in enumerate(J):
+    indices, known = [i for i, _ in J], dots.values
+    for k, i in enumerate(indices):
         column = columns[k]
-        for (j, _), other in zip(J[k:], weighted[k:]):
-            entry = dots(column, other)
+        for j, other in zip(indices[k:], weighted[k:]):
+            entry = known.get((column, other), _UNKNOWN)     # the pairs of a chain's columns: n^3
+            if entry is _UNKNOWN:
+                entry = dots(column, other)
             if entry is not None:
                 M[i, j].append((mass, entry))
         if moving:

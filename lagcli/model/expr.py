@@ -27,7 +27,9 @@ from dataclasses import dataclass
 
 import sympy as sp
 
+from lagcli.model.angle_calls import TRIG, trig_call
 from lagcli.model.constants import ConstantError, constant_value
+from lagcli.model.products import product
 from lagcli.model.sums import negative, total
 from lagcli.errors import Loc, Problem, SpecError
 from lagcli.spec.slips import EQUATION_HINT, expression_syntax_hint
@@ -105,7 +107,7 @@ RESERVED_NAMES = frozenset({"t", "pi", *FUNCTIONS})
 _BINARY = {
     ast.Add: lambda a, b: a + b,
     ast.Sub: lambda a, b: a - b,
-    ast.Mult: lambda a, b: a * b,
+    ast.Mult: lambda a, b: product(a, b) if isinstance(a, sp.Expr) and isinstance(b, sp.Expr) else a * b,
     ast.Div: lambda a, b: a / b,
 }
 
@@ -442,7 +444,9 @@ class _Builder:
 
     def unary(self, op: ast.unaryop, operand: sp.Expr) -> sp.Expr:
         if isinstance(op, ast.USub):
-            return negative(operand)       # -(a chain's sum of n terms): not sorted by compare
+            # -(a chain's sum of n terms): not sorted by compare, its negated terms the same
+            # objects from one position to the next (the memos below find them by identity)
+            return negative(operand, self.scope.memo.setdefault("negated", {}))
         if isinstance(op, ast.UAdd):
             return operand
         self.fail(f"operator '{type(op).__name__}' is not allowed")
@@ -557,6 +561,8 @@ class _Builder:
         if max(self.depth(arg) for arg in args) >= MAX_RESULT_DEPTH:
             self.too_deep()  # before sympy evaluates the call: sin(sin(...(1/2))) grows costly
         try:
+            if constructor in TRIG:     # sin(q3): sympy's call, without its evaluation's tests
+                return trig_call(constructor, args[0])
             return constructor(*args)
         except (ValueError, TypeError, ArithmeticError) as exc:  # e.g. Min of incomparable arguments
             self.fail(f"cannot apply {name}() to these arguments ({exc})")

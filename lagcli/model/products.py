@@ -36,6 +36,10 @@ def product(*factors) -> sp.Expr:
             return a
         if _symbol_and_sum(a, b) or _symbol_and_sum(b, a):     # a mass times a dot product, M_ij q''_j
             return sp.Mul._from_args((b, a) if class_key(type(b)) < class_key(type(a)) else (a, b), True)
+        if _two_sums(a, b) and global_parameters.evaluate:     # a chain's M_ij: a dot product times its masses
+            order = b.compare(a)       # 0 for equal ones (a**2); different hashes: not equal
+            if order and hash(a) != hash(b):
+                return sp.Mul._from_args((b, a) if order < 0 else (a, b), True)
         if _distributes(a, b):
             return sp.Mul(*factors)
     number, plain, bases, keys = sp.S.One, [], [], []
@@ -97,6 +101,12 @@ def _combined_powers(plain: list, bases: list) -> tuple[list, list] | None:
 def _symbol_and_sum(a, b) -> bool:
     """A commutative symbol and sum: plain, with distinct bases (`_plain`)."""
     return a.is_Symbol and b.is_Add and a.is_commutative is True and b.is_commutative is True
+
+
+def _two_sums(a, b) -> bool:
+    """Two commutative sums: flatten keeps each as one factor when they differ (a sum's own
+    number is not pulled out) and sorts the two by `Basic.compare`."""
+    return type(a) is sp.Add and type(b) is sp.Add and a.is_commutative is True and b.is_commutative is True
 
 
 def _distributes(a, b) -> bool:

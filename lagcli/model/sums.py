@@ -32,16 +32,21 @@ def total(terms) -> sp.Expr:
     args = [t for t in terms if t is not _ZERO]
     if len(args) < 2:
         return args[0] if args else _ZERO
+    if len(args) == 2 and _two_products(*args):      # a chain's dot products: l1*l2*(c1*c2 + s1*s2)
+        a, b = args
+        order = b.compare(a)       # 0 for equal ones (2*a); different hashes: not equal
+        if order and hash(a) != hash(b):
+            return sp.Add._from_args((b, a) if order < 0 else (a, b), True)
     collected = _collect(args)
     if collected is None:
         return sp.Add(*terms)
     constant, coefficients = collected
     result = []
     for s, c in coefficients.items():
-        if c.is_zero:
-            continue
         if c is _ONE:
             result.append(s)
+        elif c.is_zero:
+            continue
         elif s.is_Mul:
             result.append(s._new_rawargs(*((c,) + s.args)))     # as flatten: c in front
         elif s.is_Add:
@@ -58,6 +63,13 @@ def total(terms) -> sp.Expr:
     return sp.Add._from_args(result, True)   # no constructor postprocessor: those are MatrixExpr's
 
 
+def _two_products(a, b) -> bool:
+    """Two commutative products without a number: flatten keeps both when they differ (no
+    like terms, nothing to add) and sorts them by `Basic.compare`."""
+    return (type(a) is sp.Mul and type(b) is sp.Mul and not a.args[0].is_Number and not b.args[0].is_Number
+            and a.is_commutative is True and b.is_commutative is True)
+
+
 def dot(u, w) -> sp.Expr:
     """`Matrix(u).dot(Matrix(w))`, the same expression, of two vectors of plain terms: the
     sum of the nonzero products. (sympy's matrix product asked each term of the chain's
@@ -65,15 +77,26 @@ def dot(u, w) -> sp.Expr:
     return total([product(a, b) for a, b in zip(u, w) if a != 0 and b != 0])
 
 
-def negative(expr: sp.Expr) -> sp.Expr:
+def negative(expr: sp.Expr, negated: dict | None = None) -> sp.Expr:
     """`-expr`, the same expression: a sum's terms negated one by one (as `Mul(-1, sum)`
     distributes) and summed by `total`. When every term is a product without a number
     (l1*cos(q1): a chain's positions, its dV), each negated term is -1 times it, and
     compare orders those as it ordered the terms (one more factor each, the same first
-    one): the sum keeps its order, not sorted again."""
+    one): the sum keeps its order, not sorted again. `negated` (term -> -term), when
+    given, makes -term of a term met before the object made then (a chain's positions
+    repeat the terms of the one before: the memos of their parts then find them by
+    identity, not by comparing equal copies)."""
     if expr.is_Add and expr.is_commutative and global_parameters.distribute:
         if all(term.is_Mul and not term.args[0].is_Number for term in expr.args):
-            return sp.Add._from_args([_keep_coeff(sp.S.NegativeOne, term) for term in expr.args], True)
+            if negated is None:
+                return sp.Add._from_args([_keep_coeff(sp.S.NegativeOne, term) for term in expr.args], True)
+            terms = []
+            for term in expr.args:
+                found = negated.get(term)
+                if found is None:
+                    found = negated[term] = _keep_coeff(sp.S.NegativeOne, term)
+                terms.append(found)
+            return sp.Add._from_args(terms, True)
         return total(negated_terms(expr))
     return -expr
 
@@ -84,7 +107,12 @@ def scaled(number: sp.Rational, expr: sp.Expr) -> sp.Expr:
     `total` (sympy's `Add`, whose first call imports sympy.tensor: 0.04 s of a command)."""
     if number.is_Rational and number is not _ONE and not number.is_zero and expr.is_Add \
             and expr.is_commutative and global_parameters.distribute and global_parameters.evaluate:
-        return total([_keep_coeff(number, term) for term in expr.args])
+        terms = [_keep_coeff(number, term) for term in expr.args]
+        if all(type(term) is sp.Mul and not term.args[0].is_Number for term in expr.args):
+            # number * each product: compare orders those as it ordered the products (one more
+            # factor each, the same first one), as in `negative`: not sorted again (T2's 1/2)
+            return sp.Add._from_args(terms, True)
+        return total(terms)
     return number * expr
 
 
@@ -110,10 +138,13 @@ def _collect(args: list):
         if o.is_Rational:
             constant += o
             continue
-        split = _split(o)
-        if split is None:
-            return None
-        c, s = split
+        if type(o) is sp.Mul and not o.args[0].is_Number and o.is_commutative is True:
+            c, s = _ONE, o         # `_split` of a product without a number: itself, nothing to remember
+        else:
+            split = _split(o)
+            if split is None:
+                return None
+            c, s = split
         found = coefficients.get(s)
         coefficients[s] = c if found is None else found + c
     return constant, coefficients
