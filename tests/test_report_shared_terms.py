@@ -257,3 +257,33 @@ def test_angle_differences_derived_for_both_angles_share_their_product():
         for entry in (-c[i] * sp.Add(*m[k:]) * sp.cos(q[i] - q[j]), 3 * c[j] * sp.sin(q[j] - q[i] + q[k]) * m[i]):
             for var in (q[i], q[j], q[k], q[i]):
                 assert sp.srepr(derivative(entry, var, memo, rates)) == sp.srepr(calculus.derivative(entry, var, {}))
+
+
+@settings(max_examples=80, deadline=None)
+@given(weights=st.lists(st.sampled_from(m + c), min_size=2, max_size=6, unique=True),
+       shared=st.lists(st.one_of(st.sampled_from([q[0], q[1], c[2], sp.sin(q[3]), sp.cos(q[0] - q[1])]),
+                                 st.tuples(st.sampled_from([q[2], c[3], q[0] + c[4], sp.sin(q[1])]),
+                                           st.integers(2, 9)).map(lambda be: be[0] ** be[1])),
+                       min_size=1, max_size=4, unique=True),
+       number=st.sampled_from([1, -1, 3, sp.Rational(-1, 2)]))
+def test_a_flat_weighted_sums_expandability_is_its_shared_parts(weights, shared, number):
+    """`weighted_expandable` (from X and the number of weights) is `expandable` of the sum
+    w_1 X + ... + w_n X itself, high powers and powers of sums in X among them."""
+    from lagcli.render.tidy import expandable, weighted_expandable
+    from lagcli.render.weighted import flat_weighted_sum
+
+    add = sp.Add(*(w * number * sp.Mul(*shared) for w in weights))
+    found = flat_weighted_sum(add)
+    if found is not None:
+        assert weighted_expandable(len(found[0]), found[1]) == expandable(add), add
+
+
+@settings(max_examples=80, deadline=None)
+@given(exprs=st.lists(_expressions(), min_size=1, max_size=6))
+def test_zero_minus_b_is_the_sum_of_bs_negated_terms(exprs):
+    """`difference(0, b)` (Q_i = -dV/dq_i) is `total` of b's negated terms, as for any a."""
+    from lagcli.model.sums import negated_terms, total
+    from lagcli.report.display import difference
+
+    for b in (sp.Add(*exprs), sp.Mul(*exprs), *exprs, sp.Add(*(m[k] * c[0] * sp.sin(q[k]) for k in range(len(exprs))))):
+        assert sp.srepr(difference(sp.S.Zero, b)) == sp.srepr(total([sp.S.Zero, *negated_terms(b)])), b

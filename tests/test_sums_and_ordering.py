@@ -224,3 +224,22 @@ def test_negative_with_remembered_terms_is_sympys_minus(seed):
         if b.is_Add and all(t.is_Mul and not t.args[0].is_Number for t in b.args):    # the chain's sums
             again = negative(b, negated)
             assert all(x is y for x, y in zip(again.args, ours.args))
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.integers(0, 2**32 - 1))
+def test_scaled_sum_of_products_is_sympys(seed):
+    """`scaled(c, b)` of a sum of products without numbers (T2 = 1/2 (q1'*M_1j*q_j' + ...):
+    kept in its order, not sorted again) is sympy's c*b."""
+    rng = random.Random(seed)
+    commutative = [e for e in POOL if e.is_commutative]
+
+    def term():
+        factors = [rng.choice(commutative) for _ in range(rng.randint(1, 4))]
+        if rng.random() < 0.2:
+            factors.append(sp.Add(*(rng.choice(commutative) for _ in range(2))))
+        return sp.Mul(*factors)
+    number = rng.choice([sp.Rational(1, 2), sp.Integer(2), sp.Integer(-1), sp.Rational(-3, 4)])
+    b = sp.Add(*(term() for _ in range(rng.randint(2, 10))))
+    ours, theirs = scaled(number, b), number * b
+    assert ours == theirs and ours.args == theirs.args and type(ours) is type(theirs), (number, b)

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import sympy as sp
 
-from lagcli.model.calculus import TimeDerivative, almost_everywhere, depends_on, numerically_zero
+from lagcli.model.calculus import TimeDerivative, almost_everywhere, free_symbols, numerically_zero
 from lagcli.derive.constraints import constraint_bias, constraint_matrix, constraint_rows
 from lagcli.derive.dissipation import damper_forces_on
 from lagcli.derive.energy import energies, quadratic_part
@@ -92,9 +92,10 @@ def _is_scleronomic(model: Model) -> bool:
     and no `known` function of t is declared."""
     if model.known:
         return False
-    t = (model.t,)
     exprs = [p.position for p in model.particles] + [b.position for b in model.bodies]
     exprs += [angle for b in model.bodies for _, angle in b.rotations]
     exprs += [model.kinetic, model.potential] + [c.expr for c in model.constraints]
     exprs += [s.end_a for s in model.springs] + [s.end_b for s in model.springs]
-    return not any(depends_on(e, t) for e in exprs)
+    free: dict = {}     # the positions share their terms: each walked once, not once a position
+    return not any(model.t in free_symbols(part, free)
+                   for e in exprs for part in (e if isinstance(e, sp.MatrixBase) else (sp.sympify(e),)))

@@ -29,7 +29,7 @@ _CALLS_KEPT = 1 << 16
 
 def trig_call(function, arg) -> sp.Expr:
     """`function(arg)` for function sin or cos, the same expression as sympy's."""
-    sign = _plain_sign(arg)
+    sign = plain_sign(arg)
     if sign is None:
         return function(arg)
     if sign > 0:
@@ -58,7 +58,7 @@ def _remembered_node(function, arg) -> sp.Expr:
     return found
 
 
-def _plain_sign(arg) -> int | None:
+def plain_sign(arg) -> int | None:
     """1 when arg is a plain angle from which sympy pulls no minus sign, -1 when it pulls
     one, None when arg is not a plain angle."""
     if type(arg) is sp.Symbol:

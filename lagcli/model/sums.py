@@ -43,10 +43,10 @@ def total(terms) -> sp.Expr:
     constant, coefficients = collected
     result = []
     for s, c in coefficients.items():
-        if c.is_zero:
-            continue
         if c is _ONE:
             result.append(s)
+        elif c.is_zero:
+            continue
         elif s.is_Mul:
             result.append(s._new_rawargs(*((c,) + s.args)))     # as flatten: c in front
         elif s.is_Add:
@@ -107,7 +107,12 @@ def scaled(number: sp.Rational, expr: sp.Expr) -> sp.Expr:
     `total` (sympy's `Add`, whose first call imports sympy.tensor: 0.04 s of a command)."""
     if number.is_Rational and number is not _ONE and not number.is_zero and expr.is_Add \
             and expr.is_commutative and global_parameters.distribute and global_parameters.evaluate:
-        return total([_keep_coeff(number, term) for term in expr.args])
+        terms = [_keep_coeff(number, term) for term in expr.args]
+        if all(type(term) is sp.Mul and not term.args[0].is_Number for term in expr.args):
+            # number * each product: compare orders those as it ordered the products (one more
+            # factor each, the same first one), as in `negative`: not sorted again (T2's 1/2)
+            return sp.Add._from_args(terms, True)
+        return total(terms)
     return number * expr
 
 
@@ -133,10 +138,13 @@ def _collect(args: list):
         if o.is_Rational:
             constant += o
             continue
-        split = _split(o)
-        if split is None:
-            return None
-        c, s = split
+        if type(o) is sp.Mul and not o.args[0].is_Number and o.is_commutative is True:
+            c, s = _ONE, o         # `_split` of a product without a number: itself, nothing to remember
+        else:
+            split = _split(o)
+            if split is None:
+                return None
+            c, s = split
         found = coefficients.get(s)
         coefficients[s] = c if found is None else found + c
     return constant, coefficients

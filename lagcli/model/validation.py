@@ -24,6 +24,7 @@ import random
 import sys
 
 import sympy as sp
+from sympy.matrices.immutable import ImmutableRepMatrix
 
 from lagcli.model.constants import ConstantError, value_at
 from lagcli.errors import Loc, Problem, SpecError, warn_spec
@@ -151,10 +152,22 @@ def _memo_at(values: dict) -> dict:
     return _LAST_MEMO[1]
 
 
+_LAST_VALUES: list = [None, None, {}]     # (a matrix, the values, `_nonzero_values` of it there)
+
+
 def _nonzero_values(matrix, values: dict) -> dict:
-    """(i, j) -> the nonzero entry M_ij at `values` (None: not a finite real there)."""
+    """(i, j) -> the nonzero entry M_ij at `values` (None: not a finite real there). The last
+    matrix's are remembered (kept alive here, so known by identity) at one point, by its
+    contents: `check_mass_matrix` asks for M's at the initial state twice (is it finite,
+    is it clearly regular), which looked up each of its n^2 entries again."""
+    point = tuple(values.items())
+    if _LAST_VALUES[0] is matrix and _LAST_VALUES[1] == point:
+        return dict(_LAST_VALUES[2])
     memo = _memo_at(values)
-    return {key: _real(expr, values, memo) for key, expr in matrix.todok().items()}
+    found = {key: _real(expr, values, memo) for key, expr in matrix.todok().items()}
+    if isinstance(matrix, ImmutableRepMatrix):      # its entries stay what they are
+        _LAST_VALUES[:] = [matrix, point, found]
+    return dict(found)
 
 
 def _matrix(matrix, values: dict) -> np.ndarray | None:

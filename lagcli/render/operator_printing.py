@@ -120,7 +120,7 @@ class RememberedPrecedence:
         sign of the common coefficients 1 and -1 known without comparing numbers."""
         prec = self.precedence_of(expr)
         args = expr.args
-        if self.order in ('old', 'none') and all(_numerator_factor(a) for a in args):
+        if self.order in ('old', 'none') and all(numerator_factor(a) for a in args):
             return '*'.join([self.parenthesize(x, prec, strict=False) for x in args])   # a report's term
         if args[0] is S.One or any(isinstance(a, Number) or a.is_Pow and all(ai.is_Integer for ai in a.args)
                                    for a in args[1:]):
@@ -165,7 +165,7 @@ def _quotient(sign: str, a_str: list, b: list, b_str: list, pow_paren: list) -> 
     return sign + '*'.join(a_str) + "/(%s)" % '*'.join(b_str)
 
 
-def _numerator_factor(factor) -> bool:
+def numerator_factor(factor) -> bool:
     """A factor `_print_str_Mul` prints as it is in the numerator: no number (no sign or
     denominator to pull out), no power with an integer base or a negative exponent; a
     product of such factors prints as its factors, in order, joined by '*'."""

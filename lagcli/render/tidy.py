@@ -82,6 +82,13 @@ def expandable(expr) -> bool:
     return not has_high_power(expr) and expanded_terms(expr) <= MAX_EXPANDED_TERMS
 
 
+def weighted_expandable(count: int, shared) -> bool:
+    """`expandable` of a sum of `count` products w_k * shared, w_k symbols (a flat weighted
+    sum: `render.weighted`), from `shared` alone: the sum's powers are shared's, and each
+    term expands to as many terms as shared (tests/test_report_shared_terms.py)."""
+    return not has_high_power(shared) and count * expanded_terms(shared) <= MAX_EXPANDED_TERMS
+
+
 def expanded_terms(expr) -> int:
     """An upper bound on the number of terms of expr expanded (function arguments,
     which expand inside their call, count as one term each)."""

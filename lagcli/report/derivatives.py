@@ -18,7 +18,7 @@ from __future__ import annotations
 import sympy as sp
 
 from lagcli.model import calculus
-from lagcli.model.angle_calls import TRIG, trig_call
+from lagcli.model.angle_calls import TRIG, plain_sign, trig_call
 from lagcli.model.calculus import almost_everywhere
 from lagcli.model.products import product
 from lagcli.model.sums import total
@@ -122,3 +122,61 @@ def _distributed(second) -> bool:
     """A rational number times `second` is a sum distributed (sympy's Mul of two factors): the
     first step of calculus.derivative's factor-by-factor product of c * second * ..."""
     return second.as_coeff_Mul()[1].is_Add
+
+
+def angle_entry_rates(expr, memo: dict, rates: dict) -> dict:
+    """{q: d expr/dq} for each symbol q of the angle u of a product r * F_1 ... F_m * f(u)
+    (a chain's M_ij = l_i l_j (m_j + ... + m_n) cos(q_i - q_j)), built at once; {} for any
+    other expr. r is an optional rational number, f is sin or cos, u is a plain angle
+    (`angle_calls`: integer multiples of real symbols) from which sympy pulls no sign, and
+    the F_k are commutative symbols, sums and integer powers of symbols, none mentioning
+    a symbol of u. Then `rate`'s product of the F_k with f'(u) du/dq = s c g(u) (s c the
+    number: s = -1 for d cos = -sin, c the integer coefficient of q in u) is a product of
+    plain factors, sorted with g(u) last as f(u) was (a sin or cos sorts after symbols,
+    sums and powers): the number r s c, then the F_k in their order, then g(u).
+    tests/test_report_angle_rates.py compares it with `calculus.derivative`."""
+    call = expr.args[-1] if type(expr) is sp.Mul else None
+    if type(call) not in TRIG or plain_sign(call.args[0]) != 1:
+        return {}
+    number, others = expr.args[0], expr.args[:-1]
+    if number.is_Rational:
+        others = others[1:]
+        if others and others[0].is_Add:      # rate distributes r over that sum (`_distributed`)
+            return {}
+    else:
+        number = sp.S.One
+    coefficients = _angle_coefficients(call.args[0])
+    if not all(_plain_constant(f) for f in others) \
+            or any(not calculus.free_symbols(f, memo).isdisjoint(coefficients) for f in others):
+        return {}
+    outer = _outer_rate(call, rates)          # cos(u), or -sin(u): the Mul (-1, sin(u))
+    sign, rated = outer.as_coeff_Mul()
+    out = {}
+    for symbol, c in coefficients.items():
+        factor = number * sign * c
+        args = others + (rated,) if factor is sp.S.One else (factor, *others, rated)
+        out[symbol] = args[0] if len(args) == 1 else sp.Mul._from_args(args, True)
+    return out
+
+
+def _angle_coefficients(angle) -> dict:
+    """{symbol: its integer coefficient} of a plain angle (`plain_sign` accepted it)."""
+    if type(angle) is sp.Symbol:
+        return {angle: sp.S.One}
+    out = {}
+    for term in angle.args:
+        if type(term) is sp.Symbol:
+            out[term] = sp.S.One
+        else:
+            out[term.args[1]] = term.args[0]
+    return out
+
+
+def _plain_constant(factor) -> bool:
+    """A factor `products.product` keeps as it is and sorts before a sin or cos: a commutative
+    symbol or sum, or a nonzero integer power of a commutative symbol."""
+    if factor.is_Pow:
+        base, exponent = factor.args
+        return type(base) is sp.Symbol and base.is_commutative is True and exponent.is_Integer \
+            and exponent is not sp.S.Zero
+    return (type(factor) is sp.Symbol or type(factor) is sp.Add) and factor.is_commutative is True

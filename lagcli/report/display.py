@@ -31,12 +31,13 @@ import sympy as sp
 
 from lagcli.model import calculus
 from lagcli.model.products import product
-from lagcli.model.sums import negated_terms, total
+from lagcli.model.sums import negated_terms, negative, total
 from lagcli.derive.result import Derivation
-from lagcli.report.derivatives import derivative
+from lagcli.report.derivatives import angle_entry_rates, derivative
 from lagcli.render.dot_products import folded_dot_product
 from lagcli.render.shapes import Shapes
-from lagcli.render.tidy import DISPLAY_MAX_NODES, display_form, expandable, pull_signs, small, sum_of_symbols
+from lagcli.render.tidy import (DISPLAY_MAX_NODES, display_form, pull_signs, small, sum_of_symbols, tree_size,
+                                weighted_expandable)
 from lagcli.render.weighted import flat_weighted_sum, weighted_display_form, weighted_sum
 
 TREE_MAX_NODES = 5000     # tidy the parts of expressions up to this size (tree nodes)
@@ -111,12 +112,14 @@ class Display:
         self._places: dict = {}          # monomial -> its place among an equation's terms (`ordered_terms`)
         self._monomials: dict = {}       # (j, l) -> q'_j q'_l
         self._tidy_on = simplify
+        self._outlines: set = set()      # (terms, tree size) of the sums met (`_outline_seen`)
         self._tidy_by_shape = Shapes(functools.partial(self._tidy_tree, sized=True))
         n = self.n
         upper = {(i, j): self.tidy(d.mass_matrix[i, j]) for i in range(n) for j in range(i, n)}
         self.M = [[upper[min(i, j), max(i, j)] for j in range(n)] for i in range(n)]
         self._free = {key: calculus.free_symbols(entry, self._free_symbols) for key, entry in upper.items()}
         self._derivatives: dict = {}     # (i, j, k), i <= j -> dM_ij/dq_k (`_dM`)
+        self._angle_rates: dict = {}     # (i, j), i <= j -> {q: dM_ij/dq} built at once (`angle_entry_rates`)
         self.a = [self.tidy(e) for e in d.t1_coefficients]
         self.T0 = self.tidy(d.T0)
         self.V = self.tidy(d.V)
@@ -166,7 +169,19 @@ class Display:
         flat, dV/dq_i = -g l_i m_i sin(q_i) - ... of a chain), not a sum of symbols
         (display_form keeps it)."""
         return (sized or small(add, TREE_MAX_NODES)) and not sum_of_symbols(add) and weighted_sum(add) is None \
-            and self._flat_weighted(add) is None
+            and self._flat_weighted(add) is None and self._outline_seen(add)
+
+    def _outline_seen(self, add) -> bool:
+        """A sum with add's number of terms and tree size was met before: only then may add
+        share a shape with another (renaming a sum of a shape met once, to remember its
+        result, cost as much as tidying it: a chain's potential and its 39 sums
+        l_1 cos(q_1) + ... + l_k cos(q_k), one shape each). The first sum of each outline
+        is tidied directly: the result is the same either way (`lagcli.render.shapes`)."""
+        outline = (len(add.args), tree_size(add, TREE_MAX_NODES))
+        if outline in self._outlines:
+            return True
+        self._outlines.add(outline)
+        return False
 
     def signs(self, expr) -> sp.Expr:
         """`pull_signs`, remembering every subexpression's result for this report."""
@@ -202,7 +217,7 @@ class Display:
         if not rebuilt.is_Add:
             return rebuilt
         flat = self._flat_weighted(rebuilt)
-        if flat is not None and small(rebuilt) and expandable(rebuilt):   # display_form's own terms
+        if flat is not None and small(rebuilt) and weighted_expandable(len(flat[0]), flat[1]):   # display_form's own terms
             found = weighted_display_form(*flat, self.signs)
             if found is not None:
                 return found
@@ -258,9 +273,10 @@ class Display:
 
     @functools.cached_property
     def gyroscopic(self) -> list[list[sp.Expr]]:
-        """gamma_ij = da_i/dq_j - da_j/dq_i."""
-        q, a, n, d = self.q, self.a, self.n, self.differentiate
-        return [[self.tidy_assembled(difference(d(a[i], q[j]), d(a[j], q[i]))) if i != j else sp.S.Zero
+        """gamma_ij = da_i/dq_j - da_j/dq_i (0 at once when a_i = a_j = 0: a system with no T1)."""
+        q, a, n, d, zero = self.q, self.a, self.n, self.differentiate, sp.S.Zero
+        return [[self.tidy_assembled(difference(d(a[i], q[j]), d(a[j], q[i])))
+                 if i != j and (a[i] is not zero or a[j] is not zero) else zero
                  for j in range(n)] for i in range(n)]
 
     def constraint_force(self, i: int) -> Terms:
@@ -275,8 +291,21 @@ class Display:
         key = (i, j, k) if i <= j else (j, i, k)
         found = self._derivatives.get(key)
         if found is None:
-            mentioned = k in self._mentions[key[:2]]
-            found = self._derivatives[key] = self.differentiate(self.M[i][j], self.q[k]) if mentioned else sp.S.Zero
+            found = sp.S.Zero
+            if k in self._mentions[key[:2]]:
+                found = self._entry_rates(key[:2]).get(self.q[k])
+                if found is None:
+                    found = self.differentiate(self.M[i][j], self.q[k])
+            self._derivatives[key] = found
+        return found
+
+    def _entry_rates(self, entry: tuple) -> dict:
+        """`angle_entry_rates` of M's entry (i, j), i <= j: the derivatives of a chain's
+        l_i l_j (m_j + ... + m_n) cos(q_i - q_j), found without `differentiate`'s walk."""
+        found = self._angle_rates.get(entry)
+        if found is None:
+            i, j = entry
+            found = self._angle_rates[entry] = angle_entry_rates(self.M[i][j], self._free_symbols, self._rates)
         return found
 
     def _dM_dt(self, i: int, j: int) -> sp.Expr:
@@ -489,7 +518,7 @@ PARTS = ("velocity", "mass_rate", "gyroscopic", "t1_rate", "position", "forces")
 def _add(buckets: dict, monomial, coefficient) -> None:
     """buckets[monomial] += coefficient; a new monomial's coefficient is the object itself
     (0 + x is x in sympy, found through five layers of its arithmetic)."""
-    if coefficient != 0:
+    if coefficient is not sp.S.Zero and coefficient != 0:     # the zeros of M_t q' and gamma q', at once
         found = buckets.get(monomial)
         buckets[monomial] = coefficient if found is None else found + coefficient
 
@@ -498,4 +527,6 @@ def difference(a, b) -> sp.Expr:
     """a - b, the same expression as sympy's: a + (-b), b's terms negated one by one and
     summed once (`sums.total`; sympy's -b rebuilt the 40 terms of a chain's dV/dq_i by its
     Mul and Add, and `x - 0` re-sorted x)."""
+    if a is sp.S.Zero:       # Q_i = -dV/dq_i: total(b's negated terms) is negative(b), which keeps
+        return negative(b)   # a sum of products without numbers in its order instead of sorting it
     return total([a, *negated_terms(b)])
