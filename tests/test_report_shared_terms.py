@@ -287,3 +287,14 @@ def test_zero_minus_b_is_the_sum_of_bs_negated_terms(exprs):
 
     for b in (sp.Add(*exprs), sp.Mul(*exprs), *exprs, sp.Add(*(m[k] * c[0] * sp.sin(q[k]) for k in range(len(exprs))))):
         assert sp.srepr(difference(sp.S.Zero, b)) == sp.srepr(total([sp.S.Zero, *negated_terms(b)])), b
+
+
+@settings(max_examples=100, deadline=None)
+@given(exprs=st.lists(_expressions(), min_size=1, max_size=4))
+def test_nonzero_is_sympys_comparison_with_0(exprs):
+    from lagcli.report.display import nonzero
+
+    numbers = [sp.S.Zero, sp.Integer(0), sp.Float(0.0), sp.Float(-0.0), sp.Rational(0, 3), sp.Integer(2), sp.nan,
+               sp.zoo, sp.oo, sp.S.Half, 0, 0.0, 1]
+    for expr in [*exprs, sp.Add(*exprs), sp.Mul(*exprs), *(e - e for e in exprs), *numbers]:
+        assert nonzero(expr) == (expr != 0), expr
