@@ -444,10 +444,21 @@ def ordered_terms(buckets: dict, velocities: Sequence, tidy: Callable, signs: Ca
         found = made.get(entry)
         if found is None:
             terms = bucket_terms(monomial, buckets[monomial], tidy, signs, sign)
-            found = made[entry] = (terms, [not calculus.free_symbols(t, memo).isdisjoint(moving_set) for t in terms])
+            found = made[entry] = (terms, [_shows_velocity(t, monomial, moving_set)
+                                           or not calculus.free_symbols(t, memo).isdisjoint(moving_set) for t in terms])
         out.extend(found[0])
         moving.extend(found[1])
     return [term for term, m in zip(out, moving) if m] + [term for term, m in zip(out, moving) if not m]
+
+
+def _shows_velocity(term, monomial, velocities: set) -> bool:
+    """term has the monomial's first factor, a velocity or a power of one, among its own
+    factors (by identity: the product of a coefficient and the monomial keeps it): it
+    mentions a velocity, known without collecting its free symbols (a sum of 40 masses
+    among them); False says nothing."""
+    first = monomial.args[0] if type(monomial) is sp.Mul else monomial
+    base = first.args[0] if type(first) is sp.Pow else first
+    return base in velocities and type(term) is sp.Mul and any(a is first for a in term.args)
 
 
 def _place(monomial, index: dict) -> tuple:
@@ -467,7 +478,7 @@ def bucket_terms(monomial, coefficient, tidy: Callable, signs: Callable, sign: i
     coefficient = tidy(coefficient if sign == 1 else product(sp.Integer(sign), coefficient))
     if not nonzero(coefficient):
         return []
-    if monomial == 1:
+    if monomial is sp.S.One or (monomial.is_Number and monomial == 1):    # no sympy comparison for q'_j**2
         return [signs(term) for term in split(coefficient)]
     return [signed_product(coefficient, monomial, signs=signs)]
 
