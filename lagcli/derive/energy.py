@@ -114,7 +114,7 @@ class _DotProducts:
         if key not in self.values:
             value = total([product(x, y) for x, y in zip(self.vectors[u], self.vectors[w])
                            if x is not _ZERO and y is not _ZERO])    # 0 * y is 0: y is finite
-            self.values[key] = None if value == 0 else value
+            self.values[key] = None if value is _ZERO or (type(value) is not sp.Add and value == 0) else value
         return self.values[key]
 
 
@@ -195,7 +195,7 @@ def potential_energy(model: Model) -> sp.Expr:
     (adding term by term rebuilt the growing sum: n^2 for n springs)."""
     terms = [model.potential]
     if model.gravity is not None:
-        terms += [-(mass * dot(model.gravity, r)) for mass, r in model.mass_points]
+        terms += [-product(mass, dot(model.gravity, r)) for mass, r in model.mass_points]     # Mul's, no flatten
     for spring in model.springs:
         delta = spring.end_a - spring.end_b
         squared = delta.dot(delta)

@@ -76,6 +76,9 @@ def _value(expr: sp.Expr, memo: dict, point: dict | None) -> float:
 
 
 def _node_value(expr: sp.Expr, memo: dict, point: dict | None) -> float:
+    args = expr.args
+    if args:        # an operation (every number, symbol and special value below is a leaf)
+        return _operation(expr, [_value(arg, memo, point) for arg in args])
     if expr is sp.nan:
         raise ConstantError("is undefined (NaN)")
     if expr is sp.zoo or expr is sp.oo or expr is sp.S.NegativeInfinity:    # singletons (`in` called __eq__)
@@ -90,7 +93,7 @@ def _node_value(expr: sp.Expr, memo: dict, point: dict | None) -> float:
         if point is not None and expr in point:
             return float(point[expr])
         raise ConstantError(f"is not a constant (uses {expr})")
-    return _operation(expr, [_value(arg, memo, point) for arg in expr.args])
+    return _operation(expr, [])
 
 
 def value_from_arguments(expr: sp.Expr, args: list[float]) -> float:
