@@ -287,3 +287,46 @@ def test_zero_minus_b_is_the_sum_of_bs_negated_terms(exprs):
 
     for b in (sp.Add(*exprs), sp.Mul(*exprs), *exprs, sp.Add(*(m[k] * c[0] * sp.sin(q[k]) for k in range(len(exprs))))):
         assert sp.srepr(difference(sp.S.Zero, b)) == sp.srepr(total([sp.S.Zero, *negated_terms(b)])), b
+
+
+@settings(max_examples=100, deadline=None)
+@given(exprs=st.lists(_expressions(), min_size=1, max_size=4))
+def test_nonzero_is_sympys_comparison_with_0(exprs):
+    from lagcli.report.display import nonzero
+
+    numbers = [sp.S.Zero, sp.Integer(0), sp.Float(0.0), sp.Float(-0.0), sp.Rational(0, 3), sp.Integer(2), sp.nan,
+               sp.zoo, sp.oo, sp.S.Half, 0, 0.0, 1]
+    for expr in [*exprs, sp.Add(*exprs), sp.Mul(*exprs), *(e - e for e in exprs), *numbers]:
+        assert nonzero(expr) == (expr != 0), expr
+
+
+def test_the_printers_direct_methods_are_those_sympys_walk_finds():
+    """`SpecPrinter._dispatched` calls, for the classes it knows, the method Printer._print's
+    walk up the classes finds (none of them has its own `_sympystr`)."""
+    from lagcli.render.spec_printer import _DIRECT, SpecPrinter
+
+    printer = SpecPrinter(remember=True)
+    for cls, name in _DIRECT.items():
+        classes = cls.__mro__
+        if sp.Function in classes:       # Printer._print's rule for subclasses of known functions
+            i = classes.index(sp.Function)
+            classes = tuple(k for k in classes[:i] if k.__name__ == classes[0].__name__
+                            or k.__name__.endswith("Base")) + classes[i:]
+        walked = next(f"_print_{k.__name__}" for k in classes if hasattr(printer, f"_print_{k.__name__}"))
+        assert walked == name and not hasattr(cls, printer.printmethod), cls
+
+
+@settings(max_examples=40, deadline=None)
+@given(index_sets=st.lists(indices, min_size=1, max_size=4))
+def test_a_term_showing_its_velocity_mentions_one(index_sets):
+    """`_shows_velocity` (a term with its monomial's first factor among its factors) is never
+    true of a term free of the velocities."""
+    from lagcli.report.display import _shows_velocity, signed_product
+
+    moving = set(qd)
+    for i, j, k in index_sets:
+        for monomial in (qd[i] ** 2, qd[i] * qd[j], qd[k], m[i], sp.S.One):
+            for coefficient in (c[i] * m[j] * sp.sin(q[i] - q[j]), -c[k] * (m[i] + m[j]), c[j]):
+                term = signed_product(coefficient, monomial)
+                if _shows_velocity(term, monomial, moving):
+                    assert not term.free_symbols.isdisjoint(moving), term

@@ -39,6 +39,7 @@ class _ModelBuilder:
     def __init__(self, spec: Spec):
         self.spec = spec
         self.problems: list[Problem] = []
+        self.constants: dict[str, float] = {}     # constant texts parsed without error -> their values
         self.t = sp.Symbol("t", real=True)
         names = [c.name for c in spec.coordinates]
         self.q = tuple(sp.Symbol(n, real=True) for n in names)
@@ -94,8 +95,13 @@ class _ModelBuilder:
     def constant(self, src: Src | None, default: float | None, extra=None, elsewhere=None) -> float | None:
         if src is None:
             return default
+        if not extra and src.text in self.constants:      # a value written before (a chain's 1.0s)
+            return self.constants[src.text]
         try:
-            return parse_constant(src.text, src.loc, extra, elsewhere)
+            value = parse_constant(src.text, src.loc, extra, elsewhere)
+            if not extra:      # the value of a text without extra names is the text's alone
+                self.constants[src.text] = value
+            return value
         except SpecError as exc:
             self.problems.extend(exc.problems)
             return default

@@ -76,7 +76,7 @@ class SpecPrinter(RememberedPrecedence, StrPrinter):
         return found
 
     def _dispatched(self, expr) -> str:
-        """sympy's `Printer._print` of expr: for a sum, product, power or symbol the method
+        """sympy's `Printer._print` of expr: for a sum, product, power, symbol, sin or cos the method
         its own class names (the first one Printer._print's walk up the classes finds), at
         once; anything else through that walk."""
         name = _DIRECT.get(type(expr))
@@ -115,7 +115,8 @@ class SpecPrinter(RememberedPrecedence, StrPrinter):
     _print_NegativeInfinity = _print_ComplexInfinity = _print_NaN = _print_Infinity
 
 
-_DIRECT = {sp.Add: "_print_Add", sp.Mul: "_print_Mul", sp.Pow: "_print_Pow", sp.Symbol: "_print_Symbol"}
+_DIRECT = {sp.Add: "_print_Add", sp.Mul: "_print_Mul", sp.Pow: "_print_Pow", sp.Symbol: "_print_Symbol",
+           sp.sin: "_print_Function", sp.cos: "_print_Function"}    # neither has a method of its own
 
 _PRINTER = SpecPrinter()
 

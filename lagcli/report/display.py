@@ -230,7 +230,7 @@ class Display:
         n, qd, M = self.n, self.qd, self.M
         terms = [self.signed(M[i][i], qd[i] ** 2, sp.S.Half) for i in range(n)]      # one product each: the
         terms += [self.signed(M[i][j], qd[i], qd[j]) for i in range(n) for j in range(i + 1, n)]   # same as two
-        return [term for term in terms if term != 0]
+        return [term for term in terms if nonzero(term)]
 
     @functools.cached_property
     def T1(self) -> Terms:
@@ -257,7 +257,7 @@ class Display:
         return self.T2 + [-e for e in split(self.T0)] + split(self.V)
 
     def momentum(self, s: int) -> Terms:
-        terms = [self.signed(M_sj, v) for M_sj, v in zip(self.M[s], self.qd) if M_sj != 0]
+        terms = [self.signed(M_sj, v) for M_sj, v in zip(self.M[s], self.qd) if nonzero(M_sj)]
         return terms + split(self.a[s])
 
     def conserved(self, kind: str, name: str) -> Terms:
@@ -323,10 +323,10 @@ class Display:
                 parts = (self._dM(i, j, j), _negated(self._dM(j, j, i), half=True))
             else:
                 parts = _cancelled(self._dM(i, j, l), self._dM(i, l, j), self._dM(j, l, i))
-            nonzero = [part for part in parts if part is not zero]
-            if nonzero:      # sympy's Add drops zeros and returns a single term itself
-                coefficient = nonzero[0] if len(nonzero) == 1 else sp.Add(*nonzero)
-                if coefficient != 0:
+            kept = [part for part in parts if part is not zero]
+            if kept:      # sympy's Add drops zeros and returns a single term itself
+                coefficient = kept[0] if len(kept) == 1 else sp.Add(*kept)
+                if nonzero(coefficient):
                     out[self._monomial(j, l)] = coefficient
         return out
 
@@ -396,7 +396,7 @@ class Display:
         return list(found)
 
     def acceleration_terms(self, i: int) -> Terms:
-        return [self.signed(M_ij, a) for M_ij, a in zip(self.M[i], self.qdd) if M_ij != 0]
+        return [self.signed(M_ij, a) for M_ij, a in zip(self.M[i], self.qdd) if nonzero(M_ij)]
 
     def equation(self, i: int) -> Terms:
         """sum_j M_ij q''_j + c_i + (M_t q')_i + (gamma q')_i + a_t,i + dV/dq_i - dT0/dq_i - Q'_i."""
@@ -444,10 +444,21 @@ def ordered_terms(buckets: dict, velocities: Sequence, tidy: Callable, signs: Ca
         found = made.get(entry)
         if found is None:
             terms = bucket_terms(monomial, buckets[monomial], tidy, signs, sign)
-            found = made[entry] = (terms, [not calculus.free_symbols(t, memo).isdisjoint(moving_set) for t in terms])
+            found = made[entry] = (terms, [_shows_velocity(t, monomial, moving_set)
+                                           or not calculus.free_symbols(t, memo).isdisjoint(moving_set) for t in terms])
         out.extend(found[0])
         moving.extend(found[1])
     return [term for term, m in zip(out, moving) if m] + [term for term, m in zip(out, moving) if not m]
+
+
+def _shows_velocity(term, monomial, velocities: set) -> bool:
+    """term has the monomial's first factor, a velocity or a power of one, among its own
+    factors (by identity: the product of a coefficient and the monomial keeps it): it
+    mentions a velocity, known without collecting its free symbols (a sum of 40 masses
+    among them); False says nothing."""
+    first = monomial.args[0] if type(monomial) is sp.Mul else monomial
+    base = first.args[0] if type(first) is sp.Pow else first
+    return base in velocities and type(term) is sp.Mul and any(a is first for a in term.args)
 
 
 def _place(monomial, index: dict) -> tuple:
@@ -465,9 +476,9 @@ def bucket_terms(monomial, coefficient, tidy: Callable, signs: Callable, sign: i
     """The terms of coefficient * monomial in `ordered_terms`: the coefficient (times `sign`)
     tidied, one term per summand for the monomial 1, none for 0."""
     coefficient = tidy(coefficient if sign == 1 else product(sp.Integer(sign), coefficient))
-    if coefficient == 0:
+    if not nonzero(coefficient):
         return []
-    if monomial == 1:
+    if monomial is sp.S.One or (monomial.is_Number and monomial == 1):    # no sympy comparison for q'_j**2
         return [signs(term) for term in split(coefficient)]
     return [signed_product(coefficient, monomial, signs=signs)]
 
@@ -518,9 +529,20 @@ PARTS = ("velocity", "mass_rate", "gyroscopic", "t1_rate", "position", "forces")
 def _add(buckets: dict, monomial, coefficient) -> None:
     """buckets[monomial] += coefficient; a new monomial's coefficient is the object itself
     (0 + x is x in sympy, found through five layers of its arithmetic)."""
-    if coefficient is not sp.S.Zero and coefficient != 0:     # the zeros of M_t q' and gamma q', at once
+    if nonzero(coefficient):
         found = buckets.get(monomial)
         buckets[monomial] = coefficient if found is None else found + coefficient
+
+
+def nonzero(expr) -> bool:
+    """expr != 0, without sympy's comparison for its 0 (by identity) and for an expression
+    that is no number (sympy compares trees: only a number can equal 0): ~10 000 tests of
+    a 40-link chain's terms and coefficients."""
+    if expr is sp.S.Zero:
+        return False
+    if isinstance(expr, sp.Basic) and not expr.is_Number:
+        return True
+    return expr != 0
 
 
 def difference(a, b) -> sp.Expr:
