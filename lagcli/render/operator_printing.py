@@ -24,16 +24,18 @@ from functools import cache
 
 from sympy import Mul, Number, Pow, Rational, S
 from sympy.core.mul import _keep_coeff
-from sympy.printing.c import C89CodePrinter
-from sympy.printing.codeprinter import CodePrinter
 from sympy.printing.precedence import PRECEDENCE, precedence
 from sympy.printing.str import StrPrinter
 
+# sympy's generic methods, by name (module.qualname) rather than imported: the C printers'
+# module (sympy.printing.c, and sympy.codegen.ast with it: ~30 ms of import) is loaded by
+# the code targets that print C, never by a report.
 GENERIC = {
-    "parenthesize": (StrPrinter.parenthesize,),
-    "_print_Add": (StrPrinter._print_Add,),
-    "_print_Mul": (CodePrinter._print_Mul, C89CodePrinter._print_Mul,   # C89's: math macros first
-                   StrPrinter._print_Mul),                              # the reports' (`_print_str_Mul`)
+    "parenthesize": ("sympy.printing.str.StrPrinter.parenthesize",),
+    "_print_Add": ("sympy.printing.str.StrPrinter._print_Add",),
+    "_print_Mul": ("sympy.printing.codeprinter.CodePrinter._print_Mul",
+                   "sympy.printing.c.C89CodePrinter._print_Mul",        # C89's: math macros first
+                   "sympy.printing.str.StrPrinter._print_Mul"),         # the reports' (`_print_str_Mul`)
 }
 MUL = PRECEDENCE["Mul"]
 
@@ -214,6 +216,8 @@ def _sympys(cls, name: str):
     return None
 
 
+@cache
 def _generic(cls, name: str) -> bool:
     """True when the sympy printer under the mixin in `cls` prints `name` the generic way."""
-    return _sympys(cls, name) in GENERIC[name]
+    method = _sympys(cls, name)
+    return method is not None and f"{method.__module__}.{method.__qualname__}" in GENERIC[name]
